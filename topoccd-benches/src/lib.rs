@@ -1,0 +1,1 @@
+//! Benchmarks of topoccd live in `benches/`; this crate has no library code.

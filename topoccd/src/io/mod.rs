@@ -1,0 +1,1 @@
+//! File formats: PLY and OBJ meshes, the query CSV files, the ground truth of the shared data.

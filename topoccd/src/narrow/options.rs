@@ -1,0 +1,31 @@
+//! Options of the elementary tests.
+
+/// Options of [`vertex_face`](super::vertex_face) and [`edge_edge`](super::edge_edge).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct NarrowOptions {
+    /// Resolution of the search, absolute, in time units and in the features' own parameters
+    /// (barycentric / edge coordinates), in `(0, 1)`. The reported time of impact lies within
+    /// this much of the true first contact. Default `1e-6`.
+    pub tolerance: f64,
+    /// Most boxes of the parameter domain the search may examine, at least 1. When it runs out,
+    /// the answer is a contact at the earliest time not yet ruled out
+    /// ([`Certainty::IterationLimit`](super::Certainty::IterationLimit)). Default `1_000_000`.
+    pub max_iterations: u32,
+    /// Distance, in the coordinates' units, at or below which the features count as touching.
+    /// `>= 0`. Default `0`.
+    pub min_separation: f64,
+    /// End of the time interval searched, in time units, in `(0, 1]`. Default `1`.
+    pub t_max: f64,
+}
+
+impl Default for NarrowOptions {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-6,
+            max_iterations: 1_000_000,
+            min_separation: 0.0,
+            t_max: 1.0,
+        }
+    }
+}
