@@ -1,11 +1,36 @@
-//! The `topoccd` command-line tool.
-use clap::Parser;
+//! The `topoccd` command-line tool. Results go to stdout, errors and progress to stderr.
 
-/// Continuous collision detection for topology-changing triangle meshes.
+mod cmd_queries;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Continuous collision detection for deforming, topology-changing triangle meshes.
 #[derive(Parser, Debug)]
 #[command(name = "topoccd", version, about)]
-enum Cli {}
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
 
-fn main() {
-    let _ = Cli::parse();
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run the elementary tests on every query file below a folder and compare with its ground
+    /// truth (files `*/vertex-face/*.csv` and `*/edge-edge/*.csv`, as in Sample-Queries).
+    Queries(cmd_queries::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Queries(args) => cmd_queries::run(&args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(err) => {
+            eprintln!("error: {err:#}");
+            ExitCode::from(2)
+        }
+    }
 }

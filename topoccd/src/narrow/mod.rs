@@ -24,7 +24,8 @@ pub enum Certainty {
     /// The iteration budget ran out first. `toi` is then only a lower bound of the first contact
     /// (the features may not touch at all): the answer stays on the safe side.
     IterationLimit,
-    /// The input held a NaN or an infinite coordinate; nothing could be decided, so the answer
+    /// The input held a NaN or an infinite coordinate, or coordinates so far apart that their
+    /// differences exceed [`solver::MAX_DIFFERENCE`]; nothing could be decided, so the answer
     /// is a contact at time 0.
     InvalidInput,
 }

@@ -19,30 +19,45 @@
 //! no contact.
 //!
 //! # The search
-//! Boxes are examined best-first: smallest start time first, then deepest first. A box is
-//! *excluded* when one of these directions separates its corner images from the origin:
-//! the three coordinate axes, the direction of the mean of the corner images (which is the value
-//! of `F` at the centre of the box), and the normal `A x B` at both ends of the box's time
-//! interval (the face normal for vertex-face, the common normal of the edges for edge-edge).
-//! Otherwise the box is split in half along its unresolved dimension of largest extent in
-//! `F`-space. A dimension is *resolved* when its width is at most `tolerance` (or `F` does not
-//! depend on it). A box that cannot be excluded and has every dimension resolved is a contact at
-//! its start time. Because boxes leave the queue in order of start time and an excluded box holds
-//! no contact, the reported time is never later than the first true contact, and when the
-//! reported box holds that contact it is within `tolerance` of it.
+//! A box is *excluded* when one of these directions separates its corner images from the ball
+//! of radius `min_separation`: the three coordinate axes, the direction of the mean of the
+//! corner images (the value of `F` at the centre of the box), and the normal `A x B` at both ends
+//! of the box's time interval (the face normal for vertex-face, the common normal of the edges
+//! for edge-edge). Otherwise the box is split in half along its unresolved dimension of largest
+//! extent, the extent being how much `F` can change across the box along that dimension. A
+//! dimension is *resolved* when its extent is at most `tolerance` times the largest extent along
+//! it over the whole domain (for t: a width of at most `tolerance`). A box that cannot be
+//! excluded and has every dimension resolved is a *contact box*.
+//!
+//! The boxes are searched depth first, earlier half first, as a branch and bound: once a contact
+//! box starting at time `T` is found, every other box is clipped to end at `T`, or dropped if it
+//! starts at `T` or later. The answer is the smallest `T` found. It is never later than the first
+//! true contact `t*`: the box holding `t*` is never excluded, so it (or a part of it starting at or
+//! before `t*`) is either a contact box (then `T <= t*`) or dropped because `T` was already at most
+//! its start. When the answer's box holds that contact, `T >= t* - tolerance`. Clipping is what
+//! keeps contact sets shaped as lines or surfaces cheap (two parallel edges overlapping, a vertex
+//! sliding in a face): once `T` is known, the clipped boxes hold no contact and are excluded at
+//! once instead of being refined along the whole set.
 //!
 //! # Floating point
 //! The corner values are computed in `f64` and may be wrong by rounding. Each difference vector
 //! (`P`, `A`, `B` at t=0 and t=1) is one rounded subtraction of input coordinates, so it is exact
-//! to a relative `2^-53`. Following every later operation (a lerp in `t`, two scaled additions)
-//! bounds the error of each computed corner coordinate by `33 u M`, where `u = 2^-53` and `M` is the
-//! largest coordinate of the six difference vectors; a projection on a direction `n` adds
-//! `30 u M |n|_1`. The test uses `64 u M` and `128 u M |n|_1`, about twice these, and excludes a
-//! box only when the separation exceeds `min_separation` plus that bound. No exclusion is
-//! therefore wrong in exact arithmetic: the test never misses a contact. The bound is relative
-//! to the size of the difference vectors, not to the absolute coordinates, so the answers do not
-//! depend on where the features sit (up to the one rounding of each input difference) nor on the
-//! scale of the coordinates.
+//! to a relative `u = 2^-53`. Two bounds of the rounding error are used, and a box is excluded only
+//! when the separation exceeds `min_separation` plus the bound, so no exclusion is wrong in exact
+//! arithmetic and the test never misses a contact:
+//! - a static bound, the fast path: following every operation (a lerp in `t`, two scaled
+//!   additions) bounds the error of each computed corner coordinate by `33 u M`, where `M` is the
+//!   largest coordinate of the six difference vectors; the test uses `64 u M`;
+//! - a running bound, where the static one cannot separate the box: each operation `z = x op y`
+//!   adds `u |z|` to the propagated bounds of its operands (Wilkinson's running error analysis),
+//!   then doubled. It is far tighter near the origin of `F`, where near-misses live.
+//!
+//! A projection on a direction `n` adds the propagated error `e . |n|` and the rounding of the dot
+//! product (`gamma_3 < 4u`, doubled). Both bounds are relative to the size of the difference
+//! vectors, not to the absolute coordinates, so the answers do not depend on where the features
+//! sit (up to the one rounding of each input difference) nor on the scale of the coordinates.
+//! Differences larger than [`MAX_DIFFERENCE`] (where an intermediate could overflow) and
+//! non-finite input are refused with a conservative contact at t=0.
 //!
 //! # False positives
 //! A box reported as a contact was not separated along the coordinate axes, and each of its
@@ -59,17 +74,15 @@
 //! When `max_iterations` boxes have been examined, the answer is a contact at the start time of
 //! the next box in the queue, the earliest time not yet ruled out ([`Certainty::IterationLimit`]).
 
-use std::cmp::{Ordering, Reverse};
-use std::collections::BinaryHeap;
-
 use super::{Certainty, EdgeEdge, NarrowOptions, Outcome, VertexFace};
 use crate::math::{max_abs, DVec3, UNIT_ROUNDOFF};
 
 /// Bound on the rounding error of a computed corner coordinate, in units of `u M` (see the
 /// module documentation: the analysis gives 33; this keeps a factor of about two in reserve).
 const CORNER_ERROR: f64 = 64.0;
-/// Bound on the rounding error of a projection, in units of `u M |n|_1`.
-const PROJECTION_ERROR: f64 = 128.0;
+/// Largest coordinate difference accepted; larger ones count as invalid input (the answer is
+/// then a conservative contact at t=0).
+pub const MAX_DIFFERENCE: f64 = 1e300;
 /// Absolute error allowance for results in the subnormal range, where rounding is not relative.
 const UNDERFLOW_ERROR: f64 = 1e-290;
 
@@ -116,8 +129,13 @@ impl Problem {
     }
 
     fn new(p: [DVec3; 2], a: [DVec3; 2], b: [DVec3; 2], weight: Weight, pts: &[DVec3; 8]) -> Self {
+        // Differences must stay far enough from overflow that every intermediate value (at most
+        // a few times larger) and its error bound stay finite.
         let finite = pts.iter().all(|x| x.is_finite())
-            && p.iter().chain(&a).chain(&b).all(|x| x.is_finite());
+            && p.iter()
+                .chain(&a)
+                .chain(&b)
+                .all(|x| max_abs(*x) <= MAX_DIFFERENCE);
         Self {
             p,
             a,
@@ -134,35 +152,6 @@ struct Cell {
     t: [f64; 2],
     u: [f64; 2],
     v: [f64; 2],
-    depth: u32,
-}
-
-/// Queue entry: earliest start time first, then deepest first (a depth-first dive towards the
-/// first contact), then insertion order, so the search is deterministic.
-struct Entry(Cell);
-
-impl Entry {
-    fn key(&self) -> (Reverse<u64>, u32) {
-        // Start times are non-negative finite floats, whose bit patterns order like the values.
-        (Reverse(self.0.t[0].to_bits()), self.0.depth)
-    }
-}
-
-impl PartialEq for Entry {
-    fn eq(&self, other: &Self) -> bool {
-        self.key() == other.key()
-    }
-}
-impl Eq for Entry {}
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Entry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        self.key().cmp(&other.key())
-    }
 }
 
 /// Constants of one search, derived from the problem and the options.
@@ -173,12 +162,13 @@ struct Search<'a> {
     db: DVec3,
     /// Error bound of a corner coordinate.
     eps: f64,
-    /// Error bound of a projection, per unit of `|n|_1`.
-    eps_proj: f64,
     sep: f64,
     tol: f64,
-    /// How much `F` changes, per unit width, along t, u, v.
+    /// How much `F` changes, per unit width, along t, u, v, at most over the whole domain.
     rate: [f64; 3],
+    /// Largest coordinate of `A` and of `B` over the step.
+    size_a: f64,
+    size_b: f64,
 }
 
 /// Result of examining one box.
@@ -237,24 +227,36 @@ pub fn solve_counted(problem: &Problem, options: &NarrowOptions) -> (Outcome, u3
         da,
         db,
         eps,
-        eps_proj: PROJECTION_ERROR * UNIT_ROUNDOFF * m + UNDERFLOW_ERROR,
         sep,
         tol,
         rate,
+        size_a,
+        size_b,
     };
 
-    let mut queue = BinaryHeap::with_capacity(64);
-    queue.push(Entry(Cell {
+    // Depth-first branch and bound: `best` is the earliest start of a contact box found so far;
+    // every later box is clipped to end there, or dropped if it starts there or later.
+    let mut stack = Vec::with_capacity(128);
+    stack.push(Cell {
         t: [0.0, t_max],
         u: [0.0, 1.0],
         v: [0.0, 1.0],
-        depth: 0,
-    }));
+    });
+    let mut best: Option<f64> = None;
     let mut iterations = 0u32;
-    while let Some(Entry(cell)) = queue.pop() {
+    while let Some(mut cell) = stack.pop() {
+        if let Some(b) = best {
+            if cell.t[0] >= b {
+                continue;
+            }
+            cell.t[1] = cell.t[1].min(b);
+        }
         if iterations >= max_iterations {
+            // Give up: the earliest time not yet ruled out is the answer.
+            let open = stack.iter().map(|c| c.t[0]).fold(cell.t[0], f64::min);
+            let toi = best.map_or(open, |b| b.min(open));
             let outcome = Outcome::Contact {
-                toi: cell.t[0],
+                toi,
                 certainty: Certainty::IterationLimit,
             };
             return (outcome, iterations);
@@ -262,21 +264,23 @@ pub fn solve_counted(problem: &Problem, options: &NarrowOptions) -> (Outcome, u3
         iterations += 1;
         match search.examine(&cell) {
             Verdict::Excluded => {}
-            Verdict::Contact => {
-                let outcome = Outcome::Contact {
-                    toi: cell.t[0],
-                    certainty: Certainty::Resolved,
-                };
-                return (outcome, iterations);
-            }
+            Verdict::Contact => best = Some(cell.t[0]),
             Verdict::Split(dim) => {
                 let (lo, hi) = split(&cell, dim);
-                queue.push(Entry(lo));
-                queue.push(Entry(hi));
+                // The earlier half (or the lower half in u, v) is examined first.
+                stack.push(hi);
+                stack.push(lo);
             }
         }
     }
-    (Outcome::Separated, iterations)
+    let outcome = match best {
+        Some(toi) => Outcome::Contact {
+            toi,
+            certainty: Certainty::Resolved,
+        },
+        None => Outcome::Separated,
+    };
+    (outcome, iterations)
 }
 
 /// Runs the search of the module documentation.
@@ -287,8 +291,6 @@ pub fn solve(problem: &Problem, options: &NarrowOptions) -> Outcome {
 fn split(cell: &Cell, dim: usize) -> (Cell, Cell) {
     let mut lo = *cell;
     let mut hi = *cell;
-    lo.depth += 1;
-    hi.depth += 1;
     let (a, b) = match dim {
         0 => (&mut lo.t, &mut hi.t),
         1 => (&mut lo.u, &mut hi.u),
@@ -302,28 +304,49 @@ fn split(cell: &Cell, dim: usize) -> (Cell, Cell) {
 
 impl Search<'_> {
     fn examine(&self, cell: &Cell) -> Verdict {
+        // Fast path: one static error bound for every corner. Where it cannot separate the box,
+        // a running error bound per corner coordinate, much tighter near the origin of F.
         let corners = self.corners(cell);
-        if self.separated(&corners, cell) {
+        if self.separated(&corners, &[DVec3::splat(self.eps); 8], cell) {
             return Verdict::Excluded;
         }
-        let widths = [
-            cell.t[1] - cell.t[0],
-            cell.u[1] - cell.u[0],
-            cell.v[1] - cell.v[0],
-        ];
+        let (corners, errors) = self.corners_with_errors(cell);
+        if self.separated(&corners, &errors, cell) {
+            return Verdict::Excluded;
+        }
+        // A dimension is resolved when the box's extent along it (how much F can change across
+        // the box in that dimension) is at most `tolerance` times the largest such extent over
+        // the whole domain; for t this is a width of at most `tolerance`. Measuring extents rather
+        // than parameter widths matters where the parametrisation degenerates (near u = 0 the
+        // vertex-face `v` moves the point by only `u |B|`).
+        let extents = self.extents(cell);
         let mut best: Option<(usize, f64)> = None;
-        for dim in 0..3 {
-            let resolved = widths[dim] <= self.tol || self.rate[dim] == 0.0;
-            if !resolved {
-                let extent = widths[dim] * self.rate[dim];
-                if best.is_none_or(|(_, e)| extent > e) {
-                    best = Some((dim, extent));
-                }
+        for (dim, &extent) in extents.iter().enumerate() {
+            let resolved = extent <= self.tol * self.rate[dim];
+            if !resolved && best.is_none_or(|(_, e)| extent > e) {
+                best = Some((dim, extent));
             }
         }
         match best {
             None => Verdict::Contact,
             Some((dim, _)) => Verdict::Split(dim),
+        }
+    }
+
+    /// Upper bounds of how much `F` changes across the box along t, u and v.
+    fn extents(&self, cell: &Cell) -> [f64; 3] {
+        let w = [
+            cell.t[1] - cell.t[0],
+            cell.u[1] - cell.u[0],
+            cell.v[1] - cell.v[0],
+        ];
+        match self.problem.weight {
+            Weight::Product => [
+                w[0] * self.rate[0],
+                w[1] * (self.size_a + cell.v[1] * self.size_b),
+                w[2] * cell.u[1] * self.size_b,
+            ],
+            Weight::Plain => [w[0] * self.rate[0], w[1] * self.size_a, w[2] * self.size_b],
         }
     }
 
@@ -351,21 +374,90 @@ impl Search<'_> {
         out
     }
 
-    fn separated(&self, corners: &[DVec3; 8], cell: &Cell) -> bool {
-        // Coordinate axes.
-        let mut lo = corners[0];
-        let mut hi = corners[0];
-        for c in &corners[1..] {
-            lo = lo.min(*c);
-            hi = hi.max(*c);
+    /// The corner values of [`Search::corners`], computed the same way, with a rigorous bound
+    /// of the rounding error of each coordinate by running error analysis: every operation
+    /// `z = x op y` adds `u |z|` to the propagated bounds of its operands.
+    fn corners_with_errors(&self, cell: &Cell) -> ([DVec3; 8], [DVec3; 8]) {
+        let pr = self.problem;
+        let r = UNIT_ROUNDOFF;
+        // Each stored difference is one rounded subtraction of input coordinates.
+        let input = |x: DVec3| x.abs() * r;
+        let diff = |x0: DVec3, x1: DVec3, d: DVec3| input(x0) + input(x1) + d.abs() * r;
+        let ends = [
+            (
+                pr.p[0],
+                input(pr.p[0]),
+                self.dp,
+                diff(pr.p[0], pr.p[1], self.dp),
+            ),
+            (
+                pr.a[0],
+                input(pr.a[0]),
+                self.da,
+                diff(pr.a[0], pr.a[1], self.da),
+            ),
+            (
+                pr.b[0],
+                input(pr.b[0]),
+                self.db,
+                diff(pr.b[0], pr.b[1], self.db),
+            ),
+        ];
+        // x0 + t d, with its error bound.
+        let lerp = |(x0, e0, d, ed): (DVec3, DVec3, DVec3, DVec3), t: f64| {
+            let td = d * t;
+            let x = x0 + td;
+            (x, e0 + ed * t + td.abs() * r + x.abs() * r)
+        };
+        let mut values = [DVec3::ZERO; 8];
+        let mut errors = [DVec3::ZERO; 8];
+        let mut k = 0;
+        for &t in &cell.t {
+            let (p, ep) = lerp(ends[0], t);
+            let (a, ea) = lerp(ends[1], t);
+            let (b, eb) = lerp(ends[2], t);
+            for &u in &cell.u {
+                let ua = a * u;
+                let pu = p + ua;
+                let epu = ep + ea * u + ua.abs() * r + pu.abs() * r;
+                for &v in &cell.v {
+                    // The weight w and the bound of its own rounding (u v is one product).
+                    let (w, ew) = match pr.weight {
+                        Weight::Product => {
+                            let w = u * v;
+                            (w, w * r)
+                        }
+                        Weight::Plain => (v, 0.0),
+                    };
+                    let wb = b * w;
+                    let ewb = eb * w + (b.abs() + eb) * ew + wb.abs() * r;
+                    let f = pu + wb;
+                    values[k] = f;
+                    // Twice the bound, for the rounding of the bound itself; plus underflow.
+                    errors[k] = (epu + ewb + f.abs() * r) * 2.0 + DVec3::splat(UNDERFLOW_ERROR);
+                    k += 1;
+                }
+            }
         }
-        let margin = self.sep + self.eps;
-        if lo.max_element() > margin || hi.min_element() < -margin {
+        (values, errors)
+    }
+
+    /// Whether a direction separates the corner images (each known to within its error bound)
+    /// from the ball of radius `min_separation` around the origin.
+    fn separated(&self, corners: &[DVec3; 8], errors: &[DVec3; 8], cell: &Cell) -> bool {
+        // Coordinate axes.
+        let mut lo = DVec3::INFINITY;
+        let mut hi = DVec3::NEG_INFINITY;
+        for (c, e) in corners.iter().zip(errors) {
+            lo = lo.min(*c - *e);
+            hi = hi.max(*c + *e);
+        }
+        if lo.max_element() > self.sep || hi.min_element() < -self.sep {
             return true;
         }
         // Direction of F at the centre of the box.
         let centre = corners.iter().fold(DVec3::ZERO, |s, c| s + *c);
-        if self.separated_along(corners, centre, false) {
+        if self.separated_along(corners, errors, centre, false) {
             return true;
         }
         // Face normal (vertex-face) or common normal of the edges (edge-edge), at both ends.
@@ -373,29 +465,38 @@ impl Search<'_> {
         for &t in &cell.t {
             let a = pr.a[0] + self.da * t;
             let b = pr.b[0] + self.db * t;
-            if self.separated_along(corners, a.cross(b), true) {
+            if self.separated_along(corners, errors, a.cross(b), true) {
                 return true;
             }
         }
         false
     }
 
-    /// Whether all corner projections on `n` exceed the margin (on the positive side, or on
-    /// either side if `both_sides`).
-    fn separated_along(&self, corners: &[DVec3; 8], n: DVec3, both_sides: bool) -> bool {
-        let n1 = n.x.abs() + n.y.abs() + n.z.abs();
+    /// Whether all corner projections on `n`, less their error bounds, exceed
+    /// `min_separation |n|` (on the positive side, or on either side if `both_sides`).
+    fn separated_along(
+        &self,
+        corners: &[DVec3; 8],
+        errors: &[DVec3; 8],
+        n: DVec3,
+        both_sides: bool,
+    ) -> bool {
+        let n_abs = n.abs();
+        let n1 = n_abs.x + n_abs.y + n_abs.z;
         if n1 == 0.0 || !n1.is_finite() {
             return false;
         }
         // |n|_2 rounded up generously; the margin must not shrink below min_separation |n|_2.
-        let n2 = n.length() * (1.0 + 8.0 * UNIT_ROUNDOFF);
-        let margin = self.sep * n2 + self.eps_proj * n1;
+        let margin = self.sep * n.length() * (1.0 + 8.0 * UNIT_ROUNDOFF);
         let mut lo = f64::INFINITY;
         let mut hi = f64::NEG_INFINITY;
-        for c in corners {
+        for (c, e) in corners.iter().zip(errors) {
             let s = c.dot(n);
-            lo = lo.min(s);
-            hi = hi.max(s);
+            // Propagated error plus the rounding of a 3-term dot product (gamma_3 < 4u), doubled.
+            let err =
+                (e.dot(n_abs) + 4.0 * UNIT_ROUNDOFF * c.abs().dot(n_abs)) * 2.0 + UNDERFLOW_ERROR;
+            lo = lo.min(s - err);
+            hi = hi.max(s + err);
         }
         lo > margin || (both_sides && hi < -margin)
     }
