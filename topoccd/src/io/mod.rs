@@ -1,1 +1,26 @@
 //! File formats: PLY and OBJ meshes, the query CSV files, the ground truth of the shared data.
+//!
+//! - [`read_mesh`] / [`write_mesh`] choose PLY or OBJ by the file extension; [`read_ply`],
+//!   [`read_obj`], [`write_ply`], [`write_obj`] name the format, and the `*_from` / `*_to`
+//!   variants work on any reader or writer.
+//! - [`scene_frames`] and [`read_scene_truth`] read the whole-step scenes of the shared data.
+//! - Every error is an [`IoError`] that names the file, and the line (text formats) or the
+//!   element (binary PLY) where reading stopped.
+
+mod error;
+mod frames;
+mod mesh;
+mod obj_read;
+mod obj_write;
+mod ply_read;
+mod ply_write;
+mod truth;
+
+pub use error::{IoError, Location};
+pub use frames::{frame_number, scene_frames, SceneFrames};
+pub use mesh::{read_mesh, write_mesh, Mesh, MeshFormat};
+pub use obj_read::{read_obj, read_obj_from};
+pub use obj_write::{write_obj, write_obj_to};
+pub use ply_read::{read_ply, read_ply_from};
+pub use ply_write::{write_ply, write_ply_to};
+pub use truth::{libigl_edges, read_scene_truth, SceneTruth};

@@ -1,0 +1,379 @@
+//! Reading PLY meshes through `ply-rs-bw`: ASCII and binary (either byte order), `float` or
+//! `double` coordinates, face index lists of any integer types. The parser's errors are wrapped
+//! so that they name the file and the element.
+
+use super::{IoError, Location, Mesh};
+use crate::math::DVec3;
+use ply_rs_bw::parser::{ParseError, Parser, Reader};
+use ply_rs_bw::ply::{
+    ElementDef, Encoding, Header, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
+};
+use std::fs::File;
+use std::io::{BufRead, BufReader, ErrorKind, Read};
+use std::path::Path;
+
+/// Elements preallocated at most, whatever the header claims: a corrupt count must not
+/// allocate gigabytes before the data runs out.
+const MAX_PREALLOCATED: usize = 1 << 16;
+
+/// The names under which a face lists its vertex indices.
+const INDEX_LISTS: [&str; 2] = ["vertex_indices", "vertex_index"];
+
+/// Reads a PLY mesh from a file. See [`read_ply_from`] for what is accepted.
+///
+/// ```no_run
+/// use std::path::Path;
+/// let mesh = topoccd::io::read_ply(Path::new("../../shared/data/scenes/cloth-funnel/frames/227.ply"))?;
+/// assert_eq!(mesh.triangles.len(), 18_484);
+/// # Ok::<(), topoccd::io::IoError>(())
+/// ```
+pub fn read_ply(path: &Path) -> Result<Mesh, IoError> {
+    let file = File::open(path).map_err(|e| IoError::os(path, "open", e))?;
+    read_ply_from(file, path)
+}
+
+/// Reads a PLY mesh from any reader; `name` is the file name used in error messages.
+///
+/// Accepts ASCII and binary little- or big-endian files. The `vertex` element must have `x`,
+/// `y`, `z` of type `float` or `double`; the optional `face` element must have an integer list
+/// named `vertex_indices` or `vertex_index`, of exactly three indices per face (faces are not
+/// triangulated, so that the face numbering stays that of the file). Other elements and
+/// properties (normals, colours, ...) are ignored. Never panics; errors name the element where
+/// reading stopped, counted from 0 as in the file ("face 3 of 12").
+///
+/// ```
+/// use std::path::Path;
+/// use topoccd::io::{read_ply_from, IoError};
+/// let text = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+///             property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
+///             end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+/// let mesh = read_ply_from(text.as_bytes(), Path::new("tri.ply"))?;
+/// assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
+/// let bad = text.replace("3 0 1 2", "3 0 1 7");
+/// let err = read_ply_from(bad.as_bytes(), Path::new("tri.ply")).unwrap_err();
+/// assert!(matches!(err, IoError::IndexOutOfRange { index: 7, .. }));
+/// assert_eq!(
+///     err.to_string(),
+///     "tri.ply: face 0 of 1 (line 13): vertex index 7 is out of range for 3 vertices"
+/// );
+/// # Ok::<(), IoError>(())
+/// ```
+pub fn read_ply_from(reader: impl Read, name: &Path) -> Result<Mesh, IoError> {
+    let mut reader = Reader::new(BufReader::with_capacity(1 << 16, reader));
+    check_magic(reader.get_mut(), name)?;
+    let header = Parser::<Skip>::new()
+        .read_header(&mut reader)
+        .map_err(|e| IoError::PlyHeader {
+            path: name.to_path_buf(),
+            line: e.line(),
+            message: clean_message(&e),
+        })?;
+    let vertex_count = check_layout(&header, name)?;
+    let mut elements = Elements {
+        name,
+        encoding: header.encoding,
+        next_line: reader.line(),
+        text: String::new(),
+    };
+    let mut input = reader.into_inner();
+
+    // Read up to the last element we need; whatever follows is not looked at.
+    let needed = header
+        .elements
+        .values()
+        .rposition(|def| def.name == "vertex" || def.name == "face")
+        .map_or(0, |last| last + 1);
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    for def in header.elements.values().take(needed) {
+        match def.name.as_str() {
+            "vertex" => {
+                positions.reserve(def.count.min(MAX_PREALLOCATED));
+                elements.read(&mut input, def, |_, v: PlyVertex| {
+                    positions.push(DVec3::from_array(v.0));
+                    Ok(())
+                })?;
+            }
+            "face" => {
+                triangles.reserve(def.count.min(MAX_PREALLOCATED));
+                elements.read(&mut input, def, |location, f: PlyFace| {
+                    triangles.push(f.triangle(location, vertex_count, name)?);
+                    Ok(())
+                })?;
+            }
+            _ => elements.read(&mut input, def, |_, _: Skip| Ok(()))?,
+        }
+    }
+    debug_assert_eq!(positions.len(), vertex_count);
+    Ok(Mesh {
+        positions,
+        triangles,
+    })
+}
+
+/// Refuses anything that does not start with the magic line `ply`.
+fn check_magic(input: &mut impl BufRead, name: &Path) -> Result<(), IoError> {
+    let start = input.fill_buf().map_err(|e| IoError::os(name, "read", e))?;
+    let magic = start.starts_with(b"ply") && matches!(start.get(3), None | Some(b'\n' | b'\r'));
+    if magic {
+        Ok(())
+    } else {
+        Err(IoError::NotPly {
+            path: name.to_path_buf(),
+        })
+    }
+}
+
+/// Checks that the header describes a triangle mesh we can read; returns the vertex count.
+fn check_layout(header: &Header, name: &Path) -> Result<usize, IoError> {
+    let layout_error = |message: String| IoError::PlyLayout {
+        path: name.to_path_buf(),
+        message,
+    };
+    let vertex = header
+        .elements
+        .get("vertex")
+        .ok_or_else(|| layout_error("there is no 'vertex' element".into()))?;
+    for axis in ["x", "y", "z"] {
+        match vertex.properties.get(axis).map(|p| &p.data_type) {
+            Some(PropertyType::Scalar(ScalarType::Float | ScalarType::Double)) => {}
+            Some(other) => {
+                return Err(layout_error(format!(
+                    "vertex property '{axis}' has type {other:?}; expected float or double"
+                )))
+            }
+            None => return Err(layout_error(format!("vertex property '{axis}' is missing"))),
+        }
+    }
+    if let Some(face) = header.elements.get("face") {
+        let lists: Vec<_> = face
+            .properties
+            .values()
+            .filter(|p| INDEX_LISTS.contains(&p.name.as_str()))
+            .collect();
+        match lists.as_slice() {
+            [] if face.count == 0 => {}
+            [] => {
+                return Err(layout_error(
+                    "the 'face' element has no 'vertex_indices' or 'vertex_index' list".into(),
+                ))
+            }
+            [list] => {
+                if !matches!(&list.data_type, PropertyType::List(count, index)
+                    if is_integer(count) && is_integer(index))
+                {
+                    return Err(layout_error(format!(
+                        "face property '{}' has type {:?}; expected a list of integers",
+                        list.name, list.data_type
+                    )));
+                }
+            }
+            _ => {
+                return Err(layout_error(
+                    "the 'face' element has both 'vertex_indices' and 'vertex_index'".into(),
+                ))
+            }
+        }
+    }
+    Ok(vertex.count)
+}
+
+fn is_integer(t: &ScalarType) -> bool {
+    !matches!(t, ScalarType::Float | ScalarType::Double)
+}
+
+/// Reads the elements of the payload one by one, keeping track of where we are.
+struct Elements<'a> {
+    name: &'a Path,
+    encoding: Encoding,
+    /// In ASCII files, the line of the next element (1-based).
+    next_line: usize,
+    /// Scratch line of ASCII files.
+    text: String,
+}
+
+impl Elements<'_> {
+    /// Reads all `def.count` elements of `def`, handing each to `each` with its location.
+    fn read<E: PropertyAccess>(
+        &mut self,
+        input: &mut impl BufRead,
+        def: &ElementDef,
+        mut each: impl FnMut(&dyn Fn() -> Location, E) -> Result<(), IoError>,
+    ) -> Result<(), IoError> {
+        let parser = Parser::<E>::new();
+        for index in 0..def.count {
+            let ascii = self.encoding == Encoding::Ascii;
+            let line = self.next_line + index;
+            let location = || Location::Element {
+                name: def.name.clone(),
+                index,
+                count: def.count,
+                line: ascii.then_some(line),
+            };
+            let element = match self.encoding {
+                Encoding::Ascii => {
+                    self.text.clear();
+                    match input.read_line(&mut self.text) {
+                        Ok(0) => Err(ParseError::from(std::io::Error::from(
+                            ErrorKind::UnexpectedEof,
+                        ))),
+                        Ok(_) => parser.read_ascii_element(&self.text, def),
+                        Err(e) if e.kind() == ErrorKind::InvalidData => Err(ParseError::from(e)),
+                        Err(e) => return Err(IoError::os(self.name, "read", e)),
+                    }
+                }
+                Encoding::BinaryBigEndian => parser.read_big_endian_element(input, def),
+                Encoding::BinaryLittleEndian => parser.read_little_endian_element(input, def),
+            };
+            let element = element.map_err(|e| self.element_error(&e, location()))?;
+            each(&location, element)?;
+        }
+        if self.encoding == Encoding::Ascii {
+            self.next_line += def.count;
+        }
+        Ok(())
+    }
+
+    fn element_error(&self, e: &ParseError, location: Location) -> IoError {
+        if e.kind() == ErrorKind::UnexpectedEof {
+            IoError::Truncated {
+                path: self.name.to_path_buf(),
+                location,
+            }
+        } else {
+            IoError::PlyElement {
+                path: self.name.to_path_buf(),
+                location,
+                message: clean_message(e),
+            }
+        }
+    }
+}
+
+/// The parser's message on one line, without its own "Line N: " prefix.
+fn clean_message(e: &ParseError) -> String {
+    let text = e.to_string();
+    let text = match e.line() {
+        Some(line) => text
+            .strip_prefix(&format!("Line {line}: "))
+            .map(str::to_owned)
+            .unwrap_or(text),
+        None => text,
+    };
+    text.split(['\n', '\t'])
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// The coordinates of one `vertex` element.
+#[derive(Default)]
+struct PlyVertex([f64; 3]);
+
+impl PlyVertex {
+    fn set(&mut self, name: &str, value: f64) -> PropertyAccessResult {
+        let axis = match name {
+            "x" => 0,
+            "y" => 1,
+            "z" => 2,
+            _ => return PropertyAccessResult::Ignored,
+        };
+        self.0[axis] = value;
+        PropertyAccessResult::Set
+    }
+}
+
+impl PropertyAccess for PlyVertex {
+    fn new() -> Self {
+        Self::default()
+    }
+    fn set_float(&mut self, name: &str, value: f32) -> PropertyAccessResult {
+        self.set(name, f64::from(value))
+    }
+    fn set_double(&mut self, name: &str, value: f64) -> PropertyAccessResult {
+        self.set(name, value)
+    }
+}
+
+/// The index list of one `face` element: its length and its first three entries.
+#[derive(Default)]
+struct PlyFace {
+    len: usize,
+    first: [i64; 3],
+}
+
+impl PlyFace {
+    fn store<T: Copy + Into<i64>>(&mut self, name: &str, list: &[T]) -> PropertyAccessResult {
+        if !INDEX_LISTS.contains(&name) {
+            return PropertyAccessResult::Ignored;
+        }
+        self.len = list.len();
+        for (slot, &value) in self.first.iter_mut().zip(list) {
+            *slot = value.into();
+        }
+        PropertyAccessResult::Set
+    }
+
+    /// The face as a triangle of valid vertex indices.
+    fn triangle(
+        &self,
+        location: &dyn Fn() -> Location,
+        vertices: usize,
+        name: &Path,
+    ) -> Result<[u32; 3], IoError> {
+        if self.len != 3 {
+            return Err(IoError::NotTriangle {
+                path: name.to_path_buf(),
+                location: location(),
+                vertices: self.len,
+            });
+        }
+        let mut triangle = [0u32; 3];
+        for (slot, &index) in triangle.iter_mut().zip(&self.first) {
+            *slot = u32::try_from(index)
+                .ok()
+                .filter(|&i| (i as usize) < vertices)
+                .ok_or_else(|| IoError::IndexOutOfRange {
+                    path: name.to_path_buf(),
+                    location: location(),
+                    index,
+                    vertices,
+                })?;
+        }
+        Ok(triangle)
+    }
+}
+
+impl PropertyAccess for PlyFace {
+    fn new() -> Self {
+        Self::default()
+    }
+    fn set_list_char(&mut self, name: &str, list: Vec<i8>) -> PropertyAccessResult {
+        self.store(name, &list)
+    }
+    fn set_list_uchar(&mut self, name: &str, list: Vec<u8>) -> PropertyAccessResult {
+        self.store(name, &list)
+    }
+    fn set_list_short(&mut self, name: &str, list: Vec<i16>) -> PropertyAccessResult {
+        self.store(name, &list)
+    }
+    fn set_list_ushort(&mut self, name: &str, list: Vec<u16>) -> PropertyAccessResult {
+        self.store(name, &list)
+    }
+    fn set_list_int(&mut self, name: &str, list: Vec<i32>) -> PropertyAccessResult {
+        self.store(name, &list)
+    }
+    fn set_list_uint(&mut self, name: &str, list: Vec<u32>) -> PropertyAccessResult {
+        self.store(name, &list)
+    }
+}
+
+/// An element we do not need: every property is read and dropped.
+struct Skip;
+
+impl PropertyAccess for Skip {
+    fn new() -> Self {
+        Skip
+    }
+}

@@ -1,0 +1,239 @@
+//! Ground truth of the shared whole-step scenes (`shared/data/scenes/<scene>`): the touching
+//! vertex-face and edge-edge pairs, mapped from the data's single id space to vertex, edge and
+//! face numbers.
+
+use super::{frame_number, read_ply, scene_frames, IoError};
+use std::path::{Path, PathBuf};
+
+/// The exact ground truth of one step of a shared scene.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SceneTruth {
+    /// Number of vertices of the t=0 frame.
+    pub vertices: usize,
+    /// Number of faces of the t=0 frame.
+    pub faces: usize,
+    /// The edges in libigl order (see [`libigl_edges`]): edge `k` of the data is `edges[k]`.
+    pub edges: Vec<[u32; 2]>,
+    /// The touching (vertex, face) pairs, in the order of the data files.
+    pub vf: Vec<(u32, u32)>,
+    /// The touching edge pairs, in the order of the data files; each edge as `[i, j]` with
+    /// `i < j` (vertex ids), the two edges ordered so that the first is lexicographically less.
+    pub ee: Vec<([u32; 2], [u32; 2])>,
+    /// Number of vertex-face candidate pairs in the data (touching or not).
+    pub vf_candidates: usize,
+    /// Number of edge-edge candidate pairs in the data (touching or not).
+    pub ee_candidates: usize,
+}
+
+/// Every undirected edge of `triangles` once, as `[i, j]` with `i < j`, sorted by `j` and then
+/// by `i`: the order of libigl's `igl::edges`, which numbers the edges of the shared scenes.
+///
+/// ```
+/// use topoccd::io::libigl_edges;
+/// assert_eq!(
+///     libigl_edges(&[[0, 1, 2], [2, 1, 3]]),
+///     vec![[0, 1], [0, 2], [1, 2], [1, 3], [2, 3]]
+/// );
+/// assert_eq!(libigl_edges(&[[3, 0, 1]]), vec![[0, 1], [0, 3], [1, 3]]);
+/// ```
+pub fn libigl_edges(triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
+    let mut edges: Vec<[u32; 2]> = triangles
+        .iter()
+        .flat_map(|&[a, b, c]| [[a, b], [b, c], [c, a]])
+        .map(|[a, b]| [a.min(b), a.max(b)])
+        .collect();
+    edges.sort_unstable_by_key(|&[i, j]| (j, i));
+    edges.dedup();
+    edges
+}
+
+/// Reads the ground truth of one step of a shared scene directory: the faces of the t=0 frame
+/// (`frames/*.ply`, see [`scene_frames`]), the candidate pairs `boxes/<a>vf.json` and
+/// `boxes/<a>ee.json` and their exact answers `mma_bool/<a>vf_mma_bool.json` and
+/// `mma_bool/<a>ee_mma_bool.json`, where `<a>` is the number of the t=0 frame.
+///
+/// Every candidate pair is checked (touching or not): the pair and answer counts must agree, a
+/// vertex-face pair must be `[vertex id, face id]` and an edge-edge pair two distinct edge ids,
+/// all in range of the id scheme (vertices, then edges in libigl order, then faces).
+///
+/// ```no_run
+/// use std::path::Path;
+/// let truth = topoccd::io::read_scene_truth(Path::new("../../shared/data/scenes/cloth-funnel"))?;
+/// assert_eq!((truth.vf.len(), truth.ee.len()), (27, 107));
+/// # Ok::<(), topoccd::io::IoError>(())
+/// ```
+pub fn read_scene_truth(scene_dir: &Path) -> Result<SceneTruth, IoError> {
+    let frames = scene_frames(scene_dir)?;
+    let step = frame_number(&frames.t0).ok_or_else(|| IoError::SceneLayout {
+        path: frames.t0.clone(),
+        message: "a frame file name must end in its frame number".into(),
+    })?;
+    let mesh = read_ply(&frames.t0)?;
+    let edges = libigl_edges(&mesh.triangles);
+    let ids = IdScheme {
+        vertices: mesh.positions.len() as u64,
+        edges: edges.len() as u64,
+        faces: mesh.triangles.len() as u64,
+    };
+
+    let boxes = scene_dir.join("boxes");
+    let answers = scene_dir.join("mma_bool");
+    let vf_candidates = read_pairs(
+        boxes.join(format!("{step}vf.json")),
+        answers.join(format!("{step}vf_mma_bool.json")),
+        |pair| ids.vertex_face(pair),
+    )?;
+    let ee_candidates = read_pairs(
+        boxes.join(format!("{step}ee.json")),
+        answers.join(format!("{step}ee_mma_bool.json")),
+        |pair| ids.edge_edge(pair),
+    )?;
+
+    let vf = touching(&vf_candidates);
+    let ee = touching(&ee_candidates)
+        .into_iter()
+        .map(|(a, b)| {
+            let (ea, eb) = (edges[a as usize], edges[b as usize]);
+            (ea.min(eb), ea.max(eb))
+        })
+        .collect();
+    Ok(SceneTruth {
+        vertices: mesh.positions.len(),
+        faces: mesh.triangles.len(),
+        edges,
+        vf,
+        ee,
+        vf_candidates: vf_candidates.len(),
+        ee_candidates: ee_candidates.len(),
+    })
+}
+
+/// A candidate pair as two feature numbers, and whether it touches.
+type Candidate = ((u32, u32), bool);
+
+/// The pairs whose answer is `true`.
+fn touching(candidates: &[Candidate]) -> Vec<(u32, u32)> {
+    candidates
+        .iter()
+        .filter_map(|&(pair, touch)| touch.then_some(pair))
+        .collect()
+}
+
+/// Reads a pair file and its answer file; `map` turns the ids of a pair into feature numbers or
+/// says what is wrong with them.
+fn read_pairs(
+    pairs_path: PathBuf,
+    bools_path: PathBuf,
+    map: impl Fn([u64; 2]) -> Result<(u32, u32), String>,
+) -> Result<Vec<Candidate>, IoError> {
+    let pairs: Vec<[u64; 2]> = read_json(&pairs_path, |b| serde_json::from_slice(b))?;
+    let bools: Vec<bool> = read_json(&bools_path, |b| serde_json::from_slice(b))?;
+    if pairs.len() != bools.len() {
+        return Err(IoError::CountMismatch {
+            pairs: pairs.len(),
+            bools: bools.len(),
+            pairs_path,
+            bools_path,
+        });
+    }
+    pairs
+        .iter()
+        .zip(bools)
+        .enumerate()
+        .map(|(pair, (&ids, touch))| {
+            map(ids)
+                .map(|features| (features, touch))
+                .map_err(|message| IoError::BadPair {
+                    path: pairs_path.clone(),
+                    pair,
+                    ids,
+                    message,
+                })
+        })
+        .collect()
+}
+
+/// Reads a JSON file with `parse` (`serde_json::from_slice` at a concrete type).
+fn read_json<T>(
+    path: &Path,
+    parse: impl FnOnce(&[u8]) -> serde_json::Result<T>,
+) -> Result<T, IoError> {
+    let bytes = std::fs::read(path).map_err(|e| IoError::os(path, "read", e))?;
+    parse(&bytes).map_err(|source| IoError::Json {
+        path: path.to_path_buf(),
+        line: source.line(),
+        source,
+    })
+}
+
+/// The single id space of the data: vertices `[0, nV)`, then edges `[nV, nV+nE)`, then faces
+/// `[nV+nE, nV+nE+nF)`.
+struct IdScheme {
+    vertices: u64,
+    edges: u64,
+    faces: u64,
+}
+
+impl IdScheme {
+    fn vertex(&self, id: u64) -> Option<u32> {
+        (id < self.vertices).then(|| u32::try_from(id).ok())?
+    }
+
+    fn edge(&self, id: u64) -> Option<u32> {
+        let e = id.checked_sub(self.vertices)?;
+        (e < self.edges).then(|| u32::try_from(e).ok())?
+    }
+
+    fn face(&self, id: u64) -> Option<u32> {
+        let f = id.checked_sub(self.vertices + self.edges)?;
+        (f < self.faces).then(|| u32::try_from(f).ok())?
+    }
+
+    /// What an id names, for error messages.
+    fn kind(&self, id: u64) -> &'static str {
+        if self.vertex(id).is_some() {
+            "vertex"
+        } else if self.edge(id).is_some() {
+            "edge"
+        } else if self.face(id).is_some() {
+            "face"
+        } else {
+            "out of range"
+        }
+    }
+
+    fn ranges(&self) -> String {
+        let (v, e, f) = (self.vertices, self.edges, self.faces);
+        format!(
+            "vertex ids are [0, {v}), edge ids [{v}, {}), face ids [{}, {})",
+            v + e,
+            v + e,
+            v + e + f
+        )
+    }
+
+    fn vertex_face(&self, [a, b]: [u64; 2]) -> Result<(u32, u32), String> {
+        match (self.vertex(a), self.face(b)) {
+            (Some(v), Some(f)) => Ok((v, f)),
+            _ => Err(format!(
+                "expected [vertex, face], found [{}, {}] ({})",
+                self.kind(a),
+                self.kind(b),
+                self.ranges()
+            )),
+        }
+    }
+
+    fn edge_edge(&self, [a, b]: [u64; 2]) -> Result<(u32, u32), String> {
+        match (self.edge(a), self.edge(b)) {
+            (Some(ea), Some(eb)) if ea != eb => Ok((ea, eb)),
+            (Some(_), Some(_)) => Err("an edge paired with itself".into()),
+            _ => Err(format!(
+                "expected [edge, edge], found [{}, {}] ({})",
+                self.kind(a),
+                self.kind(b),
+                self.ranges()
+            )),
+        }
+    }
+}
