@@ -59,23 +59,22 @@ pub fn read_ply(path: &Path) -> Result<Mesh, IoError> {
 /// # Ok::<(), IoError>(())
 /// ```
 pub fn read_ply_from(reader: impl Read, name: &Path) -> Result<Mesh, IoError> {
-    let mut reader = Reader::new(BufReader::with_capacity(1 << 16, reader));
-    check_magic(reader.get_mut(), name)?;
+    let mut input = BufReader::with_capacity(1 << 16, reader);
+    check_magic(&mut input, name)?;
+    // The header is parsed from our own copy, so that an error can quote the offending line;
+    // the payload is then read straight from `input`.
+    let header_text = read_header_text(&mut input, name)?;
+    let mut header_reader = Reader::new(header_text.as_slice());
     let header = Parser::<Skip>::new()
-        .read_header(&mut reader)
-        .map_err(|e| IoError::PlyHeader {
-            path: name.to_path_buf(),
-            line: e.line(),
-            message: clean_message(&e),
-        })?;
+        .read_header(&mut header_reader)
+        .map_err(|e| header_error(&e, &header_text, name))?;
     let vertex_count = check_layout(&header, name)?;
     let mut elements = Elements {
         name,
         encoding: header.encoding,
-        next_line: reader.line(),
+        next_line: header_reader.line(),
         text: String::new(),
     };
-    let mut input = reader.into_inner();
 
     // Read up to the last element we need; whatever follows is not looked at.
     let needed = header
@@ -121,6 +120,58 @@ fn check_magic(input: &mut impl BufRead, name: &Path) -> Result<(), IoError> {
         Err(IoError::NotPly {
             path: name.to_path_buf(),
         })
+    }
+}
+
+/// The longest header we accept: more is not a mesh header but a file without `end_header`.
+const MAX_HEADER_BYTES: u64 = 1 << 20;
+
+/// The header lines, up to and including `end_header` (or all that is there if it is missing).
+fn read_header_text(input: &mut impl BufRead, name: &Path) -> Result<Vec<u8>, IoError> {
+    let mut text = Vec::new();
+    loop {
+        let start = text.len();
+        let budget = MAX_HEADER_BYTES.saturating_sub(start as u64);
+        let read = input
+            .take(budget)
+            .read_until(b'\n', &mut text)
+            .map_err(|e| IoError::os(name, "read", e))?;
+        let line = text[start..].trim_ascii();
+        if read == 0 || line == b"end_header" {
+            return Ok(text);
+        }
+        if text.len() as u64 >= MAX_HEADER_BYTES {
+            return Err(IoError::PlyHeader {
+                path: name.to_path_buf(),
+                line: None,
+                message: format!("no 'end_header' in the first {MAX_HEADER_BYTES} bytes"),
+            });
+        }
+    }
+}
+
+/// A header error quoting the offending line, with the first sentence of the parser's message.
+fn header_error(e: &ParseError, header_text: &[u8], name: &Path) -> IoError {
+    let reason = clean_message(e);
+    let reason = reason.split("; ").next().unwrap_or_default();
+    let quoted = e
+        .line()
+        .and_then(|line| header_text.split(|&b| b == b'\n').nth(line.checked_sub(1)?))
+        .map(|text| {
+            String::from_utf8_lossy(text.trim_ascii())
+                .chars()
+                .take(80)
+                .collect::<String>()
+        })
+        .filter(|text| !text.is_empty());
+    let message = match quoted {
+        Some(text) => format!("{} in '{text}'", reason.trim_end_matches('.')),
+        None => reason.to_owned(),
+    };
+    IoError::PlyHeader {
+        path: name.to_path_buf(),
+        line: e.line(),
+        message,
     }
 }
 
@@ -217,7 +268,7 @@ impl Elements<'_> {
                         Ok(0) => Err(ParseError::from(std::io::Error::from(
                             ErrorKind::UnexpectedEof,
                         ))),
-                        Ok(_) => parser.read_ascii_element(&self.text, def),
+                        Ok(_) => parser.read_ascii_element(self.text.trim_end(), def),
                         Err(e) if e.kind() == ErrorKind::InvalidData => Err(ParseError::from(e)),
                         Err(e) => return Err(IoError::os(self.name, "read", e)),
                     }
