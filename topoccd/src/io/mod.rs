@@ -8,19 +8,18 @@
 //!   element (binary PLY) where reading stopped.
 
 mod error;
-mod frames;
 mod mesh;
-mod obj_read;
-mod obj_write;
+mod obj;
+mod ply_elements;
 mod ply_read;
 mod ply_write;
-mod truth;
+mod scene;
 
 pub use error::{IoError, Location};
-pub use frames::{frame_number, scene_frames, SceneFrames};
 pub use mesh::{read_mesh, write_mesh, Mesh, MeshFormat};
-pub use obj_read::{read_obj, read_obj_from};
-pub use obj_write::{write_obj, write_obj_to};
+pub use obj::{read_obj, read_obj_from, write_obj, write_obj_to};
 pub use ply_read::{read_ply, read_ply_from};
 pub use ply_write::{write_ply, write_ply_to};
-pub use truth::{libigl_edges, read_scene_truth, SceneTruth};
+pub use scene::{
+    frame_number, libigl_edges, read_scene_truth, scene_frames, SceneFrames, SceneTruth,
+};

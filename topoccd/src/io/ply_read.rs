@@ -2,12 +2,11 @@
 //! `double` coordinates, face index lists of any integer types. The parser's errors are wrapped
 //! so that they name the file and the element.
 
+use super::ply_elements::{PlyFace, PlyVertex, Skip, INDEX_LISTS};
 use super::{IoError, Location, Mesh};
 use crate::math::DVec3;
 use ply_rs_bw::parser::{ParseError, Parser, Reader};
-use ply_rs_bw::ply::{
-    ElementDef, Encoding, Header, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
-};
+use ply_rs_bw::ply::{ElementDef, Encoding, Header, PropertyAccess, PropertyType, ScalarType};
 use std::fs::File;
 use std::io::{BufRead, BufReader, ErrorKind, Read};
 use std::path::Path;
@@ -15,9 +14,6 @@ use std::path::Path;
 /// Elements preallocated at most, whatever the header claims: a corrupt count must not
 /// allocate gigabytes before the data runs out.
 const MAX_PREALLOCATED: usize = 1 << 16;
-
-/// The names under which a face lists its vertex indices.
-const INDEX_LISTS: [&str; 2] = ["vertex_indices", "vertex_index"];
 
 /// Reads a PLY mesh from a file. See [`read_ply_from`] for what is accepted.
 ///
@@ -316,115 +312,4 @@ fn clean_message(e: &ParseError) -> String {
         .filter(|s| !s.is_empty())
         .collect::<Vec<_>>()
         .join("; ")
-}
-
-/// The coordinates of one `vertex` element.
-#[derive(Default)]
-struct PlyVertex([f64; 3]);
-
-impl PlyVertex {
-    fn set(&mut self, name: &str, value: f64) -> PropertyAccessResult {
-        let axis = match name {
-            "x" => 0,
-            "y" => 1,
-            "z" => 2,
-            _ => return PropertyAccessResult::Ignored,
-        };
-        self.0[axis] = value;
-        PropertyAccessResult::Set
-    }
-}
-
-impl PropertyAccess for PlyVertex {
-    fn new() -> Self {
-        Self::default()
-    }
-    fn set_float(&mut self, name: &str, value: f32) -> PropertyAccessResult {
-        self.set(name, f64::from(value))
-    }
-    fn set_double(&mut self, name: &str, value: f64) -> PropertyAccessResult {
-        self.set(name, value)
-    }
-}
-
-/// The index list of one `face` element: its length and its first three entries.
-#[derive(Default)]
-struct PlyFace {
-    len: usize,
-    first: [i64; 3],
-}
-
-impl PlyFace {
-    fn store<T: Copy + Into<i64>>(&mut self, name: &str, list: &[T]) -> PropertyAccessResult {
-        if !INDEX_LISTS.contains(&name) {
-            return PropertyAccessResult::Ignored;
-        }
-        self.len = list.len();
-        for (slot, &value) in self.first.iter_mut().zip(list) {
-            *slot = value.into();
-        }
-        PropertyAccessResult::Set
-    }
-
-    /// The face as a triangle of valid vertex indices.
-    fn triangle(
-        &self,
-        location: &dyn Fn() -> Location,
-        vertices: usize,
-        name: &Path,
-    ) -> Result<[u32; 3], IoError> {
-        if self.len != 3 {
-            return Err(IoError::NotTriangle {
-                path: name.to_path_buf(),
-                location: location(),
-                vertices: self.len,
-            });
-        }
-        let mut triangle = [0u32; 3];
-        for (slot, &index) in triangle.iter_mut().zip(&self.first) {
-            *slot = u32::try_from(index)
-                .ok()
-                .filter(|&i| (i as usize) < vertices)
-                .ok_or_else(|| IoError::IndexOutOfRange {
-                    path: name.to_path_buf(),
-                    location: location(),
-                    index,
-                    vertices,
-                })?;
-        }
-        Ok(triangle)
-    }
-}
-
-impl PropertyAccess for PlyFace {
-    fn new() -> Self {
-        Self::default()
-    }
-    fn set_list_char(&mut self, name: &str, list: Vec<i8>) -> PropertyAccessResult {
-        self.store(name, &list)
-    }
-    fn set_list_uchar(&mut self, name: &str, list: Vec<u8>) -> PropertyAccessResult {
-        self.store(name, &list)
-    }
-    fn set_list_short(&mut self, name: &str, list: Vec<i16>) -> PropertyAccessResult {
-        self.store(name, &list)
-    }
-    fn set_list_ushort(&mut self, name: &str, list: Vec<u16>) -> PropertyAccessResult {
-        self.store(name, &list)
-    }
-    fn set_list_int(&mut self, name: &str, list: Vec<i32>) -> PropertyAccessResult {
-        self.store(name, &list)
-    }
-    fn set_list_uint(&mut self, name: &str, list: Vec<u32>) -> PropertyAccessResult {
-        self.store(name, &list)
-    }
-}
-
-/// An element we do not need: every property is read and dropped.
-struct Skip;
-
-impl PropertyAccess for Skip {
-    fn new() -> Self {
-        Skip
-    }
 }
