@@ -292,6 +292,17 @@ fn os_errors_keep_their_source_and_unknown_extensions_are_refused() {
 }
 
 #[test]
+fn empty_elements_with_huge_counts_do_not_spin() {
+    let mut bytes = b"ply\nformat binary_big_endian 1.0\nelement junk 18446744073709551615\n\
+        element vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n"
+        .to_vec();
+    bytes.extend([1.0f32, 2.0, 3.0].iter().flat_map(|c| c.to_be_bytes()));
+    let mesh = read_ply_from(bytes.as_slice(), Path::new("junk.ply")).expect("read");
+    assert_eq!(mesh.positions.len(), 1);
+    assert_eq!(mesh.positions[0].z, 3.0);
+}
+
+#[test]
 fn random_corruption_never_panics() {
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     let positions: Vec<[f64; 3]> = (0..20).map(|i| [f64::from(i), 0.5, -1.0]).collect();

@@ -247,6 +247,11 @@ impl Elements<'_> {
         def: &ElementDef,
         mut each: impl FnMut(&dyn Fn() -> Location, E) -> Result<(), IoError>,
     ) -> Result<(), IoError> {
+        if def.properties.is_empty() && self.encoding != Encoding::Ascii {
+            // Binary elements without properties take no bytes: nothing to read, and a huge
+            // count must not spin.
+            return Ok(());
+        }
         let parser = Parser::<E>::new();
         for index in 0..def.count {
             let ascii = self.encoding == Encoding::Ascii;
