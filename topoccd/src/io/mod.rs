@@ -1,3 +1,29 @@
 //! File formats: PLY and OBJ meshes, the query CSV files, the ground truth of the shared data.
+//!
+//! - [`read_mesh`] / [`write_mesh`] choose PLY or OBJ by the file extension; [`read_ply`],
+//!   [`read_obj`], [`write_ply`], [`write_obj`] name the format, and the `*_from` / `*_to`
+//!   variants work on any reader or writer.
+//! - [`queries`] reads the narrow-phase query files (exact rationals and ground truth).
+//! - [`sequence`] reads and writes frame sequences (`0000.ply`, `0001.ply`, ... and `.parents`).
+//! - [`scene_frames`] and [`read_scene_truth`] read the whole-step scenes of the shared data.
+//! - Every error is an [`IoError`] that names the file, and the line (text formats) or the
+//!   element (binary PLY) where reading stopped.
 
+mod error;
+mod mesh;
+mod obj;
+mod ply_elements;
+mod ply_read;
+mod ply_write;
 pub mod queries;
+mod scene;
+pub mod sequence;
+
+pub use error::{IoError, Location};
+pub use mesh::{read_mesh, write_mesh, Mesh, MeshFormat};
+pub use obj::{read_obj, read_obj_from, write_obj, write_obj_to};
+pub use ply_read::{read_ply, read_ply_from};
+pub use ply_write::{write_ply, write_ply_to};
+pub use scene::{
+    frame_number, libigl_edges, read_scene_truth, scene_frames, SceneFrames, SceneTruth,
+};

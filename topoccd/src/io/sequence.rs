@@ -30,7 +30,9 @@ pub enum SequenceError {
         source: std::io::Error,
     },
     /// Fewer than two frames: no step.
-    #[error("{path}: a sequence needs at least two frames (0000.ply, 0001.ply, ...), found {found}")]
+    #[error(
+        "{path}: a sequence needs at least two frames (0000.ply, 0001.ply, ...), found {found}"
+    )]
     TooFewFrames {
         /// The folder.
         path: PathBuf,
@@ -101,7 +103,10 @@ impl Sequence {
         let mut numbered: BTreeMap<u64, Vec<PathBuf>> = BTreeMap::new();
         for entry in fs::read_dir(dir).map_err(folder_err)? {
             let path = entry.map_err(folder_err)?.path();
-            let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+            let ext = path
+                .extension()
+                .and_then(|e| e.to_str())
+                .map(str::to_ascii_lowercase);
             if !matches!(ext.as_deref(), Some("ply" | "obj")) {
                 continue;
             }
@@ -125,7 +130,11 @@ impl Sequence {
                     .join(" and ");
                 return Err(SequenceError::Numbering {
                     path: dir.to_path_buf(),
-                    expected: if n != expected { expected } else { expected + 1 },
+                    expected: if n != expected {
+                        expected
+                    } else {
+                        expected + 1
+                    },
                     found,
                 });
             }
@@ -240,6 +249,7 @@ pub fn read_parents(
     let text = fs::read_to_string(path).map_err(|e| {
         SequenceError::Frame(IoError::Io {
             path: path.to_path_buf(),
+            action: "read",
             source: e,
         })
     })?;
@@ -299,6 +309,7 @@ pub fn write_frame(
     if path.exists() {
         return Err(IoError::Io {
             path,
+            action: "write",
             source: std::io::Error::new(
                 std::io::ErrorKind::AlreadyExists,
                 "frame exists already; refusing to overwrite it",
@@ -308,13 +319,16 @@ pub fn write_frame(
     write_mesh(&path, mesh)?;
     if !parents.is_empty() {
         let mut text = String::with_capacity(parents.len() * 16);
-        text.push_str("# NEW_ID PARENT_ID: a new vertex starts the step at its parent's position\n");
+        text.push_str(
+            "# NEW_ID PARENT_ID: a new vertex starts the step at its parent's position\n",
+        );
         for (new, parent) in parents {
             text.push_str(&format!("{new} {parent}\n"));
         }
         let ppath = parents_path(&path);
         fs::write(&ppath, text).map_err(|source| IoError::Io {
             path: ppath.clone(),
+            action: "write",
             source,
         })?;
     }

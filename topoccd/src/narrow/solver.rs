@@ -21,9 +21,11 @@
 //! # The search
 //! A box is *excluded* when one of these directions separates its corner images from the ball
 //! of radius `min_separation`: the three coordinate axes, the direction of the mean of the
-//! corner images (the value of `F` at the centre of the box), and the normal `A x B` at both ends
+//! corner images (the value of `F` at the centre of the box), the normal `A x B` at both ends
 //! of the box's time interval (the face normal for vertex-face, the common normal of the edges
-//! for edge-edge). Otherwise the box is split in half along its unresolved dimension of largest
+//! for edge-edge), and the centre direction with its component along each edge removed (the gap
+//! between nearly parallel edges, or between a vertex and a face edge within the face's plane,
+//! which sliding along the edge does not blur). Otherwise the box is split in half along its unresolved dimension of largest
 //! extent, the extent being how much `F` can change across the box along that dimension. A
 //! dimension is *resolved* when its extent is at most `tolerance` times the largest extent along
 //! it over the whole domain (for t: a width of at most `tolerance`). A box that cannot be
@@ -469,7 +471,21 @@ impl Search<'_> {
                 return true;
             }
         }
-        false
+        // The centre direction with its component along an edge removed: the gap between nearly
+        // parallel edges, or between a vertex and a face edge in the face's plane, where sliding
+        // along the edge and the box's own extent along it do not blur the separation.
+        let t_mid = 0.5 * (cell.t[0] + cell.t[1]);
+        let a = pr.a[0] + self.da * t_mid;
+        let b = pr.b[0] + self.db * t_mid;
+        let edges = match pr.weight {
+            Weight::Product => [a, b, a + b],
+            Weight::Plain => [a, b, DVec3::ZERO],
+        };
+        edges.iter().any(|e| {
+            let ee = e.length_squared();
+            ee > 0.0
+                && self.separated_along(corners, errors, centre - *e * (centre.dot(*e) / ee), false)
+        })
     }
 
     /// Whether all corner projections on `n`, less their error bounds, exceed

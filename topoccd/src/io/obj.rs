@@ -1,0 +1,268 @@
+//! Wavefront OBJ meshes: a small hand parser (only `v` and `f` carry data) and a writer whose
+//! coordinates round-trip exactly.
+
+use super::{IoError, Location, Mesh};
+use crate::math::DVec3;
+use std::fs::File;
+use std::io::{BufRead, BufReader, BufWriter, Read, Write};
+use std::path::Path;
+
+/// Statements that are recognised and skipped.
+const IGNORED: [&str; 8] = ["vn", "vt", "vp", "o", "g", "s", "usemtl", "mtllib"];
+
+/// Reads an OBJ mesh from a file. See [`read_obj_from`] for what is accepted.
+///
+/// ```no_run
+/// let mesh = topoccd::io::read_obj(std::path::Path::new("cloth.obj"))?;
+/// println!("{} vertices, {} triangles", mesh.positions.len(), mesh.triangles.len());
+/// # Ok::<(), topoccd::io::IoError>(())
+/// ```
+pub fn read_obj(path: &Path) -> Result<Mesh, IoError> {
+    let file = File::open(path).map_err(|e| IoError::os(path, "open", e))?;
+    read_obj_from(file, path)
+}
+
+/// Reads an OBJ mesh from any reader; `name` is the file name used in error messages.
+///
+/// Data statements: `v x y z` (optionally followed by `w`, or by a colour `r g b`) and
+/// `f a b c`, each corner written `a`, `a/t`, `a//n` or `a/t/n`, with 1-based indices or
+/// negative ones (relative to the vertices defined so far). Texture and normal indices are
+/// checked for syntax only. `vn`, `vt`, `vp`, `o`, `g`, `s`, `usemtl`, `mtllib`, comments
+/// (`#` to the end of the line) and blank lines are skipped; any other statement is an error,
+/// as is a face without exactly three corners (faces are not triangulated, so that the face
+/// numbering stays that of the file). Errors name the line, counted from 1.
+///
+/// ```
+/// use std::path::Path;
+/// use topoccd::io::{read_obj_from, IoError, Location};
+/// let text = "# a triangle\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/2 -1/3\n";
+/// let mesh = read_obj_from(text.as_bytes(), Path::new("tri.obj"))?;
+/// assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
+/// let err = read_obj_from("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 1\n".as_bytes(), Path::new("quad.obj"))
+///     .unwrap_err();
+/// assert!(matches!(err, IoError::NotTriangle { location: Location::Line(4), vertices: 4, .. }));
+/// # Ok::<(), IoError>(())
+/// ```
+pub fn read_obj_from(reader: impl Read, name: &Path) -> Result<Mesh, IoError> {
+    let mut input = BufReader::with_capacity(1 << 16, reader);
+    let mut parser = ObjParser {
+        name,
+        line: 0,
+        mesh: Mesh::default(),
+        forward: Vec::new(),
+    };
+    let mut bytes = Vec::new();
+    loop {
+        bytes.clear();
+        let read = input
+            .read_until(b'\n', &mut bytes)
+            .map_err(|e| IoError::os(name, "read", e))?;
+        if read == 0 {
+            break;
+        }
+        parser.line += 1;
+        let content = match bytes.iter().position(|&b| b == b'#') {
+            Some(hash) => &bytes[..hash],
+            None => &bytes[..],
+        };
+        parser.statement(&String::from_utf8_lossy(content))?;
+    }
+    parser.finish()
+}
+
+/// The state of one parse.
+struct ObjParser<'a> {
+    name: &'a Path,
+    /// The current line, 1-based.
+    line: usize,
+    mesh: Mesh,
+    /// Positive indices that pointed past the vertices defined so far, as (line, index as
+    /// written); checked against the final vertex count.
+    forward: Vec<(usize, i64)>,
+}
+
+impl ObjParser<'_> {
+    fn syntax(&self, message: String) -> IoError {
+        IoError::ObjSyntax {
+            path: self.name.to_path_buf(),
+            line: self.line,
+            message,
+        }
+    }
+
+    fn statement(&mut self, text: &str) -> Result<(), IoError> {
+        let mut tokens = text.split_ascii_whitespace();
+        match tokens.next() {
+            None => Ok(()),
+            Some("v") => self.vertex(tokens),
+            Some("f") => self.face(tokens),
+            Some(keyword) if IGNORED.contains(&keyword) => Ok(()),
+            Some(other) => Err(self.syntax(format!(
+                "unsupported statement '{other}' (only v and f are read; {} are skipped)",
+                IGNORED.join(", ")
+            ))),
+        }
+    }
+
+    fn vertex<'t>(&mut self, tokens: impl Iterator<Item = &'t str>) -> Result<(), IoError> {
+        let mut values = [0.0f64; 7];
+        let mut count = 0;
+        for token in tokens {
+            if count == values.len() {
+                return Err(self.syntax("too many numbers in a vertex".into()));
+            }
+            values[count] = token
+                .parse()
+                .map_err(|_| self.syntax(format!("bad number '{token}' in a vertex")))?;
+            count += 1;
+        }
+        if !matches!(count, 3 | 4 | 6 | 7) {
+            return Err(self.syntax(format!(
+                "a vertex needs x y z [w] or x y z r g b, found {count} numbers"
+            )));
+        }
+        self.mesh
+            .positions
+            .push(DVec3::new(values[0], values[1], values[2]));
+        Ok(())
+    }
+
+    fn face<'t>(&mut self, tokens: impl Iterator<Item = &'t str>) -> Result<(), IoError> {
+        let mut corners = [0i64; 3];
+        let mut count = 0;
+        for token in tokens {
+            let index = self.corner(token)?;
+            if let Some(slot) = corners.get_mut(count) {
+                *slot = index;
+            }
+            count += 1;
+        }
+        if count != 3 {
+            return Err(IoError::NotTriangle {
+                path: self.name.to_path_buf(),
+                location: Location::Line(self.line),
+                vertices: count,
+            });
+        }
+        let defined = self.mesh.positions.len();
+        let mut triangle = [0u32; 3];
+        for (slot, &index) in triangle.iter_mut().zip(&corners) {
+            let resolved = match index {
+                i if i > 0 => i - 1,
+                i => defined as i64 + i, // negative: relative; 0 stays invalid below
+            };
+            let fits = u32::try_from(resolved).ok().filter(|_| index != 0);
+            match fits {
+                Some(r) if index < 0 || (r as usize) < defined => *slot = r,
+                Some(r) if index > 0 => {
+                    self.forward.push((self.line, index));
+                    *slot = r;
+                }
+                _ => {
+                    return Err(IoError::IndexOutOfRange {
+                        path: self.name.to_path_buf(),
+                        location: Location::Line(self.line),
+                        index,
+                        vertices: defined,
+                    })
+                }
+            }
+        }
+        self.mesh.triangles.push(triangle);
+        Ok(())
+    }
+
+    /// The vertex index of one face corner `a`, `a/t`, `a//n` or `a/t/n`, as written.
+    fn corner(&self, token: &str) -> Result<i64, IoError> {
+        let mut parts = token.split('/');
+        let vertex = parts.next().unwrap_or_default();
+        let index = vertex.parse::<i64>().map_err(|_| {
+            self.syntax(format!(
+                "bad vertex index '{vertex}' in face corner '{token}'"
+            ))
+        })?;
+        let mut others = 0;
+        for part in parts {
+            others += 1;
+            if others > 2 || !(part.is_empty() || part.parse::<i64>().is_ok()) {
+                return Err(self.syntax(format!(
+                    "bad face corner '{token}' (expected a, a/t, a//n or a/t/n)"
+                )));
+            }
+        }
+        Ok(index)
+    }
+
+    /// Checks the forward references against the final vertex count.
+    fn finish(self) -> Result<Mesh, IoError> {
+        let vertices = self.mesh.positions.len();
+        if let Some(&(line, index)) = self.forward.iter().find(|(_, i)| *i as usize > vertices) {
+            return Err(IoError::IndexOutOfRange {
+                path: self.name.to_path_buf(),
+                location: Location::Line(line),
+                index,
+                vertices,
+            });
+        }
+        Ok(self.mesh)
+    }
+}
+
+/// Writes a mesh as OBJ text: one `v x y z` line per vertex, one `f a b c` line (1-based) per
+/// triangle. Coordinates are printed in the shortest form that parses back to the same `f64`,
+/// so reading the file back with [`read_obj`](super::read_obj) gives the same positions bit for
+/// bit (except the sign and payload of a NaN) and the same triangles.
+///
+/// ```
+/// use topoccd::io::{read_obj, write_obj, Mesh};
+/// use topoccd::math::DVec3;
+/// let mesh = Mesh {
+///     positions: vec![DVec3::ZERO, DVec3::new(1e-300, -0.0, 2.5), DVec3::splat(0.1)],
+///     triangles: vec![[0, 1, 2]],
+/// };
+/// let path = std::env::temp_dir().join(format!("topoccd-doc-write-obj-{}.obj", std::process::id()));
+/// write_obj(&path, &mesh)?;
+/// assert_eq!(read_obj(&path)?, mesh);
+/// std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn write_obj(path: &Path, mesh: &Mesh) -> Result<(), IoError> {
+    let file = File::create(path).map_err(|e| IoError::os(path, "create", e))?;
+    write_obj_to(file, mesh, path)
+}
+
+/// Writes a mesh as OBJ text (see [`write_obj`]) to any writer; `name` is the file name used
+/// in error messages.
+///
+/// ```
+/// use std::path::Path;
+/// use topoccd::io::{write_obj_to, Mesh};
+/// use topoccd::math::DVec3;
+/// let mesh = Mesh { positions: vec![DVec3::X, DVec3::Y, DVec3::Z], triangles: vec![[0, 1, 2]] };
+/// let mut bytes = Vec::new();
+/// write_obj_to(&mut bytes, &mesh, Path::new("memory.obj"))?;
+/// let text = String::from_utf8(bytes).unwrap();
+/// assert!(text.ends_with("v 1.0 0.0 0.0\nv 0.0 1.0 0.0\nv 0.0 0.0 1.0\nf 1 2 3\n"));
+/// # Ok::<(), topoccd::io::IoError>(())
+/// ```
+pub fn write_obj_to(output: impl Write, mesh: &Mesh, name: &Path) -> Result<(), IoError> {
+    let mut out = BufWriter::with_capacity(1 << 16, output);
+    let write_error = |e| IoError::os(name, "write", e);
+    writeln!(
+        out,
+        "# written by topoccd: {} vertices, {} triangles",
+        mesh.positions.len(),
+        mesh.triangles.len()
+    )
+    .map_err(write_error)?;
+    for p in &mesh.positions {
+        // `{:?}` prints the shortest decimal that parses back to the same f64.
+        writeln!(out, "v {:?} {:?} {:?}", p.x, p.y, p.z).map_err(write_error)?;
+    }
+    for &[a, b, c] in &mesh.triangles {
+        let one_based = |i: u32| u64::from(i) + 1;
+        writeln!(out, "f {} {} {}", one_based(a), one_based(b), one_based(c))
+            .map_err(write_error)?;
+    }
+    out.flush().map_err(write_error)
+}

@@ -1,0 +1,320 @@
+//! Reading PLY meshes through `ply-rs-bw`: ASCII and binary (either byte order), `float` or
+//! `double` coordinates, face index lists of any integer types. The parser's errors are wrapped
+//! so that they name the file and the element.
+
+use super::ply_elements::{PlyFace, PlyVertex, Skip, INDEX_LISTS};
+use super::{IoError, Location, Mesh};
+use crate::math::DVec3;
+use ply_rs_bw::parser::{ParseError, Parser, Reader};
+use ply_rs_bw::ply::{ElementDef, Encoding, Header, PropertyAccess, PropertyType, ScalarType};
+use std::fs::File;
+use std::io::{BufRead, BufReader, ErrorKind, Read};
+use std::path::Path;
+
+/// Elements preallocated at most, whatever the header claims: a corrupt count must not
+/// allocate gigabytes before the data runs out.
+const MAX_PREALLOCATED: usize = 1 << 16;
+
+/// Reads a PLY mesh from a file. See [`read_ply_from`] for what is accepted.
+///
+/// ```no_run
+/// use std::path::Path;
+/// let mesh = topoccd::io::read_ply(Path::new("../../shared/data/scenes/cloth-funnel/frames/227.ply"))?;
+/// assert_eq!(mesh.triangles.len(), 18_484);
+/// # Ok::<(), topoccd::io::IoError>(())
+/// ```
+pub fn read_ply(path: &Path) -> Result<Mesh, IoError> {
+    let file = File::open(path).map_err(|e| IoError::os(path, "open", e))?;
+    read_ply_from(file, path)
+}
+
+/// Reads a PLY mesh from any reader; `name` is the file name used in error messages.
+///
+/// Accepts ASCII and binary little- or big-endian files. The `vertex` element must have `x`,
+/// `y`, `z` of type `float` or `double`; the optional `face` element must have an integer list
+/// named `vertex_indices` or `vertex_index`, of exactly three indices per face (faces are not
+/// triangulated, so that the face numbering stays that of the file). Other elements and
+/// properties (normals, colours, ...) are ignored. Never panics; errors name the element where
+/// reading stopped, counted from 0 as in the file ("face 3 of 12").
+///
+/// ```
+/// use std::path::Path;
+/// use topoccd::io::{read_ply_from, IoError};
+/// let text = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+///             property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
+///             end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+/// let mesh = read_ply_from(text.as_bytes(), Path::new("tri.ply"))?;
+/// assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
+/// let bad = text.replace("3 0 1 2", "3 0 1 7");
+/// let err = read_ply_from(bad.as_bytes(), Path::new("tri.ply")).unwrap_err();
+/// assert!(matches!(err, IoError::IndexOutOfRange { index: 7, .. }));
+/// assert_eq!(
+///     err.to_string(),
+///     "tri.ply: face 0 of 1 (line 13): vertex index 7 is out of range for 3 vertices"
+/// );
+/// # Ok::<(), IoError>(())
+/// ```
+pub fn read_ply_from(reader: impl Read, name: &Path) -> Result<Mesh, IoError> {
+    let mut input = BufReader::with_capacity(1 << 16, reader);
+    check_magic(&mut input, name)?;
+    // The header is parsed from our own copy, so that an error can quote the offending line;
+    // the payload is then read straight from `input`.
+    let header_text = read_header_text(&mut input, name)?;
+    let mut header_reader = Reader::new(header_text.as_slice());
+    let header = Parser::<Skip>::new()
+        .read_header(&mut header_reader)
+        .map_err(|e| header_error(&e, &header_text, name))?;
+    let vertex_count = check_layout(&header, name)?;
+    let mut elements = Elements {
+        name,
+        encoding: header.encoding,
+        next_line: header_reader.line(),
+        text: String::new(),
+    };
+
+    // Read up to the last element we need; whatever follows is not looked at.
+    let needed = header
+        .elements
+        .values()
+        .rposition(|def| def.name == "vertex" || def.name == "face")
+        .map_or(0, |last| last + 1);
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    for def in header.elements.values().take(needed) {
+        match def.name.as_str() {
+            "vertex" => {
+                positions.reserve(def.count.min(MAX_PREALLOCATED));
+                elements.read(&mut input, def, |_, v: PlyVertex| {
+                    positions.push(DVec3::from_array(v.0));
+                    Ok(())
+                })?;
+            }
+            "face" => {
+                triangles.reserve(def.count.min(MAX_PREALLOCATED));
+                elements.read(&mut input, def, |location, f: PlyFace| {
+                    triangles.push(f.triangle(location, vertex_count, name)?);
+                    Ok(())
+                })?;
+            }
+            _ => elements.read(&mut input, def, |_, _: Skip| Ok(()))?,
+        }
+    }
+    debug_assert_eq!(positions.len(), vertex_count);
+    Ok(Mesh {
+        positions,
+        triangles,
+    })
+}
+
+/// Refuses anything that does not start with the magic line `ply`.
+fn check_magic(input: &mut impl BufRead, name: &Path) -> Result<(), IoError> {
+    let start = input.fill_buf().map_err(|e| IoError::os(name, "read", e))?;
+    let magic = start.starts_with(b"ply") && matches!(start.get(3), None | Some(b'\n' | b'\r'));
+    if magic {
+        Ok(())
+    } else {
+        Err(IoError::NotPly {
+            path: name.to_path_buf(),
+        })
+    }
+}
+
+/// The longest header we accept: more is not a mesh header but a file without `end_header`.
+const MAX_HEADER_BYTES: u64 = 1 << 20;
+
+/// The header lines, up to and including `end_header` (or all that is there if it is missing).
+fn read_header_text(input: &mut impl BufRead, name: &Path) -> Result<Vec<u8>, IoError> {
+    let mut text = Vec::new();
+    loop {
+        let start = text.len();
+        let budget = MAX_HEADER_BYTES.saturating_sub(start as u64);
+        let read = input
+            .take(budget)
+            .read_until(b'\n', &mut text)
+            .map_err(|e| IoError::os(name, "read", e))?;
+        let line = text[start..].trim_ascii();
+        if read == 0 || line == b"end_header" {
+            return Ok(text);
+        }
+        if text.len() as u64 >= MAX_HEADER_BYTES {
+            return Err(IoError::PlyHeader {
+                path: name.to_path_buf(),
+                line: None,
+                message: format!("no 'end_header' in the first {MAX_HEADER_BYTES} bytes"),
+            });
+        }
+    }
+}
+
+/// A header error quoting the offending line, with the first sentence of the parser's message.
+fn header_error(e: &ParseError, header_text: &[u8], name: &Path) -> IoError {
+    let reason = clean_message(e);
+    let reason = reason.split("; ").next().unwrap_or_default();
+    let quoted = e
+        .line()
+        .and_then(|line| header_text.split(|&b| b == b'\n').nth(line.checked_sub(1)?))
+        .map(|text| {
+            String::from_utf8_lossy(text.trim_ascii())
+                .chars()
+                .take(80)
+                .collect::<String>()
+        })
+        .filter(|text| !text.is_empty());
+    let message = match quoted {
+        Some(text) => format!("{} in '{text}'", reason.trim_end_matches('.')),
+        None => reason.to_owned(),
+    };
+    IoError::PlyHeader {
+        path: name.to_path_buf(),
+        line: e.line(),
+        message,
+    }
+}
+
+/// Checks that the header describes a triangle mesh we can read; returns the vertex count.
+fn check_layout(header: &Header, name: &Path) -> Result<usize, IoError> {
+    let layout_error = |message: String| IoError::PlyLayout {
+        path: name.to_path_buf(),
+        message,
+    };
+    let vertex = header
+        .elements
+        .get("vertex")
+        .ok_or_else(|| layout_error("there is no 'vertex' element".into()))?;
+    for axis in ["x", "y", "z"] {
+        match vertex.properties.get(axis).map(|p| &p.data_type) {
+            Some(PropertyType::Scalar(ScalarType::Float | ScalarType::Double)) => {}
+            Some(other) => {
+                return Err(layout_error(format!(
+                    "vertex property '{axis}' has type {other:?}; expected float or double"
+                )))
+            }
+            None => return Err(layout_error(format!("vertex property '{axis}' is missing"))),
+        }
+    }
+    if let Some(face) = header.elements.get("face") {
+        let lists: Vec<_> = face
+            .properties
+            .values()
+            .filter(|p| INDEX_LISTS.contains(&p.name.as_str()))
+            .collect();
+        match lists.as_slice() {
+            [] if face.count == 0 => {}
+            [] => {
+                return Err(layout_error(
+                    "the 'face' element has no 'vertex_indices' or 'vertex_index' list".into(),
+                ))
+            }
+            [list] => {
+                if !matches!(&list.data_type, PropertyType::List(count, index)
+                    if is_integer(count) && is_integer(index))
+                {
+                    return Err(layout_error(format!(
+                        "face property '{}' has type {:?}; expected a list of integers",
+                        list.name, list.data_type
+                    )));
+                }
+            }
+            _ => {
+                return Err(layout_error(
+                    "the 'face' element has both 'vertex_indices' and 'vertex_index'".into(),
+                ))
+            }
+        }
+    }
+    Ok(vertex.count)
+}
+
+fn is_integer(t: &ScalarType) -> bool {
+    !matches!(t, ScalarType::Float | ScalarType::Double)
+}
+
+/// Reads the elements of the payload one by one, keeping track of where we are.
+struct Elements<'a> {
+    name: &'a Path,
+    encoding: Encoding,
+    /// In ASCII files, the line of the next element (1-based).
+    next_line: usize,
+    /// Scratch line of ASCII files.
+    text: String,
+}
+
+impl Elements<'_> {
+    /// Reads all `def.count` elements of `def`, handing each to `each` with its location.
+    fn read<E: PropertyAccess>(
+        &mut self,
+        input: &mut impl BufRead,
+        def: &ElementDef,
+        mut each: impl FnMut(&dyn Fn() -> Location, E) -> Result<(), IoError>,
+    ) -> Result<(), IoError> {
+        if def.properties.is_empty() && self.encoding != Encoding::Ascii {
+            // Binary elements without properties take no bytes: nothing to read, and a huge
+            // count must not spin.
+            return Ok(());
+        }
+        let parser = Parser::<E>::new();
+        for index in 0..def.count {
+            let ascii = self.encoding == Encoding::Ascii;
+            let line = self.next_line + index;
+            let location = || Location::Element {
+                name: def.name.clone(),
+                index,
+                count: def.count,
+                line: ascii.then_some(line),
+            };
+            let element = match self.encoding {
+                Encoding::Ascii => {
+                    self.text.clear();
+                    match input.read_line(&mut self.text) {
+                        Ok(0) => Err(ParseError::from(std::io::Error::from(
+                            ErrorKind::UnexpectedEof,
+                        ))),
+                        Ok(_) => parser.read_ascii_element(self.text.trim_end(), def),
+                        Err(e) if e.kind() == ErrorKind::InvalidData => Err(ParseError::from(e)),
+                        Err(e) => return Err(IoError::os(self.name, "read", e)),
+                    }
+                }
+                Encoding::BinaryBigEndian => parser.read_big_endian_element(input, def),
+                Encoding::BinaryLittleEndian => parser.read_little_endian_element(input, def),
+            };
+            let element = element.map_err(|e| self.element_error(&e, location()))?;
+            each(&location, element)?;
+        }
+        if self.encoding == Encoding::Ascii {
+            self.next_line += def.count;
+        }
+        Ok(())
+    }
+
+    fn element_error(&self, e: &ParseError, location: Location) -> IoError {
+        if e.kind() == ErrorKind::UnexpectedEof {
+            IoError::Truncated {
+                path: self.name.to_path_buf(),
+                location,
+            }
+        } else {
+            IoError::PlyElement {
+                path: self.name.to_path_buf(),
+                location,
+                message: clean_message(e),
+            }
+        }
+    }
+}
+
+/// The parser's message on one line, without its own "Line N: " prefix.
+fn clean_message(e: &ParseError) -> String {
+    let text = e.to_string();
+    let text = match e.line() {
+        Some(line) => text
+            .strip_prefix(&format!("Line {line}: "))
+            .map(str::to_owned)
+            .unwrap_or(text),
+        None => text,
+    };
+    text.split(['\n', '\t'])
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .collect::<Vec<_>>()
+        .join("; ")
+}

@@ -1,0 +1,356 @@
+//! Malformed PLY input: each case must give the exact error variant, and a message that names
+//! the file and the element (binary) or line (ASCII). Also: no input makes the reader panic.
+
+mod io_util;
+
+use io_util::{encode_ply_faces, scene_dir, Enc, PlySpec, TempDir};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::error::Error;
+use std::path::{Path, PathBuf};
+use topoccd::io::{read_mesh, read_ply, read_ply_from, IoError, Location};
+
+const TRIANGLE: [[f64; 3]; 4] = [
+    [0.0, 0.0, 0.0],
+    [1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [1.0, 1.0, 0.0],
+];
+
+fn faces(list: &[&[i64]]) -> Vec<Vec<i64>> {
+    list.iter().map(|f| f.to_vec()).collect()
+}
+
+/// Reads `bytes` as a file named `name` in a temp dir; returns the error and the path.
+fn read_err(tmp: &TempDir, name: &str, bytes: &[u8]) -> (IoError, PathBuf) {
+    let path = tmp.file(name, bytes);
+    match read_mesh(&path) {
+        Ok(mesh) => panic!("{name} was read as {mesh:?}"),
+        Err(e) => (e, path),
+    }
+}
+
+fn assert_names(e: &IoError, path: &Path, what: &str) {
+    let message = e.to_string();
+    assert!(
+        message.contains(&path.display().to_string()),
+        "no file in: {message}"
+    );
+    assert!(message.contains(what), "no '{what}' in: {message}");
+}
+
+fn element(name: &str, index: usize, count: usize, line: Option<usize>) -> Location {
+    Location::Element {
+        name: name.into(),
+        index,
+        count,
+        line,
+    }
+}
+
+#[test]
+fn wrong_magic_is_not_ply() {
+    let tmp = TempDir::new("io-err-magic");
+    for (name, bytes) in [
+        ("obj.ply", &b"v 0 0 0\nv 1 0 0\n"[..]),
+        ("plyx.ply", b"plyx\nformat ascii 1.0\nend_header\n"),
+        ("empty.ply", b""),
+        ("binary.ply", &[0u8, 159, 146, 150, 1, 2, 3][..]),
+    ] {
+        let (e, path) = read_err(&tmp, name, bytes);
+        assert!(
+            matches!(&e, IoError::NotPly { path: p } if *p == path),
+            "{name}: {e:?}"
+        );
+        assert_names(&e, &path, "not a PLY file");
+    }
+}
+
+#[test]
+fn malformed_header_names_the_line() {
+    let tmp = TempDir::new("io-err-header");
+    let text =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty flaot y\nend_header\n";
+    let (e, path) = read_err(&tmp, "header.ply", text.as_bytes());
+    assert!(
+        matches!(e, IoError::PlyHeader { line: Some(5), .. }),
+        "{e:?}"
+    );
+    assert_names(&e, &path, "at line 5");
+    let text = "ply\nformat ascii 1.0\nelement vertex 3\n";
+    let (e, path) = read_err(&tmp, "noend.ply", text.as_bytes());
+    assert!(matches!(e, IoError::PlyHeader { .. }), "{e:?}");
+    assert_names(&e, &path, "end_header");
+}
+
+#[test]
+fn layouts_that_are_not_triangle_meshes() {
+    let tmp = TempDir::new("io-err-layout");
+    let head = "ply\nformat ascii 1.0\n";
+    for (name, header, what) in [
+        ("novertex.ply", "element face 0\nproperty list uchar int vertex_indices\n", "no 'vertex' element"),
+        ("intx.ply", "element vertex 1\nproperty int x\nproperty float y\nproperty float z\n", "'x' has type"),
+        ("noz.ply", "element vertex 1\nproperty float x\nproperty float y\n", "'z' is missing"),
+        (
+            "nolist.ply",
+            "element vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int corners\n",
+            "no 'vertex_indices' or 'vertex_index'",
+        ),
+        (
+            "floatlist.ply",
+            "element vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar float vertex_indices\n",
+            "expected a list of integers",
+        ),
+    ] {
+        let text = format!("{head}{header}end_header\n");
+        let (e, path) = read_err(&tmp, name, text.as_bytes());
+        assert!(matches!(e, IoError::PlyLayout { .. }), "{name}: {e:?}");
+        assert_names(&e, &path, what);
+    }
+}
+
+#[test]
+fn truncated_binary_names_the_element_where_it_ended() {
+    let tmp = TempDir::new("io-err-trunc");
+    let spec = PlySpec::default(); // little-endian, double, uchar int
+    let bytes = encode_ply_faces(&TRIANGLE, &faces(&[&[0, 1, 2], &[1, 3, 2]]), &spec);
+    let header = bytes
+        .windows(11)
+        .position(|w| w == b"end_header\n")
+        .expect("header")
+        + 11;
+    // In the middle of vertex 2, at the end of vertex 3, inside face 1.
+    for (cut, location) in [
+        (header + 2 * 24 + 5, element("vertex", 2, 4, None)),
+        (header + 3 * 24, element("vertex", 3, 4, None)),
+        (header + 4 * 24 + 13 + 3, element("face", 1, 2, None)),
+    ] {
+        let (e, path) = read_err(&tmp, "cut.ply", &bytes[..cut]);
+        let text = format!("file ended in {location}");
+        assert!(
+            matches!(&e, IoError::Truncated { location: l, .. } if *l == location),
+            "{e:?}"
+        );
+        assert_names(&e, &path, &text);
+    }
+    // Every shorter prefix of a binary file is an error, never a panic.
+    for cut in 0..bytes.len() {
+        assert!(
+            read_ply_from(&bytes[..cut], Path::new("prefix.ply")).is_err(),
+            "cut {cut}"
+        );
+    }
+    assert!(read_ply_from(bytes.as_slice(), Path::new("whole.ply")).is_ok());
+}
+
+#[test]
+fn truncated_real_frame_says_vertex_120_of_9450() {
+    let Some(dir) = scene_dir("cloth-funnel") else {
+        return;
+    };
+    let bytes = std::fs::read(dir.join("frames/227.ply")).expect("read frame");
+    let header = bytes
+        .windows(11)
+        .position(|w| w == b"end_header\n")
+        .expect("header")
+        + 11;
+    let tmp = TempDir::new("io-err-trunc-real");
+    let (e, path) = read_err(&tmp, "227.ply", &bytes[..header + 120 * 24 + 7]);
+    assert!(matches!(e, IoError::Truncated { .. }), "{e:?}");
+    assert_names(&e, &path, "file ended in vertex 120 of 9450");
+    let (e, path) = read_err(&tmp, "227.ply", &bytes[..bytes.len() - 1]);
+    assert_names(&e, &path, "file ended in face 18483 of 18484");
+}
+
+#[test]
+fn truncated_ascii_names_the_line() {
+    let tmp = TempDir::new("io-err-trunc-ascii");
+    let spec = PlySpec {
+        enc: Enc::Ascii,
+        ..PlySpec::default()
+    };
+    let bytes = encode_ply_faces(&TRIANGLE, &faces(&[&[0, 1, 2], &[1, 3, 2]]), &spec);
+    let text = String::from_utf8(bytes).expect("ascii");
+    let cut = text.rfind("3 1 3 2").expect("last face");
+    let (e, path) = read_err(&tmp, "cut.ply", &text.as_bytes()[..cut]);
+    // 10 header lines, 4 vertex lines, face 0 on line 15: face 1 would be on line 16.
+    assert!(
+        matches!(&e, IoError::Truncated { location, .. } if *location == element("face", 1, 2, Some(16))),
+        "{e:?}"
+    );
+    assert_names(&e, &path, "file ended in face 1 of 2 (line 16)");
+}
+
+#[test]
+fn face_index_out_of_range_names_the_face() {
+    let tmp = TempDir::new("io-err-range");
+    for (enc, bad, line) in [
+        (Enc::Little, 4, None),
+        (Enc::Big, -1, None),
+        (Enc::Ascii, 4, Some(17)),
+    ] {
+        let spec = PlySpec {
+            enc,
+            ..PlySpec::default()
+        };
+        let bytes = encode_ply_faces(
+            &TRIANGLE,
+            &faces(&[&[0, 1, 2], &[1, 3, 2], &[2, bad, 0]]),
+            &spec,
+        );
+        let (e, path) = read_err(&tmp, "range.ply", &bytes);
+        let expected = element("face", 2, 3, line);
+        assert!(
+            matches!(&e, IoError::IndexOutOfRange { location, index, vertices: 4, .. }
+                if *location == expected && *index == bad),
+            "{enc:?}: {e:?}"
+        );
+        assert_names(
+            &e,
+            &path,
+            &format!("{expected}: vertex index {bad} is out of range"),
+        );
+    }
+    // Unsigned indices beyond u32 cannot be written, but uint values beyond i32 can.
+    let spec = PlySpec {
+        index_ty: "uint",
+        ..PlySpec::default()
+    };
+    let bytes = encode_ply_faces(&TRIANGLE, &faces(&[&[0, 1, 3_000_000_000]]), &spec);
+    let (e, _) = read_err(&tmp, "huge.ply", &bytes);
+    assert!(
+        matches!(
+            e,
+            IoError::IndexOutOfRange {
+                index: 3_000_000_000,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+}
+
+#[test]
+fn face_with_four_vertices_names_the_face() {
+    let tmp = TempDir::new("io-err-quad");
+    for (enc, line) in [(Enc::Little, None), (Enc::Ascii, Some(18))] {
+        let spec = PlySpec {
+            enc,
+            ..PlySpec::default()
+        };
+        let quad = faces(&[&[0, 1, 2], &[1, 3, 2], &[0, 1, 2], &[0, 1, 3, 2]]);
+        let (e, path) = read_err(&tmp, "quad.ply", &encode_ply_faces(&TRIANGLE, &quad, &spec));
+        let expected = element("face", 3, 4, line);
+        assert!(
+            matches!(&e, IoError::NotTriangle { location, vertices: 4, .. } if *location == expected),
+            "{enc:?}: {e:?}"
+        );
+        assert_names(&e, &path, &format!("{expected} has 4 vertices"));
+    }
+}
+
+#[test]
+fn bad_ascii_number_names_the_line() {
+    let tmp = TempDir::new("io-err-ascii-number");
+    let spec = PlySpec {
+        enc: Enc::Ascii,
+        ..PlySpec::default()
+    };
+    let bytes = encode_ply_faces(&TRIANGLE, &faces(&[&[0, 1, 2]]), &spec);
+    let text = String::from_utf8(bytes)
+        .expect("ascii")
+        .replacen("1.0 1.0 0.0", "1.0 one 0.0", 1);
+    let (e, path) = read_err(&tmp, "number.ply", text.as_bytes());
+    let expected = element("vertex", 3, 4, Some(14));
+    assert!(
+        matches!(&e, IoError::PlyElement { location, .. } if *location == expected),
+        "{e:?}"
+    );
+    assert_names(&e, &path, "cannot read vertex 3 of 4 (line 14)");
+    assert!(e.to_string().contains("'1.0 one 0.0'"), "{e}");
+}
+
+#[test]
+fn os_errors_keep_their_source_and_unknown_extensions_are_refused() {
+    let tmp = TempDir::new("io-err-os");
+    let missing = tmp.path("missing.ply");
+    let e = read_ply(&missing).expect_err("missing file");
+    match &e {
+        IoError::Io { path, source, .. } => {
+            assert_eq!(*path, missing);
+            assert_eq!(source.kind(), std::io::ErrorKind::NotFound);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(e.source().is_some());
+    assert_names(&e, &missing, "cannot open");
+
+    let stl = tmp.file("mesh.stl", b"solid");
+    let e = read_mesh(&stl).expect_err("stl");
+    assert!(matches!(e, IoError::UnknownFormat { .. }), "{e:?}");
+    assert_names(&e, &stl, ".ply or .obj");
+}
+
+#[test]
+fn empty_elements_with_huge_counts_do_not_spin() {
+    let mut bytes = b"ply\nformat binary_big_endian 1.0\nelement junk 18446744073709551615\n\
+        element vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n"
+        .to_vec();
+    bytes.extend([1.0f32, 2.0, 3.0].iter().flat_map(|c| c.to_be_bytes()));
+    let mesh = read_ply_from(bytes.as_slice(), Path::new("junk.ply")).expect("read");
+    assert_eq!(mesh.positions.len(), 1);
+    assert_eq!(mesh.positions[0].z, 3.0);
+}
+
+#[test]
+fn random_corruption_never_panics() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let positions: Vec<[f64; 3]> = (0..20).map(|i| [f64::from(i), 0.5, -1.0]).collect();
+    let tris: Vec<Vec<i64>> = (0..30)
+        .map(|i| vec![i % 20, (i + 1) % 20, (i + 7) % 20])
+        .collect();
+    let mut inputs = Vec::new();
+    for enc in [Enc::Ascii, Enc::Little, Enc::Big] {
+        for extras in [false, true] {
+            inputs.push(encode_ply_faces(
+                &positions,
+                &tris,
+                &PlySpec {
+                    enc,
+                    extras,
+                    ..PlySpec::default()
+                },
+            ));
+        }
+    }
+    let (mut ok, mut err) = (0, 0);
+    for original in &inputs {
+        for _ in 0..400 {
+            let mut bytes = original.clone();
+            for _ in 0..rng.random_range(1..4) {
+                let at = rng.random_range(0..bytes.len());
+                match rng.random_range(0..3) {
+                    0 => bytes[at] = rng.random(),
+                    1 => bytes.truncate(at),
+                    _ => bytes.insert(at, rng.random()),
+                }
+                if bytes.is_empty() {
+                    break;
+                }
+            }
+            match read_ply_from(bytes.as_slice(), Path::new("fuzz.ply")) {
+                Ok(mesh) => {
+                    ok += 1;
+                    let n = mesh.positions.len();
+                    assert!(mesh.triangles.iter().flatten().all(|&i| (i as usize) < n));
+                }
+                Err(e) => {
+                    err += 1;
+                    assert!(e.to_string().contains("fuzz.ply"), "{e}");
+                }
+            }
+        }
+    }
+    eprintln!("corrupted inputs: {ok} read, {err} refused");
+    assert!(err > 0 && ok > 0);
+}
