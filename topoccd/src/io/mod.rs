@@ -25,5 +25,5 @@ pub use obj::{read_obj, read_obj_from, write_obj, write_obj_to};
 pub use ply_read::{read_ply, read_ply_from};
 pub use ply_write::{write_ply, write_ply_to};
 pub use scene::{
-    frame_number, libigl_edges, read_scene_truth, scene_frames, SceneFrames, SceneTruth,
+    frame_number, libigl_edges, read_scene_truth, scene_frames, EdgePair, SceneFrames, SceneTruth,
 };

@@ -78,6 +78,9 @@ pub fn scene_frames(scene_dir: &Path) -> Result<SceneFrames, IoError> {
     }
 }
 
+/// Two edges, each as `[i, j]` with `i < j` (vertex ids).
+pub type EdgePair = ([u32; 2], [u32; 2]);
+
 /// The exact ground truth of one step of a shared scene.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct SceneTruth {
@@ -100,7 +103,7 @@ pub struct SceneTruth {
     pub vf_all: Vec<((u32, u32), bool)>,
     /// Every edge-edge candidate pair in file order (edges as in [`SceneTruth::ee`], not
     /// reordered), with its exact answer.
-    pub ee_all: Vec<(([u32; 2], [u32; 2]), bool)>,
+    pub ee_all: Vec<(EdgePair, bool)>,
 }
 
 /// Every undirected edge of `triangles` once, as `[i, j]` with `i < j`, sorted by `j` and then
