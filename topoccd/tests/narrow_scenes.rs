@@ -28,7 +28,7 @@ struct Loaded {
     truth: SceneTruth,
 }
 
-fn load(dir: &PathBuf) -> Loaded {
+fn load(dir: &std::path::Path) -> Loaded {
     let frames = scene_frames(dir).expect("frames");
     let m0 = read_mesh(&frames.t0).expect("t0");
     let m1 = read_mesh(&frames.t1).expect("t1");
