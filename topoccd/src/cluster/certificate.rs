@@ -64,6 +64,8 @@ pub struct DiskBuilder {
     faces: usize,
     edges: usize,
     vertices: usize,
+    /// Sums of the patch's vertex positions at t=0 and t=1.
+    vertex_sum: [DVec3; 2],
     direction: DVec3,
     centre: [DVec3; 2],
     subdivisions: u32,
@@ -107,6 +109,7 @@ impl DiskBuilder {
         self.faces = 0;
         self.edges = 0;
         self.vertices = 0;
+        self.vertex_sum = [DVec3::ZERO; 2];
         self.direction = direction;
         self.centre = centre;
         self.subdivisions = subdivisions;
@@ -149,6 +152,8 @@ impl DiskBuilder {
                     self.vertex_stamp[v as usize] = self.stamp;
                     self.vertices += 1;
                     self.fresh_vertices.push(v);
+                    self.vertex_sum[0] += x0[v as usize];
+                    self.vertex_sum[1] += x1[v as usize];
                 }
                 let e = topo.triangle_edges[t as usize][k] as usize;
                 let forward = if v < tri[(k + 1) % 3] { FORWARD } else { 0 };
@@ -237,6 +242,18 @@ impl DiskBuilder {
         } else {
             Err(DiskFailure::Winding)
         }
+    }
+
+    /// Mean of the patch's vertices at t=0 and t=1: a star centre to try when the current one
+    /// fails (any linearly moving point will do for the theorem).
+    pub fn vertex_centroid(&self) -> [DVec3; 2] {
+        let k = self.vertices.max(1) as f64;
+        [self.vertex_sum[0] / k, self.vertex_sum[1] / k]
+    }
+
+    /// The current star centre at t=0 and t=1.
+    pub fn centre(&self) -> [DVec3; 2] {
+        self.centre
     }
 
     /// Replaces the star centre (for another [`DiskBuilder::check_boundary`] with `all_edges`).

@@ -104,13 +104,17 @@ pub(super) fn grow_leaves(
         match stop {
             GrowthStop::Exhausted => stats.stops_exhausted += 1,
             GrowthStop::Phi => stats.stops_phi += 1,
-            GrowthStop::Certificate(_) => stats.stops_certificate += 1,
+            GrowthStop::Certificate(f) => {
+                stats.stops_certificate += 1;
+                stats.disk_failures.record(f);
+            }
             GrowthStop::Disabled => {}
         }
 
         let bar_first = out.last_ring_vertices.len();
         out.last_ring_vertices.extend_from_slice(&scratch.frontier);
         let triangles = first..out.leaf_triangles.len();
+        let triangles_len = triangles.len();
         let certificate = if triangles.len() == 1 {
             LeafCertificate::SingleTriangle
         } else {
@@ -122,6 +126,11 @@ pub(super) fn grow_leaves(
             last_ring_vertices: bar_first..out.last_ring_vertices.len(),
             observation,
             direction,
+            centre: if triangles_len > 1 {
+                disk.centre()
+            } else {
+                observation
+            },
             certificate,
             stop,
         });
@@ -157,17 +166,28 @@ fn grow_rings(
         if scratch.ring.is_empty() {
             return GrowthStop::Exhausted;
         }
-        for &t in &scratch.ring {
-            let (p0, p1) = corners(step, t);
-            if phi(&p0, &p1, observation).nonnegative(options.subdivisions) != Verdict::Holds {
-                return GrowthStop::Phi;
+        if options.phi_filter {
+            for &t in &scratch.ring {
+                let (p0, p1) = corners(step, t);
+                if phi(&p0, &p1, observation).nonnegative(options.subdivisions) != Verdict::Holds {
+                    return GrowthStop::Phi;
+                }
             }
         }
-        if let Err(f) = disk
-            .extend(step, topo, &scratch.ring)
-            .and_then(|()| disk.check_boundary(step, topo, false))
-        {
+        if let Err(f) = disk.extend(step, topo, &scratch.ring) {
             return GrowthStop::Certificate(f);
+        }
+        match disk.check_boundary(step, topo, false) {
+            Ok(()) => {}
+            Err(DiskFailure::Star | DiskFailure::Winding) => {
+                // Seen from the current centre the boundary is not star-shaped: try the mean
+                // of the patch's vertices, checking every boundary edge against it.
+                disk.set_centre(disk.vertex_centroid());
+                if let Err(f) = disk.check_boundary(step, topo, true) {
+                    return GrowthStop::Certificate(f);
+                }
+            }
+            Err(f) => return GrowthStop::Certificate(f),
         }
         out.ring_starts.push(out.leaf_triangles.len() as u32);
         for &t in &scratch.ring {

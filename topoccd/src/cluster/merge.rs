@@ -3,7 +3,7 @@
 //! every pair of leaves in it is covered by an argument (see the [module documentation](super)).
 
 use super::bernstein::{phi, Verdict};
-use super::certificate::DiskBuilder;
+use super::certificate::{DiskBuilder, DiskFailure};
 use super::leaf::{corners, UNASSIGNED};
 use super::{ClusterOptions, ClusterStats, Clustering, IntermediateCluster};
 use crate::math::DVec3;
@@ -217,7 +217,8 @@ fn can_merge(
     }
     // Algorithm 1, the paper's test: the last rings of both leaves face away from O_n.
     let o = g_n.observation;
-    for &t in c.last_ring(p).iter().chain(c.last_ring(n)) {
+    let rings = c.last_ring(p).iter().chain(c.last_ring(n));
+    for &t in rings.take_while(|_| options.phi_filter) {
         let (p0, p1) = corners(step, t);
         if phi(&p0, &p1, o).nonnegative(options.subdivisions) != Verdict::Holds {
             stats.merge_rejected_phi += 1;
@@ -235,39 +236,43 @@ fn can_merge(
     // Route of the paper: LC_n with the last ring of LC_p is a certified disk, and B_n misses
     // B'_p (the rest of LC_p).
     if !g_n.whole.overlaps(&geometry[p].core) {
-        disk.begin(topo, nv, direction, leaf_n.observation, sub);
+        disk.begin(topo, nv, direction, leaf_n.centre, sub);
         let ok = disk
             .extend(step, topo, c.leaf_triangles(n))
             .and_then(|()| disk.extend(step, topo, c.last_ring(p)))
             .and_then(|()| disk.check_boundary(step, topo, true));
-        if ok.is_ok() {
-            stats.merged_by_ring += 1;
-            return true;
-        }
-    }
-    // Fallback: the union of both leaves is a certified disk (star centre tried at the midpoint
-    // of the two seeds, then at either seed).
-    let mid = [
-        (leaf_n.observation[0] + leaf_p.observation[0]) * 0.5,
-        (leaf_n.observation[1] + leaf_p.observation[1]) * 0.5,
-    ];
-    disk.begin(topo, nv, direction, mid, sub);
-    if disk
-        .extend(step, topo, c.leaf_triangles(n))
-        .and_then(|()| disk.extend(step, topo, c.leaf_triangles(p)))
-        .is_ok()
-    {
-        for centre in [leaf_n.observation, leaf_p.observation] {
-            if disk.check_boundary(step, topo, true).is_ok() {
-                stats.merged_by_union += 1;
+        match ok {
+            Ok(()) => {
+                stats.merged_by_ring += 1;
                 return true;
             }
+            Err(f) => stats.disk_failures.record(f),
+        }
+    }
+    // Fallback: the union of both leaves is a certified disk (star centre tried at the mean of
+    // its vertices, then at either leaf's centre).
+    disk.begin(topo, nv, direction, leaf_n.centre, sub);
+    let built = disk
+        .extend(step, topo, c.leaf_triangles(n))
+        .and_then(|()| disk.extend(step, topo, c.leaf_triangles(p)));
+    let mut last = built;
+    if built.is_ok() {
+        let union_centre = disk.vertex_centroid();
+        for centre in [union_centre, leaf_n.centre, leaf_p.centre] {
             disk.set_centre(centre);
+            last = disk.check_boundary(step, topo, true);
+            match last {
+                Ok(()) => {
+                    stats.merged_by_union += 1;
+                    return true;
+                }
+                Err(DiskFailure::Star | DiskFailure::Winding) => continue,
+                Err(_) => break,
+            }
         }
-        if disk.check_boundary(step, topo, true).is_ok() {
-            stats.merged_by_union += 1;
-            return true;
-        }
+    }
+    if let Err(f) = last {
+        stats.disk_failures.record(f);
     }
     stats.merge_rejected_certificate += 1;
     false

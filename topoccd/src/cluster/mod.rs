@@ -100,8 +100,8 @@ mod types;
 pub use certificate::{DiskBuilder, DiskFailure};
 pub use merge::SweptBox;
 pub use types::{
-    ClusterOptions, ClusterStats, Clustering, GrowthStop, IntermediateCluster, LeafCertificate,
-    LeafCluster,
+    ClusterOptions, ClusterStats, Clustering, DiskFailureCounts, GrowthStop, IntermediateCluster,
+    LeafCertificate, LeafCluster,
 };
 
 use crate::step::{Step, Topology};

@@ -20,6 +20,11 @@ pub struct ClusterOptions {
     /// Most leaf clusters per intermediate cluster, `>= 1` (the box test of algorithm 2 is
     /// quadratic in it). Default `128`.
     pub max_intermediate_leaves: u32,
+    /// Whether to apply the paper's test `phi >= 0` (equation 2 for rings, algorithm 1 for
+    /// merges). Soundness rests on the disk certificate alone, so turning it off stays sound;
+    /// it exists to measure what the paper's criterion costs. Default `true` (the paper's
+    /// algorithm).
+    pub phi_filter: bool,
 }
 
 impl Default for ClusterOptions {
@@ -29,6 +34,7 @@ impl Default for ClusterOptions {
             subdivisions: 2,
             merge: true,
             max_intermediate_leaves: 128,
+            phi_filter: true,
         }
     }
 }
@@ -69,6 +75,9 @@ pub struct LeafCluster {
     /// Direction `V` of the disk certificate: the seed's unit normal at t=0 (zero if the seed is
     /// degenerate).
     pub direction: DVec3,
+    /// Star centre `c` of its disk certificate at t=0 and t=1 (the observation point, or the
+    /// mean of the patch's vertices when growth needed another centre).
+    pub centre: [DVec3; 2],
     /// What makes it free of self-contact.
     pub certificate: LeafCertificate,
     /// Why it stopped growing.
@@ -83,6 +92,34 @@ pub struct IntermediateCluster {
     pub leaves: Range<usize>,
     /// Number of triangles in its leaves.
     pub triangle_count: usize,
+}
+
+/// How often each hypothesis of the disk theorem failed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DiskFailureCounts {
+    /// [`DiskFailure::Normal`].
+    pub normal: usize,
+    /// [`DiskFailure::NonManifold`].
+    pub non_manifold: usize,
+    /// [`DiskFailure::Topology`].
+    pub topology: usize,
+    /// [`DiskFailure::Star`].
+    pub star: usize,
+    /// [`DiskFailure::Winding`].
+    pub winding: usize,
+}
+
+impl DiskFailureCounts {
+    /// Counts one failure.
+    pub fn record(&mut self, failure: DiskFailure) {
+        match failure {
+            DiskFailure::Normal => self.normal += 1,
+            DiskFailure::NonManifold => self.non_manifold += 1,
+            DiskFailure::Topology => self.topology += 1,
+            DiskFailure::Star => self.star += 1,
+            DiskFailure::Winding => self.winding += 1,
+        }
+    }
 }
 
 /// Counters and timings of one clustering.
@@ -104,6 +141,8 @@ pub struct ClusterStats {
     pub stops_phi: usize,
     /// Leaves that stopped at a ring (or seed) failing the disk certificate.
     pub stops_certificate: usize,
+    /// Disk certificate failures (leaf growth and merge attempts), by hypothesis.
+    pub disk_failures: DiskFailureCounts,
     /// Merges by the paper's route (last ring in a disk, rest by boxes).
     pub merged_by_ring: usize,
     /// Merges by the fallback route (union of both leaves a disk).
