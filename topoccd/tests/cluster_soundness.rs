@@ -611,3 +611,65 @@ fn paper_criterion_alone_is_unsound_on_a_helicoid() {
     // The certified clustering of the same mesh has none, with or without the paper's filter.
     check("phi helicoid", &step);
 }
+
+// ---------------------------------------------------------------- randomized stress
+
+#[test]
+fn random_large_smooth_deformations() {
+    // Sheets and blobs under random smooth deformations large enough to fold them through
+    // themselves; every intermediate cluster brute-forced, with and without the paper's filter.
+    let mut contacts = 0;
+    for seed in 0..24u64 {
+        let mut rng = ChaCha8Rng::seed_from_u64(1000 + seed);
+        let amp: [f64; 3] = [0.0, 1.0, 2.0].map(|_| rng.random_range(0.05..0.6));
+        let freq: [f64; 3] = [0.0, 1.0, 2.0].map(|_| rng.random_range(2.0..9.0));
+        let phase: [f64; 3] = [0.0, 1.0, 2.0].map(|_| rng.random_range(0.0..TAU));
+        let warp = move |p: DVec3| {
+            p + DVec3::new(
+                amp[0] * (freq[0] * p.y + phase[0]).sin(),
+                amp[1] * (freq[1] * p.z + phase[1]).sin(),
+                amp[2] * (freq[2] * p.x + phase[2]).sin(),
+            )
+        };
+        let step = if seed % 3 == 2 {
+            sphere(10, 16, |p| p, warp)
+        } else {
+            grid(
+                14,
+                10,
+                |u, v| DVec3::new(u, v, 0.1 * (3.0 * u).sin()),
+                move |u, v| warp(DVec3::new(u, v, 0.1 * (3.0 * u).sin())),
+            )
+        };
+        let all: Vec<u32> = (0..step.triangles().len() as u32).collect();
+        contacts += usize::from(!contacts_among(&step, &all, 1).is_empty());
+        check(&format!("random {seed}"), &step);
+    }
+    println!("random deformations with contacts: {contacts} of 24");
+    assert!(
+        contacts >= 4,
+        "the random deformations should often self-intersect"
+    );
+}
+
+#[test]
+fn positive_min_separation_turns_clustering_off() {
+    let step = grid(
+        8,
+        8,
+        |u, v| DVec3::new(u, v, 0.0),
+        |u, v| DVec3::new(u, v, 0.1),
+    );
+    let topo = Topology::new(step.triangles(), step.vertex_count());
+    let options = ClusterOptions {
+        min_separation: 1e-3,
+        ..ClusterOptions::default()
+    };
+    let c = cluster(&step, &topo, &options);
+    assert_eq!(c.leaves.len(), step.triangles().len());
+    assert_eq!(c.intermediates.len(), c.leaves.len());
+    assert!(c
+        .leaves
+        .iter()
+        .all(|l| l.certificate == topoccd::cluster::LeafCertificate::SingleTriangle));
+}
