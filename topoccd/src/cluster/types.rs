@@ -1,0 +1,230 @@
+//! The result of the clustering: leaf and intermediate clusters, their options and statistics.
+
+use super::certificate::DiskFailure;
+use crate::math::DVec3;
+use std::ops::Range;
+
+/// Options of [`cluster`](super::cluster).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClusterOptions {
+    /// Distance, in the coordinates' units, at or below which features count as touching, as in
+    /// [`NarrowOptions`](crate::narrow::NarrowOptions). `>= 0`. The certificates hold for
+    /// contact only, so any value `> 0` turns clustering off (single-triangle leaves, single-leaf
+    /// intermediate clusters). Default `0`.
+    pub min_separation: f64,
+    /// Most de Casteljau subdivisions per polynomial sign test when its coefficients are
+    /// inconclusive, `0..=8` sensibly (cost up to `2^subdivisions` per test). Default `2`.
+    pub subdivisions: u32,
+    /// Whether to merge leaf clusters into intermediate clusters at all. Default `true`.
+    pub merge: bool,
+    /// Most leaf clusters per intermediate cluster, `>= 1` (the box test of algorithm 2 is
+    /// quadratic in it). Default `128`.
+    pub max_intermediate_leaves: u32,
+    /// Whether to apply the paper's test `phi >= 0` (equation 2 for rings, algorithm 1 for
+    /// merges). Soundness rests on the disk certificate alone, so turning it off stays sound;
+    /// it exists to measure what the paper's criterion costs. Default `true` (the paper's
+    /// algorithm).
+    pub phi_filter: bool,
+}
+
+impl Default for ClusterOptions {
+    fn default() -> Self {
+        Self {
+            min_separation: 0.0,
+            subdivisions: 2,
+            merge: true,
+            max_intermediate_leaves: 128,
+            phi_filter: true,
+        }
+    }
+}
+
+/// Why a leaf cluster's growth ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GrowthStop {
+    /// No free triangle was left around the last ring.
+    Exhausted,
+    /// A triangle of the next ring failed the paper's test `phi >= 0`.
+    Phi,
+    /// The patch with the next ring (or the seed itself) failed the disk certificate.
+    Certificate(DiskFailure),
+    /// Growth is off ([`ClusterOptions::min_separation`] `> 0`).
+    Disabled,
+}
+
+/// What makes a leaf cluster free of self-contact.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LeafCertificate {
+    /// One triangle: its features all share a vertex, there is nothing to test.
+    SingleTriangle,
+    /// Several triangles forming a certified disk (see the [module documentation](super)).
+    Disk,
+}
+
+/// A leaf cluster: a seed triangle and the rings grown around it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LeafCluster {
+    /// Range of its triangles in [`Clustering::leaf_triangles`], ring by ring, seed first.
+    pub triangles: Range<usize>,
+    /// Range of its rings in [`Clustering::ring_starts`] (ring 0 is the seed).
+    pub rings: Range<usize>,
+    /// Range of its `V-bar` (equation 4) in [`Clustering::last_ring_vertices`].
+    pub last_ring_vertices: Range<usize>,
+    /// Observation point `O` (the seed's centroid, equation 3) at t=0 and t=1.
+    pub observation: [DVec3; 2],
+    /// Direction `V` of the disk certificate: the seed's unit normal at t=0 (zero if the seed is
+    /// degenerate).
+    pub direction: DVec3,
+    /// Star centre `c` of its disk certificate at t=0 and t=1 (the observation point, or the
+    /// mean of the patch's vertices when growth needed another centre).
+    pub centre: [DVec3; 2],
+    /// What makes it free of self-contact.
+    pub certificate: LeafCertificate,
+    /// Why it stopped growing.
+    pub stop: GrowthStop,
+}
+
+/// An intermediate cluster: leaf clusters in the order they joined, each adjacent to the one
+/// before. No two of its features that share no vertex touch during the step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IntermediateCluster {
+    /// Range of its leaves in [`Clustering::intermediate_leaves`].
+    pub leaves: Range<usize>,
+    /// Number of triangles in its leaves.
+    pub triangle_count: usize,
+}
+
+/// How often each hypothesis of the disk theorem failed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DiskFailureCounts {
+    /// [`DiskFailure::Normal`].
+    pub normal: usize,
+    /// [`DiskFailure::NonManifold`].
+    pub non_manifold: usize,
+    /// [`DiskFailure::Topology`].
+    pub topology: usize,
+    /// [`DiskFailure::Star`].
+    pub star: usize,
+    /// [`DiskFailure::Winding`].
+    pub winding: usize,
+}
+
+impl DiskFailureCounts {
+    /// Counts one failure.
+    pub fn record(&mut self, failure: DiskFailure) {
+        match failure {
+            DiskFailure::Normal => self.normal += 1,
+            DiskFailure::NonManifold => self.non_manifold += 1,
+            DiskFailure::Topology => self.topology += 1,
+            DiskFailure::Star => self.star += 1,
+            DiskFailure::Winding => self.winding += 1,
+        }
+    }
+}
+
+/// Counters and timings of one clustering.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ClusterStats {
+    /// Number of triangles.
+    pub triangles: usize,
+    /// Number of leaf clusters.
+    pub leaves: usize,
+    /// Number of intermediate clusters.
+    pub intermediates: usize,
+    /// Average triangles per leaf cluster (table 2's ratio, per leaf).
+    pub triangles_per_leaf: f64,
+    /// Average triangles per intermediate cluster (table 2's ratio).
+    pub triangles_per_intermediate: f64,
+    /// Leaves that stopped because no free triangle was left.
+    pub stops_exhausted: usize,
+    /// Leaves that stopped at a ring failing the paper's `phi` test.
+    pub stops_phi: usize,
+    /// Leaves that stopped at a ring (or seed) failing the disk certificate.
+    pub stops_certificate: usize,
+    /// Disk certificate failures (leaf growth and merge attempts), by hypothesis.
+    pub disk_failures: DiskFailureCounts,
+    /// Merges by the paper's route (last ring in a disk, rest by boxes).
+    pub merged_by_ring: usize,
+    /// Merges by the fallback route (union of both leaves a disk).
+    pub merged_by_union: usize,
+    /// Merge attempts refused by algorithm 2's box test.
+    pub merge_rejected_box: usize,
+    /// Merge attempts refused by the paper's `phi` test of algorithm 1.
+    pub merge_rejected_phi: usize,
+    /// Merge attempts refused because neither certificate route held.
+    pub merge_rejected_certificate: usize,
+    /// Wall time of the leaf clustering, in seconds.
+    pub clustering_seconds: f64,
+    /// Wall time of the merging into intermediate clusters, in seconds.
+    pub merging_seconds: f64,
+}
+
+/// The clustering of one step. Triangle, leaf and intermediate ids index the arrays below.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Clustering {
+    /// Leaf cluster of each triangle.
+    pub leaf_of_triangle: Vec<u32>,
+    /// The leaf clusters, by increasing seed triangle.
+    pub leaves: Vec<LeafCluster>,
+    /// Triangles of all leaves, leaf by leaf, ring by ring (see [`LeafCluster::triangles`]).
+    pub leaf_triangles: Vec<u32>,
+    /// Start of every ring in [`Clustering::leaf_triangles`] (see [`LeafCluster::rings`]).
+    pub ring_starts: Vec<u32>,
+    /// `V-bar` (equation 4) of all leaves: vertices of the last accepted ring not in earlier
+    /// rings (the seed's three vertices for a one-triangle leaf).
+    pub last_ring_vertices: Vec<u32>,
+    /// The intermediate clusters.
+    pub intermediates: Vec<IntermediateCluster>,
+    /// Leaves of all intermediate clusters (see [`IntermediateCluster::leaves`]).
+    pub intermediate_leaves: Vec<u32>,
+    /// Intermediate cluster of each leaf.
+    pub intermediate_of_leaf: Vec<u32>,
+    /// Counters and timings.
+    pub stats: ClusterStats,
+}
+
+impl Clustering {
+    /// Triangles of leaf `leaf`, ring by ring.
+    pub fn leaf_triangles(&self, leaf: usize) -> &[u32] {
+        &self.leaf_triangles[self.leaves[leaf].triangles.clone()]
+    }
+
+    /// Number of rings of leaf `leaf` (1 for the seed alone).
+    pub fn ring_count(&self, leaf: usize) -> usize {
+        self.leaves[leaf].rings.len()
+    }
+
+    /// Ring `k` of leaf `leaf` (ring 0 is the seed).
+    pub fn ring(&self, leaf: usize, k: usize) -> &[u32] {
+        let l = &self.leaves[leaf];
+        let r = l.rings.start + k;
+        debug_assert!(r < l.rings.end);
+        let start = self.ring_starts[r] as usize;
+        let end = if r + 1 < l.rings.end {
+            self.ring_starts[r + 1] as usize
+        } else {
+            l.triangles.end
+        };
+        &self.leaf_triangles[start..end]
+    }
+
+    /// The last ring of leaf `leaf` (`T^i` of the paper).
+    pub fn last_ring(&self, leaf: usize) -> &[u32] {
+        self.ring(leaf, self.ring_count(leaf) - 1)
+    }
+
+    /// `V-bar` of leaf `leaf` (equation 4).
+    pub fn last_ring_vertices(&self, leaf: usize) -> &[u32] {
+        &self.last_ring_vertices[self.leaves[leaf].last_ring_vertices.clone()]
+    }
+
+    /// Leaves of intermediate cluster `ic`, in the order they joined.
+    pub fn intermediate_leaves(&self, ic: usize) -> &[u32] {
+        &self.intermediate_leaves[self.intermediates[ic].leaves.clone()]
+    }
+
+    /// Start of the triangles of the leaf being grown (the end of the finished leaves).
+    pub(super) fn leaves_end_offset(&self) -> usize {
+        self.leaves.last().map_or(0, |l| l.triangles.end)
+    }
+}

@@ -1,0 +1,675 @@
+//! The clustering against brute force: on smooth and adversarial deforming meshes, every feature
+//! pair inside one intermediate cluster that shares no vertex is run through the narrow phase,
+//! and none may touch. The adversarial meshes are shown to contain contacts, and the paper's
+//! `phi` criterion alone is shown to put touching features in one cluster.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::f64::consts::{PI, TAU};
+use topoccd::cluster::bernstein::{phi, Verdict};
+use topoccd::cluster::{cluster, ClusterOptions, Clustering};
+use topoccd::math::DVec3;
+use topoccd::narrow::{edge_edge, vertex_face, EdgeEdge, NarrowOptions, VertexFace};
+use topoccd::step::{Step, Topology};
+
+// ---------------------------------------------------------------- mesh generators
+
+/// A grid of `nu x nv` quads, two triangles each, mapped by `f0` at t=0 and `f1` at t=1 from
+/// `(u, v)` in `[0, 1]^2`. Triangles face `+(d/du x d/dv)`.
+fn grid(nu: u32, nv: u32, f0: impl Fn(f64, f64) -> DVec3, f1: impl Fn(f64, f64) -> DVec3) -> Step {
+    let (mut x0, mut x1) = (Vec::new(), Vec::new());
+    for j in 0..=nv {
+        for i in 0..=nu {
+            let (u, v) = (i as f64 / nu as f64, j as f64 / nv as f64);
+            x0.push(f0(u, v));
+            x1.push(f1(u, v));
+        }
+    }
+    let mut tris = Vec::new();
+    let id = |i: u32, j: u32| j * (nu + 1) + i;
+    for j in 0..nv {
+        for i in 0..nu {
+            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    Step::new(x0, x1, tris).expect("valid grid")
+}
+
+/// Closed UV sphere: `rings` latitude bands, `segments` longitudes, outward normals; each vertex
+/// `p` of the unit sphere goes to `f0(p)` and `f1(p)`.
+fn sphere(
+    rings: u32,
+    segments: u32,
+    f0: impl Fn(DVec3) -> DVec3,
+    f1: impl Fn(DVec3) -> DVec3,
+) -> Step {
+    let mut unit = vec![DVec3::Z];
+    for r in 1..rings {
+        let th = PI * r as f64 / rings as f64;
+        for s in 0..segments {
+            let ph = TAU * s as f64 / segments as f64;
+            unit.push(DVec3::new(
+                th.sin() * ph.cos(),
+                th.sin() * ph.sin(),
+                th.cos(),
+            ));
+        }
+    }
+    unit.push(-DVec3::Z);
+    let south = unit.len() as u32 - 1;
+    let at = |r: u32, s: u32| 1 + (r - 1) * segments + s % segments;
+    let mut tris = Vec::new();
+    for s in 0..segments {
+        tris.push([0, at(1, s), at(1, s + 1)]);
+        for r in 1..rings - 1 {
+            tris.push([at(r, s), at(r + 1, s), at(r + 1, s + 1)]);
+            tris.push([at(r, s), at(r + 1, s + 1), at(r, s + 1)]);
+        }
+        tris.push([at(rings - 1, s), south, at(rings - 1, s + 1)]);
+    }
+    let x0 = unit.iter().map(|&p| f0(p)).collect();
+    let x1 = unit.iter().map(|&p| f1(p)).collect();
+    Step::new(x0, x1, tris).expect("valid sphere")
+}
+
+/// Helicoid ribbon: angle `theta` in `[0, turns 2 pi]`, radius in `[1, 1.5]`, height `z0` at
+/// t=0 and `z1` at t=1 (functions of the angle). Triangles face up.
+fn ribbon(
+    n_theta: u32,
+    n_r: u32,
+    turns: f64,
+    z0: impl Fn(f64) -> f64,
+    z1: impl Fn(f64) -> f64,
+) -> Step {
+    let at = |z: &dyn Fn(f64) -> f64, u: f64, v: f64| {
+        let th = u * turns * TAU;
+        let r = 1.0 + 0.5 * v;
+        DVec3::new(r * th.cos(), r * th.sin(), z(th))
+    };
+    // In (u = radius, v = angle) order so that d/du x d/dv points up.
+    grid(n_r, n_theta, |v, u| at(&z0, u, v), |v, u| at(&z1, u, v))
+}
+
+// ---------------------------------------------------------------- brute force
+
+/// Box of a feature's points at both times.
+fn feature_box(step: &Step, vs: &[u32]) -> (DVec3, DVec3) {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for &v in vs {
+        for p in [step.x0()[v as usize], step.x1()[v as usize]] {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+    }
+    (lo, hi)
+}
+
+fn boxes_meet(a: (DVec3, DVec3), b: (DVec3, DVec3)) -> bool {
+    a.0.cmple(b.1).all() && b.0.cmple(a.1).all()
+}
+
+/// Feature pairs sharing no vertex among `tris` that the narrow phase reports touching, at most
+/// `limit` of them. A swept box test filters the pairs first (exactly: features whose boxes of
+/// end positions are disjoint cannot meet).
+fn contacts_among(step: &Step, tris: &[u32], limit: usize) -> Vec<String> {
+    let (x0, x1, t) = (step.x0(), step.x1(), step.triangles());
+    let mut verts: Vec<u32> = tris.iter().flat_map(|&f| t[f as usize]).collect();
+    verts.sort_unstable();
+    verts.dedup();
+    let mut edges: Vec<[u32; 2]> = tris
+        .iter()
+        .flat_map(|&f| {
+            let [a, b, c] = t[f as usize];
+            [
+                [a.min(b), a.max(b)],
+                [b.min(c), b.max(c)],
+                [c.min(a), c.max(a)],
+            ]
+        })
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    let opts = NarrowOptions::default();
+    let mut found = Vec::new();
+    let face_boxes: Vec<_> = tris
+        .iter()
+        .map(|&f| feature_box(step, &t[f as usize]))
+        .collect();
+    for &v in &verts {
+        let vb = feature_box(step, &[v]);
+        for (k, &f) in tris.iter().enumerate() {
+            let tri = t[f as usize];
+            if tri.contains(&v) || !boxes_meet(vb, face_boxes[k]) {
+                continue;
+            }
+            let [a, b, c] = tri.map(|i| i as usize);
+            let q = VertexFace {
+                v_t0: x0[v as usize],
+                f0_t0: x0[a],
+                f1_t0: x0[b],
+                f2_t0: x0[c],
+                v_t1: x1[v as usize],
+                f0_t1: x1[a],
+                f1_t1: x1[b],
+                f2_t1: x1[c],
+            };
+            if vertex_face(&q, &opts).is_contact() {
+                found.push(format!("vertex {v} - face {f} {tri:?}"));
+                if found.len() >= limit {
+                    return found;
+                }
+            }
+        }
+    }
+    let edge_boxes: Vec<_> = edges.iter().map(|e| feature_box(step, e)).collect();
+    for i in 0..edges.len() {
+        for j in i + 1..edges.len() {
+            let ([a, b], [c, d]) = (edges[i], edges[j]);
+            if a == c || a == d || b == c || b == d || !boxes_meet(edge_boxes[i], edge_boxes[j]) {
+                continue;
+            }
+            let [a, b, c, d] = [a, b, c, d].map(|i| i as usize);
+            let q = EdgeEdge {
+                ea0_t0: x0[a],
+                ea1_t0: x0[b],
+                eb0_t0: x0[c],
+                eb1_t0: x0[d],
+                ea0_t1: x1[a],
+                ea1_t1: x1[b],
+                eb0_t1: x1[c],
+                eb1_t1: x1[d],
+            };
+            if edge_edge(&q, &opts).is_contact() {
+                found.push(format!("edge {:?} - edge {:?}", edges[i], edges[j]));
+                if found.len() >= limit {
+                    return found;
+                }
+            }
+        }
+    }
+    found
+}
+
+/// Clusters `step` with the paper's filter and without it (certificate alone), checks every
+/// intermediate cluster by brute force and the bookkeeping; returns both clusterings.
+fn check(name: &str, step: &Step) -> [Clustering; 2] {
+    let with_phi = check_with(name, step, &ClusterOptions::default());
+    let options = ClusterOptions {
+        phi_filter: false,
+        ..ClusterOptions::default()
+    };
+    let without = check_with(&format!("{name} (no phi)"), step, &options);
+    [with_phi, without]
+}
+
+fn check_with(name: &str, step: &Step, options: &ClusterOptions) -> Clustering {
+    let topo = Topology::new(step.triangles(), step.vertex_count());
+    let c = cluster(step, &topo, options);
+    let n = step.triangles().len();
+    // Bookkeeping: every triangle in exactly one leaf, every leaf in exactly one IC.
+    assert_eq!(c.leaf_of_triangle.len(), n);
+    let mut seen = vec![0u32; n];
+    for (l, leaf) in c.leaves.iter().enumerate() {
+        for &t in c.leaf_triangles(l) {
+            seen[t as usize] += 1;
+            assert_eq!(c.leaf_of_triangle[t as usize], l as u32);
+        }
+        let rings: usize = (0..c.ring_count(l)).map(|k| c.ring(l, k).len()).sum();
+        assert_eq!(rings, leaf.triangles.len());
+    }
+    assert!(
+        seen.iter().all(|&s| s == 1),
+        "{name}: a triangle is not in exactly one leaf"
+    );
+    let mut leaf_seen = vec![0u32; c.leaves.len()];
+    for ic in 0..c.intermediates.len() {
+        for &l in c.intermediate_leaves(ic) {
+            leaf_seen[l as usize] += 1;
+            assert_eq!(c.intermediate_of_leaf[l as usize], ic as u32);
+        }
+    }
+    assert!(
+        leaf_seen.iter().all(|&s| s == 1),
+        "{name}: a leaf is not in exactly one IC"
+    );
+    // Soundness.
+    for ic in 0..c.intermediates.len() {
+        let tris: Vec<u32> = c
+            .intermediate_leaves(ic)
+            .iter()
+            .flat_map(|&l| c.leaf_triangles(l as usize).iter().copied())
+            .collect();
+        let bad = contacts_among(step, &tris, 5);
+        assert!(
+            bad.is_empty(),
+            "{name}: contacts inside intermediate cluster {ic}: {bad:?}"
+        );
+    }
+    let s = &c.stats;
+    println!(
+        "{name}: {} triangles, {} leaves, {} ICs, {:.1} tri/leaf, {:.1} tri/IC; stops: \
+         phi {} certificate {} exhausted {}; merges ring {} union {}, refused box {} phi {} cert {}; disk failures {:?}",
+        s.triangles,
+        s.leaves,
+        s.intermediates,
+        s.triangles_per_leaf,
+        s.triangles_per_intermediate,
+        s.stops_phi,
+        s.stops_certificate,
+        s.stops_exhausted,
+        s.merged_by_ring,
+        s.merged_by_union,
+        s.merge_rejected_box,
+        s.merge_rejected_phi,
+        s.merge_rejected_certificate,
+        s.disk_failures
+    );
+    c
+}
+
+fn assert_has_contacts(name: &str, step: &Step) {
+    let all: Vec<u32> = (0..step.triangles().len() as u32).collect();
+    let found = contacts_among(step, &all, 1);
+    assert!(
+        !found.is_empty(),
+        "{name}: the adversarial mesh has no contact at all"
+    );
+}
+
+// ---------------------------------------------------------------- smooth meshes
+
+#[test]
+fn flat_sheet_gives_big_clusters() {
+    let step = grid(
+        30,
+        30,
+        |u, v| DVec3::new(u, v, 0.0),
+        |u, v| DVec3::new(u + 0.05 * v, v + 0.02 * (3.0 * u).sin(), 0.3),
+    );
+    for c in check("flat sheet", &step) {
+        assert!(c.stats.triangles_per_leaf > 100.0, "{:?}", c.stats);
+    }
+}
+
+#[test]
+fn gently_curved_dome() {
+    // A convex cap (normals up, bulging up) flattening and drifting during the step: the
+    // paper's criterion holds on convex parts.
+    let step = grid(
+        34,
+        30,
+        |u, v| DVec3::new(u, v, -0.3 * ((u - 0.5).powi(2) + (v - 0.5).powi(2))),
+        |u, v| {
+            DVec3::new(
+                u + 0.03,
+                v - 0.02,
+                0.1 - 0.15 * ((u - 0.45).powi(2) + (v - 0.5).powi(2)),
+            )
+        },
+    );
+    for c in check("dome", &step) {
+        assert!(c.stats.triangles_per_leaf > 50.0, "{:?}", c.stats);
+    }
+}
+
+#[test]
+fn wavy_sheets() {
+    // Saddles and hollows everywhere: the paper's criterion (observation point on the surface)
+    // fails at the first ring around most seeds; the certificate alone does not.
+    for seed in 0..3u64 {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let (a, b, w) = (
+            rng.random_range(0.02..0.08),
+            rng.random_range(0.02..0.08),
+            rng.random_range(2.0..5.0),
+        );
+        let step = grid(
+            32,
+            28,
+            |u, v| DVec3::new(u, v, a * (w * u).sin() * (w * v).cos()),
+            |u, v| DVec3::new(u + 0.02, v, b * (w * u + 0.7).sin() * (w * v).cos() + 0.05),
+        );
+        let [_, certificate_only] = check(&format!("wavy sheet {seed}"), &step);
+        assert!(
+            certificate_only.stats.triangles_per_leaf > 20.0,
+            "{:?}",
+            certificate_only.stats
+        );
+    }
+}
+
+#[test]
+fn deforming_sphere() {
+    let step = sphere(
+        20,
+        40,
+        |p| p,
+        |p| DVec3::new(1.2 * p.x, 0.9 * p.y, p.z + 0.1 * (3.0 * p.x).sin()) + DVec3::X * 0.2,
+    );
+    for c in check("sphere", &step) {
+        assert!(c.stats.triangles_per_leaf > 20.0, "{:?}", c.stats);
+        // No leaf can cover a closed surface.
+        assert!(c.stats.leaves >= 2);
+    }
+}
+
+// ---------------------------------------------------------------- adversarial meshes
+
+#[test]
+fn helicoid_with_a_turn_pushed_through_the_one_below() {
+    // Two turns, pitch 0.4; during the step the upper turn (angle > 2 pi + 1) sinks by 0.6.
+    let pitch = 0.4;
+    let step = ribbon(
+        160,
+        4,
+        2.0,
+        |th| pitch * th / TAU,
+        |th| pitch * th / TAU - 0.6 * ((th - TAU - 1.0) / 1.0).clamp(0.0, 1.0),
+    );
+    assert_has_contacts("helicoid", &step);
+    check("helicoid", &step);
+}
+
+#[test]
+fn tight_fold() {
+    // Flat at t=0; at t=1 the part x > 0 wraps over a hinge of radius 0.05 and dives back
+    // through the part x < 0.
+    let rho = 0.05;
+    let fold = |u: f64, v: f64| {
+        let x = 2.0 * u - 1.0;
+        let y = v;
+        if x <= 0.0 {
+            DVec3::new(x, y, 0.0)
+        } else if x <= PI * rho {
+            let a = x / rho;
+            DVec3::new(rho * a.sin(), y, rho * (1.0 - a.cos()))
+        } else {
+            let s = x - PI * rho;
+            DVec3::new(-s, y, 2.0 * rho - 0.3 * s)
+        }
+    };
+    let step = grid(40, 12, |u, v| DVec3::new(2.0 * u - 1.0, v, 0.0), fold);
+    assert_has_contacts("tight fold", &step);
+    check("tight fold", &step);
+}
+
+#[test]
+fn crumpled_sheets() {
+    for seed in 0..3u64 {
+        let mut rng = ChaCha8Rng::seed_from_u64(100 + seed);
+        let n = 24;
+        let noise: Vec<DVec3> = (0..(n + 1) * (n + 1))
+            .map(|_| {
+                DVec3::new(
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                )
+            })
+            .collect();
+        let idx = |u: f64, v: f64| {
+            ((v * n as f64).round() as usize) * (n + 1) + (u * n as f64).round() as usize
+        };
+        let h = 1.0 / n as f64;
+        let step = grid(
+            n as u32,
+            n as u32,
+            |u, v| DVec3::new(u, v, 0.0),
+            |u, v| {
+                let e = noise[idx(u, v)];
+                DVec3::new(
+                    u + 0.8 * h * e.x,
+                    v + 0.8 * h * e.y,
+                    1.5 * h * e.z + 0.3 * (6.0 * u).sin() * v,
+                )
+            },
+        );
+        assert_has_contacts("crumpled sheet", &step);
+        check(&format!("crumpled sheet {seed}"), &step);
+    }
+}
+
+#[test]
+fn torn_pieces_pressed_together() {
+    // Two pieces of a sheet cut along x = 0 (vertices duplicated): during the step the right
+    // piece slides left over the cut and tilts down through the left piece.
+    let left = grid(
+        12,
+        16,
+        |u, v| DVec3::new(u - 1.0, v, 0.0),
+        |u, v| DVec3::new(u - 1.0, v, 0.0),
+    );
+    let right = grid(
+        12,
+        16,
+        |u, v| DVec3::new(u, v, 0.0),
+        |u, v| DVec3::new(u - 0.4, v, 0.12 * (u - 0.2)),
+    );
+    let off = left.vertex_count() as u32;
+    let x0 = [left.x0(), right.x0()].concat();
+    let x1 = [left.x1(), right.x1()].concat();
+    let tris = left
+        .triangles()
+        .iter()
+        .copied()
+        .chain(right.triangles().iter().map(|t| t.map(|i| i + off)))
+        .collect();
+    let step = Step::new(x0, x1, tris).expect("valid");
+    assert_has_contacts("torn pieces", &step);
+    check("torn pieces", &step);
+}
+
+#[test]
+fn partial_tear_with_flaps_pressed_together() {
+    // A 24 x 16 sheet torn along x = 1/2 from the bottom up to 5/8 of its height: the column of
+    // vertices on the tear is duplicated, the right flap uses the copies. During the step the
+    // right flap swings left over the tear and down through the left flap.
+    let (nu, nv) = (24u32, 16u32);
+    let tear_top = 10u32;
+    let sheet = grid(
+        nu,
+        nv,
+        |u, v| DVec3::new(u, v, 0.0),
+        |u, v| DVec3::new(u, v, 0.0),
+    );
+    let mut x0 = sheet.x0().to_vec();
+    let mut x1 = sheet.x1().to_vec();
+    let id = |i: u32, j: u32| j * (nu + 1) + i;
+    let mut copy = std::collections::HashMap::new();
+    for j in 0..tear_top {
+        copy.insert(id(nu / 2, j), x0.len() as u32);
+        x0.push(x0[id(nu / 2, j) as usize]);
+        x1.push(x1[id(nu / 2, j) as usize]);
+    }
+    let tris: Vec<[u32; 3]> = sheet
+        .triangles()
+        .iter()
+        .map(|t| {
+            let right = t.iter().any(|&v| v % (nu + 1) > nu / 2);
+            t.map(|v| {
+                if right {
+                    *copy.get(&v).unwrap_or(&v)
+                } else {
+                    v
+                }
+            })
+        })
+        .collect();
+    // Deform the right flap: below the tear top, move left and down, more so further down.
+    for (v, p) in x1.iter_mut().enumerate() {
+        let is_right = (v < sheet.vertex_count() && (v as u32 % (nu + 1)) > nu / 2)
+            || v >= sheet.vertex_count();
+        let h = p.y / (tear_top as f64 / nv as f64);
+        if is_right && h < 1.0 {
+            let w = 1.0 - h;
+            p.x -= 0.3 * w;
+            p.z += 0.2 * w * (p.x - 0.45);
+        }
+    }
+    let step = Step::new(x0, x1, tris).expect("valid");
+    assert_has_contacts("partial tear", &step);
+    check("partial tear", &step);
+}
+
+// ---------------------------------------------------------------- the paper's criterion alone
+
+/// Leaf clusters grown with the paper's `phi >= 0` alone (no disk certificate).
+fn phi_only_leaves(step: &Step, topo: &Topology) -> Vec<Vec<u32>> {
+    let n = step.triangles().len();
+    let mut taken = vec![false; n];
+    let mut leaves = Vec::new();
+    let corners = |t: u32| {
+        let tri = step.triangles()[t as usize];
+        (
+            tri.map(|v| step.x0()[v as usize]),
+            tri.map(|v| step.x1()[v as usize]),
+        )
+    };
+    for seed in 0..n as u32 {
+        if taken[seed as usize] {
+            continue;
+        }
+        taken[seed as usize] = true;
+        let (s0, s1) = corners(seed);
+        let o = [(s0[0] + s0[1] + s0[2]) / 3.0, (s1[0] + s1[1] + s1[2]) / 3.0];
+        let mut leaf = vec![seed];
+        let mut verts: Vec<u32> = step.triangles()[seed as usize].to_vec();
+        let mut frontier = verts.clone();
+        loop {
+            let mut ring: Vec<u32> = frontier
+                .iter()
+                .flat_map(|&v| topo.triangles_of(v).iter().copied())
+                .filter(|&t| !taken[t as usize])
+                .collect();
+            ring.sort_unstable();
+            ring.dedup();
+            if ring.is_empty()
+                || ring.iter().any(|&t| {
+                    let (p0, p1) = corners(t);
+                    phi(&p0, &p1, o).nonnegative(2) != Verdict::Holds
+                })
+            {
+                break;
+            }
+            frontier.clear();
+            for &t in &ring {
+                taken[t as usize] = true;
+                for v in step.triangles()[t as usize] {
+                    if !verts.contains(&v) {
+                        verts.push(v);
+                        frontier.push(v);
+                    }
+                }
+            }
+            leaf.extend(ring);
+        }
+        leaves.push(leaf);
+    }
+    leaves
+}
+
+/// A ribbon built so that every triangle faces away from the seed's centroid during the whole
+/// step (flat landing, a rising turn), whose end dives through the landing at t=1.
+fn phi_adversarial_helicoid() -> Step {
+    let landing = 1.2 * PI;
+    let peak = TAU + 0.05;
+    let h = 0.15;
+    let height = h * (peak - landing);
+    let z0 = move |th: f64| h * (th - landing).max(0.0);
+    let z1 = move |th: f64| {
+        if th <= peak {
+            z0(th)
+        } else {
+            height - 1.3 * height * (th - peak)
+        }
+    };
+    ribbon(220, 3, (peak + 1.0) / TAU, z0, z1)
+}
+
+#[test]
+fn paper_criterion_alone_is_unsound_on_a_helicoid() {
+    let step = phi_adversarial_helicoid();
+    let topo = Topology::new(step.triangles(), step.vertex_count());
+    assert_has_contacts("phi helicoid", &step);
+    let leaves = phi_only_leaves(&step, &topo);
+    let biggest = leaves.iter().map(Vec::len).max().unwrap_or(0);
+    let bad: Vec<_> = leaves
+        .iter()
+        .filter(|l| l.len() > 1)
+        .flat_map(|l| contacts_among(&step, l, 1))
+        .collect();
+    println!(
+        "phi-only on the helicoid: {} leaves, biggest {biggest} of {} triangles, contacts inside: {bad:?}",
+        leaves.len(),
+        step.triangles().len()
+    );
+    assert!(
+        !bad.is_empty(),
+        "phi alone should have put touching features in one cluster"
+    );
+    // The certified clustering of the same mesh has none, with or without the paper's filter.
+    check("phi helicoid", &step);
+}
+
+// ---------------------------------------------------------------- randomized stress
+
+#[test]
+fn random_large_smooth_deformations() {
+    // Sheets and blobs under random smooth deformations large enough to fold them through
+    // themselves; every intermediate cluster brute-forced, with and without the paper's filter.
+    let mut contacts = 0;
+    for seed in 0..24u64 {
+        let mut rng = ChaCha8Rng::seed_from_u64(1000 + seed);
+        let amp: [f64; 3] = [0.0, 1.0, 2.0].map(|_| rng.random_range(0.05..0.6));
+        let freq: [f64; 3] = [0.0, 1.0, 2.0].map(|_| rng.random_range(2.0..9.0));
+        let phase: [f64; 3] = [0.0, 1.0, 2.0].map(|_| rng.random_range(0.0..TAU));
+        let warp = move |p: DVec3| {
+            p + DVec3::new(
+                amp[0] * (freq[0] * p.y + phase[0]).sin(),
+                amp[1] * (freq[1] * p.z + phase[1]).sin(),
+                amp[2] * (freq[2] * p.x + phase[2]).sin(),
+            )
+        };
+        let step = if seed % 3 == 2 {
+            sphere(10, 16, |p| p, warp)
+        } else {
+            grid(
+                14,
+                10,
+                |u, v| DVec3::new(u, v, 0.1 * (3.0 * u).sin()),
+                move |u, v| warp(DVec3::new(u, v, 0.1 * (3.0 * u).sin())),
+            )
+        };
+        let all: Vec<u32> = (0..step.triangles().len() as u32).collect();
+        contacts += usize::from(!contacts_among(&step, &all, 1).is_empty());
+        check(&format!("random {seed}"), &step);
+    }
+    println!("random deformations with contacts: {contacts} of 24");
+    assert!(
+        contacts >= 4,
+        "the random deformations should often self-intersect"
+    );
+}
+
+#[test]
+fn positive_min_separation_turns_clustering_off() {
+    let step = grid(
+        8,
+        8,
+        |u, v| DVec3::new(u, v, 0.0),
+        |u, v| DVec3::new(u, v, 0.1),
+    );
+    let topo = Topology::new(step.triangles(), step.vertex_count());
+    let options = ClusterOptions {
+        min_separation: 1e-3,
+        ..ClusterOptions::default()
+    };
+    let c = cluster(&step, &topo, &options);
+    assert_eq!(c.leaves.len(), step.triangles().len());
+    assert_eq!(c.intermediates.len(), c.leaves.len());
+    assert!(c
+        .leaves
+        .iter()
+        .all(|l| l.certificate == topoccd::cluster::LeafCertificate::SingleTriangle));
+}
