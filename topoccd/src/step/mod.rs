@@ -17,6 +17,7 @@ mod features;
 mod mesh;
 mod narrow_phase;
 mod options;
+mod prefilter;
 mod query;
 mod report;
 mod topology;

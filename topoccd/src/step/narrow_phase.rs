@@ -1,6 +1,7 @@
 //! The narrow phase shared by every method: the elementary tests over a buffer of candidate
 //! feature pairs, in either mode.
 
+use super::prefilter::{ee_separated, vf_separated};
 use super::report::{Contact, EeContact, VfContact};
 use super::{Mode, QueryOptions, Step};
 use crate::narrow::{edge_edge, vertex_face, EdgeEdge, NarrowOptions, VertexFace};
@@ -44,7 +45,8 @@ fn ee_query(step: &Step, [a0, a1]: [u32; 2], [b0, b1]: [u32; 2]) -> EdgeEdge {
     }
 }
 
-/// Runs the elementary tests on the candidates: `vf` holds `(vertex, face)`, `ee` holds pairs of
+/// Runs the elementary tests on the candidates, each first through the conservative
+/// [`prefilter`](super::prefilter): `vf` holds `(vertex, face)`, `ee` holds pairs of
 /// indices into `edges`, the step's edges sorted lexicographically (so a smaller index is the
 /// lexicographically smaller edge).
 ///
@@ -62,11 +64,20 @@ pub(crate) fn run(
     options: &QueryOptions,
 ) -> Found {
     let full = options.narrow;
+    let sep = if full.min_separation > 0.0 && full.min_separation.is_finite() {
+        full.min_separation
+    } else {
+        0.0
+    };
     let mut found = Found::default();
     match options.mode {
         Mode::All => {
             for &pair in vf {
-                if let Some(toi) = vertex_face(&vf_query(step, pair), &full).toi() {
+                let q = vf_query(step, pair);
+                if vf_separated(&q, sep) {
+                    continue;
+                }
+                if let Some(toi) = vertex_face(&q, &full).toi() {
                     found.vf.push(VfContact {
                         vertex: pair[0],
                         face: pair[1],
@@ -77,7 +88,11 @@ pub(crate) fn run(
             for &[e, f] in ee {
                 let (a, b) = (edges[e as usize], edges[f as usize]);
                 debug_assert!(a < b);
-                if let Some(toi) = edge_edge(&ee_query(step, a, b), &full).toi() {
+                let q = ee_query(step, a, b);
+                if ee_separated(&q, sep) {
+                    continue;
+                }
+                if let Some(toi) = edge_edge(&q, &full).toi() {
                     found.ee.push(EeContact { a, b, toi });
                 }
             }
@@ -94,6 +109,9 @@ pub(crate) fn run(
             let mut best: Option<Contact> = None;
             for &pair in vf {
                 let q = vf_query(step, pair);
+                if vf_separated(&q, sep) {
+                    continue;
+                }
                 let toi = pruned(&full, best, |o| vertex_face(&q, o).toi());
                 if let Some(toi) = toi {
                     let c = VfContact {
@@ -107,6 +125,9 @@ pub(crate) fn run(
             for &[e, f] in ee {
                 let (a, b) = (edges[e as usize], edges[f as usize]);
                 let q = ee_query(step, a, b);
+                if ee_separated(&q, sep) {
+                    continue;
+                }
                 if let Some(toi) = pruned(&full, best, |o| edge_edge(&q, o).toi()) {
                     offer(Contact::Ee(EeContact { a, b, toi }), &mut best);
                 }
