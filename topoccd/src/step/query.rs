@@ -58,7 +58,7 @@ pub struct Ccd {
     ee: Vec<[u32; 2]>,
 }
 
-/// The candidate feature pairs of the last query, each sent once to the elementary tests.
+/// The candidate feature pairs of the last query, each given once to the narrow phase.
 #[derive(Clone, Copy, Debug)]
 pub struct Candidates<'a> {
     /// `[vertex, face]` pairs.
@@ -154,8 +154,8 @@ impl Ccd {
         }
     }
 
-    /// The candidate feature pairs of the last query: exactly the pairs given to the elementary
-    /// tests, each once. For tests and diagnostics.
+    /// The candidate feature pairs of the last query: exactly the pairs given to the narrow
+    /// phase ([`Stats::vf_tests`], [`Stats::ee_tests`]), each once. For tests and diagnostics.
     pub fn candidates(&self) -> Candidates<'_> {
         Candidates {
             vf: &self.vf,

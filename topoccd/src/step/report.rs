@@ -82,9 +82,10 @@ pub struct Stats {
     /// Bounding-volume overlap tests: k-DOP node pairs in [`Method::Bvh`](super::Method::Bvh),
     /// box pairs of the sweep in [`Method::Brute`](super::Method::Brute).
     pub bv_tests: u64,
-    /// Vertex-face pairs given to the elementary test (each pair at most once per query).
+    /// Vertex-face pairs given to the narrow phase (its conservative prefilter, then the
+    /// elementary test for the pairs it cannot reject); each pair at most once per query.
     pub vf_tests: u64,
-    /// Edge-edge pairs given to the elementary test (each pair at most once per query).
+    /// Edge-edge pairs given to the narrow phase, as for `vf_tests`; each pair at most once.
     pub ee_tests: u64,
     /// Time of each phase.
     pub seconds: Seconds,
