@@ -1,6 +1,7 @@
 //! The `topoccd` command-line tool. Results go to stdout, errors and progress to stderr.
 
 mod cmd_queries;
+mod cmd_step;
 
 use std::process::ExitCode;
 
@@ -19,12 +20,16 @@ enum Command {
     /// Run the elementary tests on every query file below a folder and compare with its ground
     /// truth (files `*/vertex-face/*.csv` and `*/edge-edge/*.csv`, as in Sample-Queries).
     Queries(cmd_queries::Args),
+    /// Continuous collision detection over one step between two mesh files (the faces are
+    /// T1's): every vertex-face and edge-edge contact with its time of impact.
+    Step(cmd_step::Args),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Queries(args) => cmd_queries::run(&args),
+        Command::Step(args) => cmd_step::run(&args).map(|()| ExitCode::SUCCESS),
     };
     match result {
         Ok(code) => code,
