@@ -140,18 +140,16 @@ impl Features {
             &self.topo.triangle_edges[b as usize],
         );
         let edges = &self.topo.edges;
-        for i in 0..3 {
+        for (i, &e) in ea.iter().enumerate() {
             if ma & (8 << i) == 0 {
                 continue;
             }
-            let e = ea[i];
             let [e0, e1] = edges[e as usize];
             let e_box = &self.edge_box[e as usize];
-            for j in 0..3 {
+            for (j, &f) in eb.iter().enumerate() {
                 if mb & (8 << j) == 0 {
                     continue;
                 }
-                let f = eb[j];
                 let [f0, f1] = edges[f as usize];
                 if e0 == f0 || e0 == f1 || e1 == f0 || e1 == f1 {
                     continue;
