@@ -5,6 +5,7 @@
 //! `[0, t_max]`, the answer is [`Outcome::Contact`], with a time of impact no later than the true
 //! first contact. See [`solver`] for the method and its guarantees.
 
+pub mod closest;
 mod edge_edge;
 mod options;
 pub mod solver;

@@ -19,17 +19,31 @@
 //! no contact.
 //!
 //! # The search
-//! A box is *excluded* when one of these directions separates its corner images from the ball
-//! of radius `min_separation`: the three coordinate axes, the direction of the mean of the
-//! corner images (the value of `F` at the centre of the box), the normal `A x B` at both ends
-//! of the box's time interval (the face normal for vertex-face, the common normal of the edges
-//! for edge-edge), and the centre direction with its component along each edge removed (the gap
-//! between nearly parallel edges, or between a vertex and a face edge within the face's plane,
-//! which sliding along the edge does not blur). Otherwise the box is split in half along its unresolved dimension of largest
-//! extent, the extent being how much `F` can change across the box along that dimension. A
-//! dimension is *resolved* when its extent is at most `tolerance` times the largest extent along
-//! it over the whole domain (for t: a width of at most `tolerance`). A box that cannot be
-//! excluded and has every dimension resolved is a *contact box*.
+//! At a fixed time the image `{F(t, u, v)}` of the whole feature domain is convex: the triangle
+//! seen from the vertex (`P, P + A, P + A + B`), or the parallelogram of differences of points of
+//! the two edges. So a box spanning the whole `(u, v)` domain and a short time interval has a
+//! corner hull within `w S_t / 2` of that convex image at its mid time (`w` the box's width in t,
+//! `S_t = |dP| + |dA| + |dB|` how fast `F` can change), and the best direction to separate it is
+//! `F` at the features' closest points at mid time (point-triangle or segment-segment closest
+//! points, [`closest`]). The search is then a bisection in t alone.
+//!
+//! A box is *excluded* when one of these directions separates its corner images from the ball of
+//! radius `min_separation`: the three coordinate axes, the closest points' direction, the normal
+//! `A x B` at both ends of the box's time interval (the face normal for vertex-face, the common
+//! normal of the edges for edge-edge), and, for the coplanarity of the four points that any
+//! contact needs, the Bernstein coefficients of the coplanarity cubic `P . (A x B)` on the box's
+//! time interval (with `min_separation = 0`). Where that cubic changes sign, the box is split
+//! around its predicted crossing (two secant steps) into an earlier box, a slab of width
+//! `tolerance` and a later box; otherwise in half. A box that cannot be excluded is split in t until its width is at most `tolerance`; it is then a
+//! *contact box*.
+//!
+//! Only for degenerate features, whose closest points cannot be computed (a zero-area triangle
+//! at the edge of the representable range), the box is split in every dimension: along its
+//! unresolved dimension of largest extent (how much `F` can change across the box along it), a
+//! dimension being resolved when its extent is at most `tolerance` times the largest extent along
+//! it over the whole domain. Those boxes also try the centre direction with its component along
+//! each edge removed (the gap between nearly parallel edges, or between a vertex and a face edge
+//! within the face's plane).
 //!
 //! The boxes are searched depth first, earlier half first, as a branch and bound: once a contact
 //! box starting at time `T` is found, every other box is clipped to end at `T`, or dropped if it
@@ -61,22 +75,24 @@
 //! Differences larger than [`MAX_DIFFERENCE`] (where an intermediate could overflow) and
 //! non-finite input are refused with a conservative contact at t=0.
 //!
-//! # False positives
-//! A box reported as a contact was not separated along the coordinate axes, and each of its
-//! dimensions is at most `tolerance` wide. Its corner images therefore span, per coordinate, at
-//! most `tolerance (S_t + S_u + S_v)`, where `S_t` is how fast `F` changes in time (the relative
-//! displacement of the features over the step) and `S_u + S_v` at most twice the features' size.
-//! So a contact is reported only if the features come within
-//! `sqrt(3) (min_separation + tolerance (S_t + S_u + S_v) + 64 u M)` of each other at a time in
-//! `[toi, toi + tolerance]`. With the default tolerance that is about a millionth of the size
-//! and motion of the features; in practice far less, since the centroid direction separates
-//! boxes whose image stays off the origin by more than their own size.
+//! # False positives, and how early a time of impact can be
+//! A contact box `[T, T + w]` (`w <= tolerance`) spanning the whole feature domain was not
+//! separated along the closest points' direction `d` at its mid time. Every corner lies within
+//! `w S_t / 2` of the image at mid time, whose projections on `d` are all at least `|d|`, so
+//! `|d| <= min_separation + w S_t / 2 + rounding`: the features come within
+//! `min_separation + tolerance S_t / 2 + rounding` of each other at a time in `[T, T + tolerance]`.
+//! With the default tolerance that is a millionth of the features' relative displacement over
+//! the step. This bounds the false positives, and also how early a reported time can be: when
+//! two features graze (come that close well before they touch), the reported time is the start
+//! of the first such interval, possibly earlier than `t* - tolerance`, never later than `t*`.
+//! (For degenerate features, the bound is `sqrt(3) (min_separation + tolerance (S_t + S_u + S_v)
+//! + rounding)`, `S_u + S_v` being at most twice the features' size.)
 //!
 //! # Iteration limit
 //! When `max_iterations` boxes have been examined, the answer is a contact at the start time of
 //! the next box in the queue, the earliest time not yet ruled out ([`Certainty::IterationLimit`]).
 
-use super::{Certainty, EdgeEdge, NarrowOptions, Outcome, VertexFace};
+use super::{closest, Certainty, EdgeEdge, NarrowOptions, Outcome, VertexFace};
 use crate::math::{max_abs, DVec3, UNIT_ROUNDOFF};
 
 /// Bound on the rounding error of a computed corner coordinate, in units of `u M` (see the
@@ -164,6 +180,8 @@ struct Search<'a> {
     db: DVec3,
     /// Error bound of a corner coordinate.
     eps: f64,
+    /// Largest coordinate of the six difference vectors.
+    m: f64,
     sep: f64,
     tol: f64,
     /// How much `F` changes, per unit width, along t, u, v, at most over the whole domain.
@@ -173,11 +191,33 @@ struct Search<'a> {
     size_b: f64,
 }
 
+/// How the corner values' error bounds are known.
+#[derive(Clone, Copy)]
+enum Errors<'a> {
+    /// The static bound `eps` for every coordinate of every corner.
+    Static,
+    /// A running bound per corner coordinate.
+    Running(&'a [DVec3; 8]),
+}
+
+/// Whether a box is separated from the origin.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Separation {
+    /// Proved, with the error bounds.
+    Yes,
+    /// Not proved, but the computed values alone would separate: a tighter bound may prove it.
+    Ambiguous,
+    /// The computed values themselves do not separate: no tighter bound can help.
+    No,
+}
+
 /// Result of examining one box.
 enum Verdict {
     Excluded,
     Contact,
     Split(usize),
+    /// Split in t around a predicted contact time: `[t0, lo]`, `[lo, hi]`, `[hi, t1]`.
+    Bracket(f64, f64),
 }
 
 /// Runs the search of the module documentation. Returns the outcome and the number of boxes
@@ -229,6 +269,7 @@ pub fn solve_counted(problem: &Problem, options: &NarrowOptions) -> (Outcome, u3
         da,
         db,
         eps,
+        m,
         sep,
         tol,
         rate,
@@ -238,51 +279,75 @@ pub fn solve_counted(problem: &Problem, options: &NarrowOptions) -> (Outcome, u3
 
     // Depth-first branch and bound: `best` is the earliest start of a contact box found so far;
     // every later box is clipped to end there, or dropped if it starts there or later.
-    let mut stack = Vec::with_capacity(128);
-    stack.push(Cell {
-        t: [0.0, t_max],
-        u: [0.0, 1.0],
-        v: [0.0, 1.0],
-    });
-    let mut best: Option<f64> = None;
-    let mut iterations = 0u32;
-    while let Some(mut cell) = stack.pop() {
-        if let Some(b) = best {
-            if cell.t[0] >= b {
-                continue;
+    STACK.with_borrow_mut(|stack| {
+        stack.clear();
+        search.run(stack, t_max, max_iterations)
+    })
+}
+
+thread_local! {
+    /// The search's stack of boxes, kept per thread so a query allocates nothing.
+    static STACK: std::cell::RefCell<Vec<Cell>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+impl Search<'_> {
+    /// The depth-first branch and bound of the module documentation, from the box
+    /// `[0, t_max] x [0, 1]^2`. Returns the outcome and the number of boxes examined.
+    fn run(&self, stack: &mut Vec<Cell>, t_max: f64, max_iterations: u32) -> (Outcome, u32) {
+        let search = self;
+        stack.push(Cell {
+            t: [0.0, t_max],
+            u: [0.0, 1.0],
+            v: [0.0, 1.0],
+        });
+        let mut best: Option<f64> = None;
+        let mut iterations = 0u32;
+        while let Some(mut cell) = stack.pop() {
+            if let Some(b) = best {
+                if cell.t[0] >= b {
+                    continue;
+                }
+                cell.t[1] = cell.t[1].min(b);
             }
-            cell.t[1] = cell.t[1].min(b);
+            if iterations >= max_iterations {
+                // Give up: the earliest time not yet ruled out is the answer.
+                let open = stack.iter().map(|c| c.t[0]).fold(cell.t[0], f64::min);
+                let toi = best.map_or(open, |b| b.min(open));
+                let outcome = Outcome::Contact {
+                    toi,
+                    certainty: Certainty::IterationLimit,
+                };
+                return (outcome, iterations);
+            }
+            iterations += 1;
+            match search.examine(&cell) {
+                Verdict::Excluded => {}
+                Verdict::Contact => best = Some(cell.t[0]),
+                Verdict::Split(dim) => {
+                    let (lo, hi) = split(&cell, dim);
+                    // The earlier half (or the lower half in u, v) is examined first.
+                    stack.push(hi);
+                    stack.push(lo);
+                }
+                Verdict::Bracket(lo, hi) => {
+                    // Three boxes covering the cell, the earliest examined first.
+                    for t in [[hi, cell.t[1]], [lo, hi], [cell.t[0], lo]] {
+                        if t[0] < t[1] {
+                            stack.push(Cell { t, ..cell });
+                        }
+                    }
+                }
+            }
         }
-        if iterations >= max_iterations {
-            // Give up: the earliest time not yet ruled out is the answer.
-            let open = stack.iter().map(|c| c.t[0]).fold(cell.t[0], f64::min);
-            let toi = best.map_or(open, |b| b.min(open));
-            let outcome = Outcome::Contact {
+        let outcome = match best {
+            Some(toi) => Outcome::Contact {
                 toi,
-                certainty: Certainty::IterationLimit,
-            };
-            return (outcome, iterations);
-        }
-        iterations += 1;
-        match search.examine(&cell) {
-            Verdict::Excluded => {}
-            Verdict::Contact => best = Some(cell.t[0]),
-            Verdict::Split(dim) => {
-                let (lo, hi) = split(&cell, dim);
-                // The earlier half (or the lower half in u, v) is examined first.
-                stack.push(hi);
-                stack.push(lo);
-            }
-        }
+                certainty: Certainty::Resolved,
+            },
+            None => Outcome::Separated,
+        };
+        (outcome, iterations)
     }
-    let outcome = match best {
-        Some(toi) => Outcome::Contact {
-            toi,
-            certainty: Certainty::Resolved,
-        },
-        None => Outcome::Separated,
-    };
-    (outcome, iterations)
 }
 
 /// Runs the search of the module documentation.
@@ -306,21 +371,52 @@ fn split(cell: &Cell, dim: usize) -> (Cell, Cell) {
 
 impl Search<'_> {
     fn examine(&self, cell: &Cell) -> Verdict {
-        // Fast path: one static error bound for every corner. Where it cannot separate the box,
-        // a running error bound per corner coordinate, much tighter near the origin of F.
+        // A box spanning the whole feature domain (u, v in [0, 1]) has, at each time, the exact
+        // image of the features: the triangle seen from the vertex, or the parallelogram of edge
+        // differences. Its best separating direction is the vector between the closest points
+        // of the features at the box's mid time.
+        let whole = cell.u == [0.0, 1.0] && cell.v == [0.0, 1.0];
+        let closest = if whole {
+            self.closest_direction(0.5 * (cell.t[0] + cell.t[1]))
+        } else {
+            None
+        };
+        // Contact needs the four points coplanar: where the coplanarity cubic keeps one sign over
+        // the box's time interval, there is none (for min_separation = 0).
+        if whole && self.sep == 0.0 && self.never_coplanar(cell.t) {
+            return Verdict::Excluded;
+        }
+        // Fast path: one static error bound for every corner. Only where it was ambiguous (the
+        // computed values separate, their static bound does not), the running bound.
         let corners = self.corners(cell);
-        if self.separated(&corners, &[DVec3::splat(self.eps); 8], cell) {
-            return Verdict::Excluded;
+        match self.separated(&corners, Errors::Static, cell, closest) {
+            Separation::Yes => return Verdict::Excluded,
+            Separation::Ambiguous => {
+                let (corners, errors) = self.corners_with_errors(cell);
+                if self.separated(&corners, Errors::Running(&errors), cell, closest)
+                    == Separation::Yes
+                {
+                    return Verdict::Excluded;
+                }
+            }
+            Separation::No => {}
         }
-        let (corners, errors) = self.corners_with_errors(cell);
-        if self.separated(&corners, &errors, cell) {
-            return Verdict::Excluded;
+        if closest.is_some() {
+            // Only time needs resolving: see "False positives" in the module documentation.
+            if cell.t[1] - cell.t[0] <= self.tol {
+                return Verdict::Contact;
+            }
+            return match self.predict_crossing(cell) {
+                Some((lo, hi)) => Verdict::Bracket(lo, hi),
+                None => Verdict::Split(0),
+            };
         }
-        // A dimension is resolved when the box's extent along it (how much F can change across
-        // the box in that dimension) is at most `tolerance` times the largest such extent over
-        // the whole domain; for t this is a width of at most `tolerance`. Measuring extents rather
-        // than parameter widths matters where the parametrisation degenerates (near u = 0 the
-        // vertex-face `v` moves the point by only `u |B|`).
+        // Degenerate features (no closest points): split every dimension. A dimension is
+        // resolved when the box's extent along it (how much F can change across the box in that
+        // dimension) is at most `tolerance` times the largest such extent over the whole domain;
+        // for t this is a width of at most `tolerance`. Measuring extents rather than parameter
+        // widths matters where the parametrisation degenerates (near u = 0 the vertex-face `v`
+        // moves the point by only `u |B|`).
         let extents = self.extents(cell);
         let mut best: Option<(usize, f64)> = None;
         for (dim, &extent) in extents.iter().enumerate() {
@@ -332,6 +428,100 @@ impl Search<'_> {
         match best {
             None => Verdict::Contact,
             Some((dim, _)) => Verdict::Split(dim),
+        }
+    }
+
+    /// Whether the coplanarity cubic `g(t) = P . (A x B)` (zero exactly when the four points are
+    /// coplanar, which every contact needs) provably keeps one sign on `[t0, t1]`: its four
+    /// Bernstein coefficients on the interval, from the blossom of the trilinear determinant,
+    /// all exceed their rounding error bound in magnitude, with one sign.
+    ///
+    /// Error bound: each vector at an end of the interval is computed with an error of at most
+    /// `e = 16 u M` per coordinate (the lerp of the static analysis, doubled); a determinant of
+    /// vectors of magnitude `m` perturbed by `e` moves by at most `6 e (mA mB + mP mB + mP mA)`,
+    /// and its own rounding is at most `6 u . 6 mP mA mB` (`gamma_5` of six 3-products, rounded
+    /// up); the averages add less than `2 u` of their size. The bound used doubles the sum.
+    fn never_coplanar(&self, t: [f64; 2]) -> bool {
+        let pr = self.problem;
+        let at = |t: f64| {
+            (
+                pr.p[0] + self.dp * t,
+                pr.a[0] + self.da * t,
+                pr.b[0] + self.db * t,
+            )
+        };
+        let (p0, a0, b0) = at(t[0]);
+        let (p1, a1, b1) = at(t[1]);
+        let det = |p: DVec3, a: DVec3, b: DVec3| p.dot(a.cross(b));
+        let coeffs = [
+            det(p0, a0, b0),
+            (det(p1, a0, b0) + det(p0, a1, b0) + det(p0, a0, b1)) / 3.0,
+            (det(p1, a1, b0) + det(p1, a0, b1) + det(p0, a1, b1)) / 3.0,
+            det(p1, a1, b1),
+        ];
+        let e = 16.0 * UNIT_ROUNDOFF * self.m;
+        let mp = max_abs(p0).max(max_abs(p1)) + e;
+        let ma = max_abs(a0).max(max_abs(a1)) + e;
+        let mb = max_abs(b0).max(max_abs(b1)) + e;
+        let bound = 2.0
+            * (6.0 * e * (ma * mb + mp * mb + mp * ma) + 40.0 * UNIT_ROUNDOFF * mp * ma * mb)
+            + UNDERFLOW_ERROR;
+        if !bound.is_finite() {
+            return false;
+        }
+        coeffs.iter().all(|&c| c > bound) || coeffs.iter().all(|&c| c < -bound)
+    }
+
+    /// Where the coplanarity function `g(t) = P . (A x B)` (the signed volume of the four points,
+    /// a cubic in t) changes sign across the box, a slab of width `tolerance` around its
+    /// crossing, found by two secant steps: `(lo, hi)` strictly inside the box. Only a guess to
+    /// split at: the three boxes it makes cover the cell, whatever it is worth.
+    fn predict_crossing(&self, cell: &Cell) -> Option<(f64, f64)> {
+        let pr = self.problem;
+        let g = |t: f64| {
+            let p = pr.p[0] + self.dp * t;
+            let a = pr.a[0] + self.da * t;
+            let b = pr.b[0] + self.db * t;
+            p.dot(a.cross(b))
+        };
+        let (mut t0, mut t1) = (cell.t[0], cell.t[1]);
+        let (mut g0, mut g1) = (g(t0), g(t1));
+        let product = g0 * g1;
+        if product.is_nan() || product >= 0.0 {
+            return None; // no certain sign change (or not finite)
+        }
+        let mut guess = t0;
+        for _ in 0..2 {
+            guess = t0 + (t1 - t0) * (g0 / (g0 - g1));
+            if !guess.is_finite() {
+                return None;
+            }
+            let gm = g(guess);
+            if gm * g0 > 0.0 {
+                (t0, g0) = (guess, gm);
+            } else {
+                (t1, g1) = (guess, gm);
+            }
+        }
+        let h = 0.5 * self.tol;
+        let (lo, hi) = (guess - h, guess + h);
+        (lo > cell.t[0] && hi < cell.t[1]).then_some((lo, hi))
+    }
+
+    /// `F` at the closest points of the two features at time `t`: the point of the features'
+    /// image `{F(t, u, v)}` nearest the origin. `None` for degenerate or overflowing features.
+    fn closest_direction(&self, t: f64) -> Option<DVec3> {
+        let pr = self.problem;
+        let p = pr.p[0] + self.dp * t;
+        let a = pr.a[0] + self.da * t;
+        let b = pr.b[0] + self.db * t;
+        match pr.weight {
+            // The image is the triangle P, P + A, P + A + B.
+            Weight::Product => closest::point_triangle(DVec3::ZERO, p, p + a, p + a + b),
+            // The image is {P + u A} - {-v B}: the difference of two segments.
+            Weight::Plain => {
+                closest::segment_segment(p, p + a, DVec3::ZERO, -b).map(|(x, y)| x - y)
+            }
         }
     }
 
@@ -444,76 +634,135 @@ impl Search<'_> {
         (values, errors)
     }
 
-    /// Whether a direction separates the corner images (each known to within its error bound)
+    /// Whether a direction separates the corner images, each known to within its error bound,
     /// from the ball of radius `min_separation` around the origin.
-    fn separated(&self, corners: &[DVec3; 8], errors: &[DVec3; 8], cell: &Cell) -> bool {
+    fn separated(
+        &self,
+        corners: &[DVec3; 8],
+        errors: Errors<'_>,
+        cell: &Cell,
+        closest: Option<DVec3>,
+    ) -> Separation {
+        let mut verdict = Separation::No;
         // Coordinate axes.
-        let mut lo = DVec3::INFINITY;
-        let mut hi = DVec3::NEG_INFINITY;
-        for (c, e) in corners.iter().zip(errors) {
-            lo = lo.min(*c - *e);
-            hi = hi.max(*c + *e);
+        let (mut lo, mut hi, mut lo_e, mut hi_e) = (
+            DVec3::INFINITY,
+            DVec3::NEG_INFINITY,
+            DVec3::INFINITY,
+            DVec3::NEG_INFINITY,
+        );
+        for (k, c) in corners.iter().enumerate() {
+            let e = match errors {
+                Errors::Static => DVec3::splat(self.eps),
+                Errors::Running(errors) => errors[k],
+            };
+            lo = lo.min(*c);
+            hi = hi.max(*c);
+            lo_e = lo_e.min(*c - e);
+            hi_e = hi_e.max(*c + e);
+        }
+        if lo_e.max_element() > self.sep || hi_e.min_element() < -self.sep {
+            return Separation::Yes;
         }
         if lo.max_element() > self.sep || hi.min_element() < -self.sep {
-            return true;
+            verdict = Separation::Ambiguous;
         }
-        // Direction of F at the centre of the box.
-        let centre = corners.iter().fold(DVec3::ZERO, |s, c| s + *c);
-        if self.separated_along(corners, errors, centre, false) {
-            return true;
+        let mut along = |n: DVec3, both_sides: bool| {
+            let s = self.separated_along(corners, errors, n, both_sides);
+            if s == Separation::Ambiguous {
+                verdict = Separation::Ambiguous;
+            }
+            s == Separation::Yes
+        };
+        // The closest points' direction, when the box spans the whole feature domain.
+        if let Some(d) = closest {
+            if along(d, false) {
+                return Separation::Yes;
+            }
         }
         // Face normal (vertex-face) or common normal of the edges (edge-edge), at both ends.
         let pr = self.problem;
         for &t in &cell.t {
             let a = pr.a[0] + self.da * t;
             let b = pr.b[0] + self.db * t;
-            if self.separated_along(corners, errors, a.cross(b), true) {
-                return true;
+            if along(a.cross(b), true) {
+                return Separation::Yes;
             }
         }
-        // The centre direction with its component along an edge removed: the gap between nearly
-        // parallel edges, or between a vertex and a face edge in the face's plane, where sliding
-        // along the edge and the box's own extent along it do not blur the separation.
-        let t_mid = 0.5 * (cell.t[0] + cell.t[1]);
-        let a = pr.a[0] + self.da * t_mid;
-        let b = pr.b[0] + self.db * t_mid;
-        let edges = match pr.weight {
-            Weight::Product => [a, b, a + b],
-            Weight::Plain => [a, b, DVec3::ZERO],
-        };
-        edges.iter().any(|e| {
-            let ee = e.length_squared();
-            ee > 0.0
-                && self.separated_along(corners, errors, centre - *e * (centre.dot(*e) / ee), false)
-        })
+        // For boxes not spanning the feature domain (degenerate features only): the direction
+        // of F at the centre of the box, and the centre direction with its component along an
+        // edge removed (the gap between nearly parallel edges, or between a vertex and a face
+        // edge in the face's plane, where sliding along the edge does not blur the separation).
+        if closest.is_none() {
+            let centre = corners.iter().fold(DVec3::ZERO, |s, c| s + *c);
+            if along(centre, false) {
+                return Separation::Yes;
+            }
+            let t_mid = 0.5 * (cell.t[0] + cell.t[1]);
+            let a = pr.a[0] + self.da * t_mid;
+            let b = pr.b[0] + self.db * t_mid;
+            let edges = match pr.weight {
+                Weight::Product => [a, b, a + b],
+                Weight::Plain => [a, b, DVec3::ZERO],
+            };
+            for e in edges {
+                let ee = e.length_squared();
+                if ee > 0.0 && along(centre - e * (centre.dot(e) / ee), false) {
+                    return Separation::Yes;
+                }
+            }
+        }
+        verdict
     }
 
     /// Whether all corner projections on `n`, less their error bounds, exceed
-    /// `min_separation |n|` (on the positive side, or on either side if `both_sides`).
+    /// `min_separation |n|` (on the positive side, or on either side if `both_sides`);
+    /// [`Separation::Ambiguous`] if only the computed values, without their error bounds, do.
     fn separated_along(
         &self,
         corners: &[DVec3; 8],
-        errors: &[DVec3; 8],
+        errors: Errors<'_>,
         n: DVec3,
         both_sides: bool,
-    ) -> bool {
+    ) -> Separation {
         let n_abs = n.abs();
         let n1 = n_abs.x + n_abs.y + n_abs.z;
         if n1 == 0.0 || !n1.is_finite() {
-            return false;
+            return Separation::No;
         }
         // |n|_2 rounded up generously; the margin must not shrink below min_separation |n|_2.
         let margin = self.sep * n.length() * (1.0 + 8.0 * UNIT_ROUNDOFF);
-        let mut lo = f64::INFINITY;
-        let mut hi = f64::NEG_INFINITY;
-        for (c, e) in corners.iter().zip(errors) {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut lo_e, mut hi_e) = (f64::INFINITY, f64::NEG_INFINITY);
+        // Error of a projection: the propagated error `e . |n|` plus the rounding of a 3-term
+        // dot product (gamma_3 < 4u), doubled. Statically, `|c| . |n| <= c_max |n|_1`.
+        let static_err = match errors {
+            Errors::Static => {
+                let c_max = corners.iter().map(|c| max_abs(*c)).fold(0.0, f64::max);
+                (self.eps + 4.0 * UNIT_ROUNDOFF * c_max) * n1 * 2.0 + UNDERFLOW_ERROR
+            }
+            Errors::Running(_) => 0.0,
+        };
+        for (k, c) in corners.iter().enumerate() {
             let s = c.dot(n);
-            // Propagated error plus the rounding of a 3-term dot product (gamma_3 < 4u), doubled.
-            let err =
-                (e.dot(n_abs) + 4.0 * UNIT_ROUNDOFF * c.abs().dot(n_abs)) * 2.0 + UNDERFLOW_ERROR;
-            lo = lo.min(s - err);
-            hi = hi.max(s + err);
+            let err = match errors {
+                Errors::Static => static_err,
+                Errors::Running(errors) => {
+                    (errors[k].dot(n_abs) + 4.0 * UNIT_ROUNDOFF * c.abs().dot(n_abs)) * 2.0
+                        + UNDERFLOW_ERROR
+                }
+            };
+            lo = lo.min(s);
+            hi = hi.max(s);
+            lo_e = lo_e.min(s - err);
+            hi_e = hi_e.max(s + err);
         }
-        lo > margin || (both_sides && hi < -margin)
+        if lo_e > margin || (both_sides && hi_e < -margin) {
+            Separation::Yes
+        } else if lo > margin || (both_sides && hi < -margin) {
+            Separation::Ambiguous
+        } else {
+            Separation::No
+        }
     }
 }
