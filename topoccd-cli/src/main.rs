@@ -1,7 +1,10 @@
 //! The `topoccd` command-line tool. Results go to stdout, errors and progress to stderr.
 
+mod cmd_bench;
 mod cmd_queries;
+mod cmd_run;
 mod cmd_step;
+mod plot;
 
 use std::process::ExitCode;
 
@@ -23,6 +26,12 @@ enum Command {
     /// Continuous collision detection over one step between two mesh files (the faces are
     /// T1's): every vertex-face and edge-edge contact with its time of impact.
     Step(cmd_step::Args),
+    /// Every step of a frame sequence (a folder of `0000.ply`, `0001.ply`, ...), with a progress
+    /// bar, one line (or JSON object) per step and a summary.
+    Run(cmd_run::Args),
+    /// The paper's tables 1 and 2: each method on every step of each input, alternating the
+    /// methods per step, with the speedup of `cluster` over `bvh`.
+    Bench(cmd_bench::Args),
 }
 
 fn main() -> ExitCode {
@@ -30,6 +39,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Queries(args) => cmd_queries::run(&args),
         Command::Step(args) => cmd_step::run(&args).map(|()| ExitCode::SUCCESS),
+        Command::Run(args) => cmd_run::run(&args).map(|()| ExitCode::SUCCESS),
+        Command::Bench(args) => cmd_bench::run(&args),
     };
     match result {
         Ok(code) => code,

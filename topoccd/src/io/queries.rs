@@ -46,7 +46,7 @@ pub struct QueryRecord {
 #[derive(Debug, Error)]
 pub enum QueryFileError {
     /// The file or folder could not be read.
-    #[error("{path}: {source}")]
+    #[error("{path}: cannot read")]
     Io {
         /// The file or folder.
         path: PathBuf,

@@ -22,7 +22,7 @@ use crate::step::{Step, StepError};
 #[derive(Debug, Error)]
 pub enum SequenceError {
     /// The folder could not be listed.
-    #[error("{path}: {source}")]
+    #[error("{path}: cannot list the folder")]
     Folder {
         /// The folder.
         path: PathBuf,

@@ -1,0 +1,442 @@
+//! `topoccd bench INPUT...`: the paper's tables 1 and 2, every method on every step of every
+//! input in one process, alternating the order of the methods from step to step.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use serde::Serialize;
+use topoccd::io::scene_frames;
+use topoccd::io::sequence::Sequence;
+use topoccd::narrow::NarrowOptions;
+use topoccd::step::{Ccd, Method, QueryOptions, Report, Step};
+
+use crate::cmd_run::progress;
+use crate::cmd_step::{MethodArg, QueryArgs};
+
+/// Arguments of `topoccd bench`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Frame sequences (folders of `0000.ply`, `0001.ply`, ...) or scene folders holding
+    /// `frames/` with two numbered frames (like `../shared/data/scenes/cloth-ball`).
+    #[arg(required = true)]
+    inputs: Vec<PathBuf>,
+    /// Methods to compare, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [MethodArg::Bvh, MethodArg::Brute])]
+    methods: Vec<MethodArg>,
+    /// k of the k-DOP bounding volumes: 6, 14, 18 or 26.
+    #[arg(long, default_value_t = 18)]
+    k: usize,
+    /// Time resolution of the elementary tests, in (0, 1).
+    #[arg(long, default_value_t = NarrowOptions::default().tolerance)]
+    tolerance: f64,
+    /// Print the tables as one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+    /// Draw the time of each step for each method as a PNG.
+    #[arg(long, value_name = "FILE.png")]
+    plot: Option<PathBuf>,
+}
+
+/// Where the steps of one input come from.
+pub enum Source {
+    /// A frame sequence.
+    Sequence(Sequence),
+    /// Two frames of a scene folder.
+    Pair(PathBuf, PathBuf),
+}
+
+impl Source {
+    /// Opens a sequence folder, or a scene folder with `frames/`.
+    pub fn open(path: &Path) -> Result<Self> {
+        match Sequence::open(path) {
+            Ok(s) => Ok(Source::Sequence(s)),
+            Err(seq_err) if path.join("frames").is_dir() => {
+                let f = scene_frames(path).with_context(|| {
+                    format!("{}: neither a sequence ({seq_err})", path.display())
+                })?;
+                Ok(Source::Pair(f.t0, f.t1))
+            }
+            Err(e) => Err(e.into()),
+        }
+    }
+
+    /// Number of steps.
+    pub fn steps(&self) -> usize {
+        match self {
+            Source::Sequence(s) => s.steps(),
+            Source::Pair(..) => 1,
+        }
+    }
+
+    /// Calls `f(k, step)` for every step, in order.
+    pub fn for_each(&self, mut f: impl FnMut(usize, Step) -> Result<()>) -> Result<()> {
+        match self {
+            Source::Sequence(s) => {
+                for item in s.iter() {
+                    let (k, step) = item?;
+                    f(k, step)?;
+                }
+                Ok(())
+            }
+            Source::Pair(t0, t1) => f(0, crate::cmd_step::read_step(t0, t1)?),
+        }
+    }
+}
+
+/// One method's figures on one step.
+#[derive(Clone, Debug, Serialize)]
+pub struct Sample {
+    /// Seconds of each phase, in pipeline order.
+    pub phases: Vec<(&'static str, f64)>,
+    /// Total seconds of the query.
+    pub total: f64,
+    /// Bounding-volume overlap tests.
+    pub bv_tests: u64,
+    /// Elementary tests (vertex-face plus edge-edge).
+    pub elementary_tests: u64,
+    /// Colliding pairs.
+    pub contacts: usize,
+    /// Cluster figures, for the cluster method.
+    pub clusters: Option<ClusterFigures>,
+}
+
+/// Table-2 figures of one step.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct ClusterFigures {
+    /// Leaf clusters.
+    pub leaf: f64,
+    /// Intermediate clusters.
+    pub intermediate: f64,
+    /// Triangles per leaf cluster.
+    pub triangles_per_leaf: f64,
+    /// Leaf-cluster BVHs built lazily.
+    pub lazy_bvhs: f64,
+}
+
+impl Sample {
+    /// The figures of one report.
+    pub fn of(report: &Report) -> Self {
+        let s = &report.stats;
+        Self {
+            phases: phases(report),
+            total: s.seconds.total,
+            bv_tests: s.bv_tests,
+            elementary_tests: s.vf_tests + s.ee_tests,
+            contacts: report.contact_count(),
+            clusters: cluster_figures(report),
+        }
+    }
+}
+
+/// The phases of a report, in pipeline order.
+fn phases(report: &Report) -> Vec<(&'static str, f64)> {
+    let s = &report.stats.seconds;
+    vec![
+        ("build", s.build),
+        ("traverse", s.traverse),
+        ("narrow", s.narrow),
+    ]
+}
+
+/// Table-2 figures, for reports of the cluster method.
+fn cluster_figures(_report: &Report) -> Option<ClusterFigures> {
+    None
+}
+
+/// One method's averages over the steps of one input.
+#[derive(Debug, Serialize)]
+pub struct MethodRow {
+    method: String,
+    seconds: Vec<(&'static str, f64)>,
+    total: f64,
+    bv_tests: f64,
+    elementary_tests: f64,
+    contacts: f64,
+}
+
+/// The tables of one input.
+#[derive(Debug, Serialize)]
+pub struct InputTables {
+    input: String,
+    steps: usize,
+    triangles: [usize; 2],
+    methods: Vec<MethodRow>,
+    clusters: Option<ClusterFigures>,
+    speedup_cluster_over_bvh: Option<f64>,
+    /// Whether every method reported the same pairs with the same times on every step.
+    agree: bool,
+}
+
+/// Runs every method on every step of one input. Returns the tables and the per-step totals
+/// of each method (for the plot).
+fn bench_input(
+    path: &Path,
+    methods: &[MethodArg],
+    options: &QueryOptions,
+    ccd: &mut Ccd,
+) -> Result<(InputTables, Vec<Vec<f64>>)> {
+    let source = Source::open(path)?;
+    let bar = progress(source.steps(), &path.display().to_string());
+    let mut samples: Vec<Vec<Sample>> = vec![Vec::new(); methods.len()];
+    let mut triangles = [usize::MAX, 0];
+    let mut agree = true;
+    source.for_each(|k, step| {
+        let n = step.triangles().len();
+        triangles = [triangles[0].min(n), triangles[1].max(n)];
+        // Alternate the order of the methods from step to step, so that neither always runs
+        // on a cold or a warm cache.
+        let mut order: Vec<usize> = (0..methods.len()).collect();
+        if k % 2 == 1 {
+            order.reverse();
+        }
+        let mut reports: Vec<Option<Report>> = (0..methods.len()).map(|_| None).collect();
+        for i in order {
+            let report = ccd.query(&step, methods[i].into(), options);
+            samples[i].push(Sample::of(&report));
+            reports[i] = Some(report);
+        }
+        let first = reports[0].as_ref();
+        for r in reports.iter().skip(1) {
+            let same = match (first, r.as_ref()) {
+                (Some(a), Some(b)) => same_pairs(a, b),
+                _ => false,
+            };
+            if !same {
+                agree = false;
+                bar.println(format!("step {k}: the methods report different pairs"));
+            }
+        }
+        bar.inc(1);
+        Ok(())
+    })?;
+    bar.finish_and_clear();
+    let steps = samples.first().map_or(0, Vec::len);
+    if steps == 0 {
+        bail!("{}: no steps", path.display());
+    }
+    let rows: Vec<MethodRow> = methods
+        .iter()
+        .zip(&samples)
+        .map(|(m, s)| average(&Method::from(*m).to_string(), s))
+        .collect();
+    let named = |name: &str| {
+        methods
+            .iter()
+            .position(|m| Method::from(*m).to_string() == name)
+    };
+    let (cluster_index, bvh_index) = (named("cluster"), named("bvh"));
+    let clusters = cluster_index.and_then(|i| {
+        let figures: Vec<ClusterFigures> = samples[i].iter().filter_map(|s| s.clusters).collect();
+        (!figures.is_empty()).then(|| {
+            let n = figures.len() as f64;
+            let sum = |f: fn(&ClusterFigures) -> f64| figures.iter().map(f).sum::<f64>() / n;
+            ClusterFigures {
+                leaf: sum(|c| c.leaf),
+                intermediate: sum(|c| c.intermediate),
+                triangles_per_leaf: sum(|c| c.triangles_per_leaf),
+                lazy_bvhs: sum(|c| c.lazy_bvhs),
+            }
+        })
+    });
+    let speedup = match (cluster_index, bvh_index) {
+        (Some(c), Some(b)) if rows[c].total > 0.0 => Some(rows[b].total / rows[c].total),
+        _ => None,
+    };
+    let totals = samples
+        .iter()
+        .map(|s| s.iter().map(|x| x.total).collect())
+        .collect();
+    let tables = InputTables {
+        input: path.display().to_string(),
+        steps,
+        triangles,
+        methods: rows,
+        clusters,
+        speedup_cluster_over_bvh: speedup,
+        agree,
+    };
+    Ok((tables, totals))
+}
+
+/// Whether two reports hold the same pairs with bitwise-equal times.
+fn same_pairs(a: &Report, b: &Report) -> bool {
+    let vf = |r: &Report| -> Vec<(u32, u32, u64)> {
+        r.vf.iter()
+            .map(|c| (c.vertex, c.face, c.toi.to_bits()))
+            .collect()
+    };
+    let ee = |r: &Report| -> Vec<([u32; 2], [u32; 2], u64)> {
+        r.ee.iter().map(|c| (c.a, c.b, c.toi.to_bits())).collect()
+    };
+    vf(a) == vf(b) && ee(a) == ee(b)
+}
+
+fn average(method: &str, samples: &[Sample]) -> MethodRow {
+    let n = samples.len().max(1) as f64;
+    let phase_names: Vec<&'static str> = samples
+        .first()
+        .map(|s| s.phases.iter().map(|p| p.0).collect())
+        .unwrap_or_default();
+    let seconds = phase_names
+        .iter()
+        .enumerate()
+        .map(|(i, name)| {
+            let sum: f64 = samples
+                .iter()
+                .filter_map(|s| s.phases.get(i))
+                .map(|p| p.1)
+                .sum();
+            (*name, sum / n)
+        })
+        .collect();
+    MethodRow {
+        method: method.to_string(),
+        seconds,
+        total: samples.iter().map(|s| s.total).sum::<f64>() / n,
+        bv_tests: samples.iter().map(|s| s.bv_tests as f64).sum::<f64>() / n,
+        elementary_tests: samples
+            .iter()
+            .map(|s| s.elementary_tests as f64)
+            .sum::<f64>()
+            / n,
+        contacts: samples.iter().map(|s| s.contacts as f64).sum::<f64>() / n,
+    }
+}
+
+/// Prints the tables of one input as text.
+pub fn print_text(t: &InputTables) {
+    println!(
+        "== {} ({} steps, {}..{} triangles){}",
+        t.input,
+        t.steps,
+        t.triangles[0],
+        t.triangles[1],
+        if t.agree { "" } else { "  METHODS DISAGREE" }
+    );
+    println!("Table 1: average per step");
+    let phase_names: Vec<&str> = t
+        .methods
+        .iter()
+        .flat_map(|m| m.seconds.iter().map(|p| p.0))
+        .fold(Vec::new(), |mut v, p| {
+            if !v.contains(&p) {
+                v.push(p);
+            }
+            v
+        });
+    let mut header = format!("  {:<8}", "method");
+    for p in &phase_names {
+        header.push_str(&format!(" {:>11}", format!("{p} ms")));
+    }
+    header.push_str(&format!(
+        " {:>11} {:>12} {:>12} {:>9}",
+        "total ms", "BV tests", "elem. tests", "contacts"
+    ));
+    println!("{header}");
+    for m in &t.methods {
+        let mut line = format!("  {:<8}", m.method);
+        for p in &phase_names {
+            match m.seconds.iter().find(|s| s.0 == *p) {
+                Some(s) => line.push_str(&format!(" {:>11.2}", s.1 * 1e3)),
+                None => line.push_str(&format!(" {:>11}", "-")),
+            }
+        }
+        line.push_str(&format!(
+            " {:>11.2} {:>12.0} {:>12.0} {:>9.0}",
+            m.total * 1e3,
+            m.bv_tests,
+            m.elementary_tests,
+            m.contacts
+        ));
+        println!("{line}");
+    }
+    if let Some(c) = &t.clusters {
+        println!(
+            "Table 2: triangles, leaf clusters (LC), intermediate clusters (IC), triangles per LC"
+        );
+        println!(
+            "  {}..{} triangles, LC {:.0}, IC {:.0}, ratio {:.1}, lazy BVHs {:.0}",
+            t.triangles[0],
+            t.triangles[1],
+            c.leaf,
+            c.intermediate,
+            c.triangles_per_leaf,
+            c.lazy_bvhs
+        );
+    }
+    if let Some(s) = t.speedup_cluster_over_bvh {
+        println!("Speedup of cluster over bvh: {s:.2}x");
+    }
+}
+
+/// Runs the command. Exit status 1 if the methods disagree on any step.
+pub fn run(args: &Args) -> Result<std::process::ExitCode> {
+    let query = QueryArgs {
+        method: MethodArg::Bvh,
+        earliest: false,
+        k: args.k,
+        min_separation: 0.0,
+        tolerance: args.tolerance,
+    };
+    let options = query.options()?;
+    if let Some(plot) = &args.plot {
+        let inputs: Vec<&Path> = args.inputs.iter().map(PathBuf::as_path).collect();
+        crate::cmd_step::refuse_overwrite(plot, &inputs)?;
+    }
+    let started = Instant::now();
+    let mut ccd = Ccd::new();
+    let mut all = Vec::new();
+    let mut series = Vec::new();
+    for input in &args.inputs {
+        let (tables, totals) = bench_input(input, &args.methods, &options, &mut ccd)?;
+        if !args.json {
+            print_text(&tables);
+        }
+        series.push((tables.input.clone(), totals));
+        all.push(tables);
+    }
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string(&serde_json::json!({
+                "inputs": all,
+                "wall_seconds": started.elapsed().as_secs_f64(),
+            }))?
+        );
+    }
+    if let Some(plot) = &args.plot {
+        let names: Vec<String> = args
+            .methods
+            .iter()
+            .map(|m| Method::from(*m).to_string())
+            .collect();
+        crate::plot::step_times(plot, &names, &series)?;
+    }
+    Ok(if all.iter().all(|t| t.agree) {
+        std::process::ExitCode::SUCCESS
+    } else {
+        std::process::ExitCode::from(1)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn average_of_samples() {
+        let s = |t: f64| Sample {
+            phases: vec![("build", t), ("narrow", 2.0 * t)],
+            total: 3.0 * t,
+            bv_tests: 10,
+            elementary_tests: 4,
+            contacts: 1,
+            clusters: None,
+        };
+        let row = average("bvh", &[s(1.0), s(3.0)]);
+        assert_eq!(row.seconds, vec![("build", 2.0), ("narrow", 4.0)]);
+        assert_eq!(row.total, 6.0);
+        assert_eq!(row.bv_tests, 10.0);
+    }
+}

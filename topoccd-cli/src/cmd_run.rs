@@ -1,0 +1,130 @@
+//! `topoccd run SEQ_DIR`: every step of a frame sequence, with a progress bar.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::Serialize;
+use topoccd::io::sequence::Sequence;
+use topoccd::step::Ccd;
+
+use crate::cmd_step::{write_pairs, QueryArgs, StepOut};
+
+/// Arguments of `topoccd run`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Folder of frames `0000.ply`, `0001.ply`, ... (and optional `NNNN.parents` files).
+    seq_dir: PathBuf,
+    #[command(flatten)]
+    query: QueryArgs,
+    /// Print one JSON object per step (the keys of `topoccd step --json` plus `step`), then a
+    /// summary object.
+    #[arg(long)]
+    json: bool,
+    /// Write each step's colliding pairs to DIR/NNNN.csv (NNNN: the step's first frame), in the
+    /// format of `topoccd step --pairs`.
+    #[arg(long, value_name = "DIR")]
+    pairs_dir: Option<PathBuf>,
+}
+
+/// One step's JSON line.
+#[derive(Serialize)]
+struct StepLine<'a> {
+    step: usize,
+    #[serde(flatten)]
+    out: &'a StepOut,
+}
+
+/// The summary at the end of a run.
+#[derive(Serialize, Debug, Default)]
+struct Summary {
+    steps: usize,
+    steps_with_contacts: usize,
+    vf: usize,
+    ee: usize,
+    earliest_toi: Option<f64>,
+    query_seconds: f64,
+    wall_seconds: f64,
+}
+
+/// A progress bar on stderr (hidden when stderr is not a terminal).
+pub fn progress(len: usize, what: &str) -> ProgressBar {
+    let bar = ProgressBar::new(len as u64);
+    let style =
+        ProgressStyle::with_template("{prefix} [{elapsed_precise}] {bar:30} {pos}/{len} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar());
+    bar.set_style(style);
+    bar.set_prefix(what.to_string());
+    bar
+}
+
+/// Creates the pairs folder, refusing a path that exists and is not a folder.
+pub fn prepare_dir(dir: &Path) -> Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        bail!("{}: exists and is not a folder", dir.display());
+    }
+    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))
+}
+
+/// Runs the command.
+pub fn run(args: &Args) -> Result<()> {
+    let options = args.query.options()?;
+    let sequence = Sequence::open(&args.seq_dir)?;
+    if let Some(dir) = &args.pairs_dir {
+        prepare_dir(dir)?;
+    }
+    let started = Instant::now();
+    let bar = progress(sequence.steps(), "steps");
+    let mut ccd = Ccd::new();
+    let mut summary = Summary::default();
+    for item in sequence.iter() {
+        let (k, step) = item?;
+        let report = ccd.query(&step, args.query.method.into(), &options);
+        if let Some(dir) = &args.pairs_dir {
+            let inputs: Vec<&Path> = sequence.frames.iter().map(PathBuf::as_path).collect();
+            write_pairs(&dir.join(format!("{k:04}.csv")), &report, &inputs)?;
+        }
+        let out = StepOut::new(&step, &report);
+        summary.steps += 1;
+        summary.vf += report.vf.len();
+        summary.ee += report.ee.len();
+        summary.steps_with_contacts += usize::from(report.contact_count() > 0);
+        summary.query_seconds += report.stats.seconds.total;
+        if let Some(t) = report.earliest_toi() {
+            summary.earliest_toi = Some(summary.earliest_toi.map_or(t, |e: f64| e.min(t)));
+        }
+        bar.inc(1);
+        if args.json {
+            bar.suspend(|| -> Result<()> {
+                println!(
+                    "{}",
+                    serde_json::to_string(&StepLine { step: k, out: &out })?
+                );
+                Ok(())
+            })?;
+        } else {
+            bar.println(format!("step {k:04}: {}", out.text()));
+        }
+    }
+    bar.finish_and_clear();
+    summary.wall_seconds = started.elapsed().as_secs_f64();
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string(&serde_json::json!({ "summary": summary }))?
+        );
+    } else {
+        println!(
+            "{} steps ({} with contacts): {} vf and {} ee contacts, earliest toi {}; query {:.3} s, wall {:.3} s",
+            summary.steps,
+            summary.steps_with_contacts,
+            summary.vf,
+            summary.ee,
+            summary.earliest_toi.map_or("none".into(), |t| t.to_string()),
+            summary.query_seconds,
+            summary.wall_seconds
+        );
+    }
+    Ok(())
+}
