@@ -1,6 +1,8 @@
 //! The `topoccd` command-line tool. Results go to stdout, errors and progress to stderr.
 
 mod cmd_queries;
+mod cmd_render;
+mod render;
 
 use std::process::ExitCode;
 
@@ -19,12 +21,16 @@ enum Command {
     /// Run the elementary tests on every query file below a folder and compare with its ground
     /// truth (files `*/vertex-face/*.csv` and `*/edge-edge/*.csv`, as in Sample-Queries).
     Queries(cmd_queries::Args),
+    /// Draw a mesh or a step as a PNG: leaf clusters coloured and intermediate clusters
+    /// outlined, contacts in red, or connected components (orthographic, no display needed).
+    Render(cmd_render::Args),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Queries(args) => cmd_queries::run(&args),
+        Command::Render(args) => cmd_render::run(&args),
     };
     match result {
         Ok(code) => code,
