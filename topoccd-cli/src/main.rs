@@ -2,6 +2,7 @@
 
 mod cmd_queries;
 mod cmd_render;
+mod cmd_step;
 mod render;
 
 use std::process::ExitCode;
@@ -21,6 +22,9 @@ enum Command {
     /// Run the elementary tests on every query file below a folder and compare with its ground
     /// truth (files `*/vertex-face/*.csv` and `*/edge-edge/*.csv`, as in Sample-Queries).
     Queries(cmd_queries::Args),
+    /// Continuous collision detection over one step between two mesh files (the faces are
+    /// T1's): every vertex-face and edge-edge contact with its time of impact.
+    Step(cmd_step::Args),
     /// Draw a mesh or a step as a PNG: leaf clusters coloured and intermediate clusters
     /// outlined, contacts in red, or connected components (orthographic, no display needed).
     Render(cmd_render::Args),
@@ -30,6 +34,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Queries(args) => cmd_queries::run(&args),
+        Command::Step(args) => cmd_step::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Render(args) => cmd_render::run(&args),
     };
     match result {

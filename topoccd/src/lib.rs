@@ -13,6 +13,25 @@
 //! - [`cluster`]: the dynamic clustering of the paper (leaf and intermediate clusters).
 //! - [`scene`]: seeded scene generators used by tests, benchmarks and the command line.
 //! - [`io`]: file formats (PLY, OBJ, the query CSV files, ground truth).
+//!
+//! A whole CCD step: a vertex falls through a fixed triangle, checked by the per-step k-DOP
+//! hierarchy and by the brute-force oracle.
+//!
+//! ```
+//! use topoccd::math::DVec3;
+//! use topoccd::step::{Ccd, Method, QueryOptions, Step};
+//! let fixed = [DVec3::ZERO, DVec3::X, DVec3::Y];
+//! let carrier = |z: f64| [0.0, 0.1, 0.1].map(|dz| DVec3::new(0.2 + dz, 0.2, z + 5.0 * dz));
+//! let x0: Vec<DVec3> = fixed.iter().chain(&carrier(1.0)).copied().collect();
+//! let x1: Vec<DVec3> = fixed.iter().chain(&carrier(-1.0)).copied().collect();
+//! let step = Step::new(x0, x1, vec![[0, 1, 2], [3, 4, 5]])?;
+//! let mut ccd = Ccd::new(); // keep it across steps: its buffers are reused
+//! let report = ccd.query(&step, Method::Bvh, &QueryOptions::default());
+//! assert_eq!((report.vf[0].vertex, report.vf[0].face), (3, 0));
+//! assert!((report.earliest_toi().unwrap() - 0.5).abs() < 1e-6);
+//! assert_eq!(report.vf, ccd.query(&step, Method::Brute, &QueryOptions::default()).vf);
+//! # Ok::<(), topoccd::step::StepError>(())
+//! ```
 #![warn(missing_docs)]
 
 pub mod bvh;

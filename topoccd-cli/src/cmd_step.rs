@@ -1,0 +1,252 @@
+//! `topoccd step T0 T1`: the CCD query of one step between two mesh files.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use serde::Serialize;
+use topoccd::io::read_mesh;
+use topoccd::kdop::DopKind;
+use topoccd::narrow::NarrowOptions;
+use topoccd::step::{Ccd, Method, Mode, QueryOptions, Report, Step};
+
+/// The whole-step query's method, as named on the command line.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MethodArg {
+    /// A k-DOP bounding volume hierarchy built anew for the step (the paper's baseline).
+    Bvh,
+    /// Every feature pair whose swept boxes overlap (the oracle).
+    Brute,
+}
+
+impl From<MethodArg> for Method {
+    fn from(m: MethodArg) -> Self {
+        match m {
+            MethodArg::Bvh => Method::Bvh,
+            MethodArg::Brute => Method::Brute,
+        }
+    }
+}
+
+/// Options of the query shared by the commands that run steps.
+#[derive(clap::Args, Debug, Clone)]
+pub struct QueryArgs {
+    /// Method of the broad phase.
+    #[arg(long, value_enum, default_value_t = MethodArg::Bvh)]
+    pub method: MethodArg,
+    /// Report only the earliest time of impact and one pair attaining it.
+    #[arg(long)]
+    pub earliest: bool,
+    /// k of the k-DOP bounding volumes: 6, 14, 18 or 26.
+    #[arg(long, default_value_t = 18, value_parser = parse_k)]
+    pub k: usize,
+    /// Distance at or below which features count as touching (coordinate units, >= 0).
+    #[arg(long, default_value_t = 0.0)]
+    pub min_separation: f64,
+    /// Time resolution of the elementary tests, in (0, 1).
+    #[arg(long, default_value_t = NarrowOptions::default().tolerance)]
+    pub tolerance: f64,
+}
+
+fn parse_k(s: &str) -> Result<usize, String> {
+    let k: usize = s.parse().map_err(|_| format!("{s:?} is not a number"))?;
+    DopKind::from_k(k)
+        .map(|_| k)
+        .ok_or_else(|| format!("k must be 6, 14, 18 or 26, got {k}"))
+}
+
+impl QueryArgs {
+    /// The library's options, after checking the ranges.
+    pub fn options(&self) -> Result<QueryOptions> {
+        if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
+            bail!("--tolerance must be in (0, 1), got {}", self.tolerance);
+        }
+        if !(self.min_separation >= 0.0 && self.min_separation.is_finite()) {
+            bail!(
+                "--min-separation must be finite and >= 0, got {}",
+                self.min_separation
+            );
+        }
+        Ok(QueryOptions {
+            narrow: NarrowOptions {
+                tolerance: self.tolerance,
+                min_separation: self.min_separation,
+                ..NarrowOptions::default()
+            },
+            kdop: DopKind::from_k(self.k).unwrap_or_default(),
+            mode: if self.earliest {
+                Mode::Earliest
+            } else {
+                Mode::All
+            },
+        })
+    }
+}
+
+/// Arguments of `topoccd step`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Positions at t=0 (.ply or .obj).
+    t0: PathBuf,
+    /// Positions at t=1 and the step's triangles (.ply or .obj), same vertex count as T0.
+    t1: PathBuf,
+    #[command(flatten)]
+    query: QueryArgs,
+    /// Write one line per colliding pair: `vf,VERTEX,FACE,TOI` or `ee,A0,A1,B0,B1,TOI`.
+    #[arg(long, value_name = "FILE")]
+    pairs: Option<PathBuf>,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Time of each phase, in seconds.
+#[derive(Serialize, Debug)]
+pub struct SecondsOut {
+    build: f64,
+    traverse: f64,
+    narrow: f64,
+    total: f64,
+}
+
+/// Work counters.
+#[derive(Serialize, Debug)]
+pub struct StatsOut {
+    bv_tests: u64,
+    vf_tests: u64,
+    ee_tests: u64,
+}
+
+/// The JSON summary of one step.
+#[derive(Serialize, Debug)]
+pub struct StepOut {
+    vertices: usize,
+    triangles: usize,
+    vf: usize,
+    ee: usize,
+    earliest_toi: Option<f64>,
+    seconds: SecondsOut,
+    stats: StatsOut,
+}
+
+impl StepOut {
+    /// Summarises a report of `step`.
+    pub fn new(step: &Step, report: &Report) -> Self {
+        let s = &report.stats;
+        Self {
+            vertices: step.vertex_count(),
+            triangles: step.triangles().len(),
+            vf: report.vf.len(),
+            ee: report.ee.len(),
+            earliest_toi: report.earliest_toi(),
+            seconds: SecondsOut {
+                build: s.seconds.build,
+                traverse: s.seconds.traverse,
+                narrow: s.seconds.narrow,
+                total: s.seconds.total,
+            },
+            stats: StatsOut {
+                bv_tests: s.bv_tests,
+                vf_tests: s.vf_tests,
+                ee_tests: s.ee_tests,
+            },
+        }
+    }
+
+    /// One line of text.
+    pub fn text(&self) -> String {
+        format!(
+            "{} vertices, {} triangles: {} vf and {} ee contacts, earliest toi {}; {:.4} s (build {:.4}, traverse {:.4}, narrow {:.4}); {} bv, {} vf, {} ee tests",
+            self.vertices,
+            self.triangles,
+            self.vf,
+            self.ee,
+            self.earliest_toi.map_or("none".to_string(), |t| t.to_string()),
+            self.seconds.total,
+            self.seconds.build,
+            self.seconds.traverse,
+            self.seconds.narrow,
+            self.stats.bv_tests,
+            self.stats.vf_tests,
+            self.stats.ee_tests,
+        )
+    }
+}
+
+/// Reads the two frames of a step: positions of both, triangles of the second.
+pub fn read_step(t0: &Path, t1: &Path) -> Result<Step> {
+    let m0 = read_mesh(t0)?;
+    let m1 = read_mesh(t1)?;
+    if m0.positions.len() != m1.positions.len() {
+        bail!(
+            "{} has {} vertices but {} has {}: a step needs the same vertices at t=0 and t=1",
+            t0.display(),
+            m0.positions.len(),
+            t1.display(),
+            m1.positions.len()
+        );
+    }
+    Step::new(m0.positions, m1.positions, m1.triangles)
+        .with_context(|| format!("step from {} to {}", t0.display(), t1.display()))
+}
+
+/// Writes the pairs of a report, one per line, refusing to overwrite any of `inputs`.
+pub fn write_pairs(path: &Path, report: &Report, inputs: &[&Path]) -> Result<()> {
+    refuse_overwrite(path, inputs)?;
+    let file = File::create(path).with_context(|| format!("{}: cannot create", path.display()))?;
+    let mut out = BufWriter::new(file);
+    for c in &report.vf {
+        writeln!(out, "vf,{},{},{}", c.vertex, c.face, c.toi)?;
+    }
+    for c in &report.ee {
+        writeln!(
+            out,
+            "ee,{},{},{},{},{}",
+            c.a[0], c.a[1], c.b[0], c.b[1], c.toi
+        )?;
+    }
+    out.flush()
+        .with_context(|| format!("{}: cannot write", path.display()))
+}
+
+/// Fails if `output` names the same file as one of `inputs`.
+pub fn refuse_overwrite(output: &Path, inputs: &[&Path]) -> Result<()> {
+    let canon = |p: &Path| std::fs::canonicalize(p).ok();
+    if let Some(out) = canon(output) {
+        for input in inputs {
+            if canon(input).as_ref() == Some(&out) {
+                bail!(
+                    "{}: refusing to overwrite an input file with output",
+                    output.display()
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Runs the command.
+pub fn run(args: &Args) -> Result<()> {
+    let options = args.query.options()?;
+    if let Some(p) = &args.pairs {
+        refuse_overwrite(p, &[&args.t0, &args.t1])?;
+    }
+    let started = Instant::now();
+    let step = read_step(&args.t0, &args.t1)?;
+    let read_seconds = started.elapsed().as_secs_f64();
+    let mut ccd = Ccd::new();
+    let report = ccd.query(&step, args.query.method.into(), &options);
+    if let Some(p) = &args.pairs {
+        write_pairs(p, &report, &[&args.t0, &args.t1])?;
+    }
+    let out = StepOut::new(&step, &report);
+    if args.json {
+        println!("{}", serde_json::to_string(&out)?);
+    } else {
+        println!("{}", out.text());
+        eprintln!("(reading the two frames took {read_seconds:.3} s)");
+    }
+    Ok(())
+}

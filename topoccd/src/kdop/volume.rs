@@ -1,0 +1,276 @@
+//! The k-DOP volume: construction, merging, inflation and the overlap test.
+
+// Slab loops index several parallel arrays (`lo`, `hi`, projections, norms) by slab.
+#![allow(clippy::needless_range_loop)]
+
+use super::norms;
+use crate::math::{DVec3, UNIT_ROUNDOFF};
+
+/// A k-DOP with `H = k/2` slabs (`H` = 3, 7, 9 or 13; see [`DopKind`](super::DopKind)).
+/// Slab `i` is `lo[i] <= n_i . x <= hi[i]` for the `i`-th direction of
+/// [`DopKind::directions`](super::DopKind::directions). An *empty* k-DOP has `lo > hi`
+/// (`+inf` and `-inf`); it contains nothing and overlaps nothing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Kdop<const H: usize> {
+    /// Lower end of each slab, in the coordinates' units times the direction's norm.
+    pub lo: [f64; H],
+    /// Upper end of each slab.
+    pub hi: [f64; H],
+}
+
+/// The projections of `p` on the `H` slab directions (small integer vectors, so each is one or
+/// two additions).
+#[inline(always)]
+fn project<const H: usize>(p: DVec3) -> [f64; H] {
+    let (x, y, z) = (p.x, p.y, p.z);
+    let mut o = [0.0; H];
+    o[0] = x;
+    o[1] = y;
+    o[2] = z;
+    let cube = |o: &mut [f64; H], at: usize| {
+        o[at] = x + y + z;
+        o[at + 1] = x - y + z;
+        o[at + 2] = x + y - z;
+        o[at + 3] = x - y - z;
+    };
+    let edge = |o: &mut [f64; H], at: usize| {
+        o[at] = x + y;
+        o[at + 1] = x + z;
+        o[at + 2] = y + z;
+        o[at + 3] = x - y;
+        o[at + 4] = x - z;
+        o[at + 5] = y - z;
+    };
+    match H {
+        3 => {}
+        7 => cube(&mut o, 3),
+        9 => edge(&mut o, 3),
+        13 => {
+            cube(&mut o, 3);
+            edge(&mut o, 7);
+        }
+        _ => unreachable!("a k-DOP has 3, 7, 9 or 13 slabs, not {H}"),
+    }
+    o
+}
+
+impl<const H: usize> Default for Kdop<H> {
+    fn default() -> Self {
+        Self::EMPTY
+    }
+}
+
+impl<const H: usize> Kdop<H> {
+    /// The empty k-DOP, neutral for [`Kdop::merge`].
+    pub const EMPTY: Self = Self {
+        lo: [f64::INFINITY; H],
+        hi: [f64::NEG_INFINITY; H],
+    };
+
+    /// The smallest k-DOP containing a point.
+    ///
+    /// ```
+    /// use topoccd::kdop::Kdop;
+    /// use topoccd::math::DVec3;
+    /// let d = Kdop::<9>::from_point(DVec3::new(1.0, 2.0, 3.0));
+    /// assert_eq!(d.lo, d.hi);
+    /// assert_eq!(d.lo[3], 3.0); // the direction x + y
+    /// ```
+    #[inline]
+    pub fn from_point(p: DVec3) -> Self {
+        let x = project::<H>(p);
+        Self { lo: x, hi: x }
+    }
+
+    /// The smallest k-DOP containing the points (the slabs' ends are the computed projections;
+    /// see [`Kdop::swept_triangle`] for a volume padded against their rounding). Empty for no
+    /// points.
+    ///
+    /// ```
+    /// use topoccd::kdop::Kdop;
+    /// use topoccd::math::DVec3;
+    /// let d = Kdop::<3>::from_points(&[DVec3::ZERO, DVec3::new(1.0, -2.0, 0.5)]);
+    /// assert_eq!((d.lo, d.hi), ([0.0, -2.0, 0.0], [1.0, 0.0, 0.5]));
+    /// ```
+    pub fn from_points(points: &[DVec3]) -> Self {
+        let mut out = Self::EMPTY;
+        for &p in points {
+            out.add_point(p);
+        }
+        out
+    }
+
+    /// Grows the k-DOP to contain `p`.
+    #[inline]
+    pub fn add_point(&mut self, p: DVec3) {
+        let x = project::<H>(p);
+        for i in 0..H {
+            self.lo[i] = self.lo[i].min(x[i]);
+            self.hi[i] = self.hi[i].max(x[i]);
+        }
+    }
+
+    /// The swept volume of a triangle moving linearly from `t0` to `t1` during the step: the
+    /// k-DOP of its six positions, inflated by `inflation` (a distance in the coordinates'
+    /// units, `>= 0`, usually the `min_separation`) and padded outward by a few units of
+    /// rounding of the projections. A linearly moving triangle stays inside the convex hull of
+    /// its six positions, so this volume contains it at every time in `[0, 1]`.
+    ///
+    /// ```
+    /// use topoccd::kdop::Kdop;
+    /// use topoccd::math::DVec3;
+    /// let t0 = [DVec3::ZERO, DVec3::X, DVec3::Y];
+    /// let t1 = t0.map(|p| p + DVec3::Z);
+    /// let d = Kdop::<9>::swept_triangle(&t0, &t1, 0.1);
+    /// assert!(d.contains_point(DVec3::new(0.2, 0.2, 0.5)));
+    /// assert!(d.contains_point(DVec3::new(0.0, 0.0, 1.09)));
+    /// assert!(!d.contains_point(DVec3::new(0.0, 0.0, 1.2)));
+    /// ```
+    #[inline]
+    pub fn swept_triangle(t0: &[DVec3; 3], t1: &[DVec3; 3], inflation: f64) -> Self {
+        let mut out = Self::from_point(t0[0]);
+        let mut m = t0[0].abs();
+        for &p in t0[1..].iter().chain(t1) {
+            out.add_point(p);
+            m = m.max(p.abs());
+        }
+        // Each projection sums at most three coordinates: two roundings, each at most
+        // u * (|x| + |y| + |z|). Pad by twice that.
+        let pad = 4.0 * UNIT_ROUNDOFF * (m.x + m.y + m.z);
+        out.inflate_padded(inflation, pad);
+        out
+    }
+
+    /// Inflates the k-DOP by `distance` (in the coordinates' units, `>= 0`): every point within
+    /// `distance` of the old volume lies in the new one. Slab `i` moves outward by
+    /// `distance * |n_i|`, since the directions are not unit vectors.
+    ///
+    /// ```
+    /// use topoccd::kdop::Kdop;
+    /// use topoccd::math::DVec3;
+    /// let mut d = Kdop::<9>::from_point(DVec3::ZERO);
+    /// d.inflate(1.0);
+    /// assert_eq!(d.hi[0], 1.0);
+    /// assert_eq!(d.hi[3], std::f64::consts::SQRT_2);
+    /// ```
+    pub fn inflate(&mut self, distance: f64) {
+        self.inflate_padded(distance, 0.0);
+    }
+
+    #[inline]
+    fn inflate_padded(&mut self, distance: f64, pad: f64) {
+        debug_assert!(distance >= 0.0 && pad >= 0.0);
+        let n = norms::<H>();
+        for i in 0..H {
+            let d = distance * n[i] + pad;
+            self.lo[i] -= d;
+            self.hi[i] += d;
+        }
+    }
+
+    /// The smallest k-DOP containing both.
+    #[inline]
+    pub fn merge(&self, other: &Self) -> Self {
+        let mut out = *self;
+        for i in 0..H {
+            out.lo[i] = out.lo[i].min(other.lo[i]);
+            out.hi[i] = out.hi[i].max(other.hi[i]);
+        }
+        out
+    }
+
+    /// Whether the two k-DOPs share a point, as far as their slabs tell (touching counts):
+    /// `false` proves them disjoint.
+    ///
+    /// ```
+    /// use topoccd::kdop::Kdop;
+    /// use topoccd::math::DVec3;
+    /// let a = Kdop::<9>::from_points(&[DVec3::ZERO, DVec3::X]);
+    /// let b = Kdop::<9>::from_points(&[DVec3::X, DVec3::Y]);
+    /// let c = Kdop::<9>::from_points(&[DVec3::new(0.6, 0.6, 0.0), DVec3::ONE]);
+    /// assert!(a.overlaps(&b));
+    /// assert!(!a.overlaps(&c)); // an AABB would overlap; the slab x + y separates them
+    /// ```
+    #[inline]
+    pub fn overlaps(&self, other: &Self) -> bool {
+        let mut ok = true;
+        for i in 0..H {
+            ok &= self.lo[i] <= other.hi[i] && other.lo[i] <= self.hi[i];
+        }
+        ok
+    }
+
+    /// Whether `other` lies inside `self`, slab by slab. Every k-DOP contains the empty one.
+    pub fn contains(&self, other: &Self) -> bool {
+        if other.is_empty() {
+            return true;
+        }
+        (0..H).all(|i| self.lo[i] <= other.lo[i] && other.hi[i] <= self.hi[i])
+    }
+
+    /// Whether the point's (computed) projections lie in every slab.
+    pub fn contains_point(&self, p: DVec3) -> bool {
+        let x = project::<H>(p);
+        (0..H).all(|i| self.lo[i] <= x[i] && x[i] <= self.hi[i])
+    }
+
+    /// `true` when some slab is empty (`lo > hi`), as for [`Kdop::EMPTY`].
+    pub fn is_empty(&self) -> bool {
+        (0..H).any(|i| self.lo[i] > self.hi[i])
+    }
+
+    /// The centre of the k-DOP's axis-aligned box (its first three slabs).
+    #[inline]
+    pub fn center(&self) -> DVec3 {
+        DVec3::new(
+            0.5 * (self.lo[0] + self.hi[0]),
+            0.5 * (self.lo[1] + self.hi[1]),
+            0.5 * (self.lo[2] + self.hi[2]),
+        )
+    }
+}
+
+impl<const H: usize> crate::bvh::BoundingVolume for Kdop<H> {
+    #[inline]
+    fn merge(&self, other: &Self) -> Self {
+        Kdop::merge(self, other)
+    }
+
+    #[inline]
+    fn overlaps(&self, other: &Self) -> bool {
+        Kdop::overlaps(self, other)
+    }
+
+    fn contains(&self, other: &Self) -> bool {
+        Kdop::contains(self, other)
+    }
+
+    #[inline]
+    fn center(&self) -> DVec3 {
+        Kdop::center(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::DopKind;
+    use super::*;
+
+    #[test]
+    fn projections_match_directions() {
+        let p = DVec3::new(0.3, -1.7, 2.9);
+        fn check<const H: usize>(kind: DopKind, p: DVec3) {
+            let x = project::<H>(p);
+            let n = norms::<H>();
+            for (i, d) in kind.directions().iter().enumerate() {
+                let dir = DVec3::new(d[0] as f64, d[1] as f64, d[2] as f64);
+                assert!((x[i] - dir.dot(p)).abs() < 1e-12, "{kind} slab {i}");
+                assert!((n[i] - dir.length()).abs() < 1e-15, "{kind} norm {i}");
+            }
+        }
+        check::<3>(DopKind::K6, p);
+        check::<7>(DopKind::K14, p);
+        check::<9>(DopKind::K18, p);
+        check::<13>(DopKind::K26, p);
+    }
+}
