@@ -1,5 +1,6 @@
 //! `topoccd render FRAME [--step NEXT_FRAME] [--color clusters|contacts|objects] [--pairs FILE]
-//! [--camera AZIMUTH,ELEVATION] [--up x|y|z] [--size WxH] --out FILE.png`: a picture of a mesh
+//! [--camera AZIMUTH,ELEVATION] [--fit mesh|contacts] [--up x|y|z] [--size WxH] [--indexed]
+//! --out FILE.png`: a picture of a mesh
 //! or of a step, for debugging by looking.
 //!
 //! With `--step`, FRAME is the step's t=0 and NEXT_FRAME its t=1 (NEXT_FRAME's triangles; new
@@ -22,7 +23,7 @@ use crate::render::encode::{encode_png, PngColors};
 use crate::render::paint::{
     connected_components, paint_clusters, paint_contacts, paint_objects, TriangleStyle,
 };
-use crate::render::{draw, supersampling};
+use crate::render::{draw, supersampling, DrawOptions};
 
 /// Largest picture side, in pixels.
 const MAX_SIDE: u32 = 8192;
@@ -35,10 +36,21 @@ pub enum ColorMode {
     /// Leaf clusters in distinct colours; intermediate-cluster boundaries (and the mesh's
     /// boundary) outlined in black, as in the paper's figures 4 and 5.
     Clusters,
-    /// Triangles involved in a contact (from --pairs) in red over light grey.
+    /// Triangles involved in a contact (from --pairs) in red over light grey; where other
+    /// surfaces hide them they show through, faded.
     Contacts,
     /// Connected components (through shared vertices) in distinct colours.
     Objects,
+}
+
+/// What the camera frames.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Fit {
+    /// The whole mesh.
+    Mesh,
+    /// The triangles involved in contacts (needs --color contacts): they fill half of the
+    /// picture, the mesh around them is clipped at its edges. The whole mesh if there are none.
+    Contacts,
 }
 
 /// `--camera AZIMUTH,ELEVATION`, in degrees.
@@ -120,6 +132,9 @@ pub struct Args {
         allow_hyphen_values = true
     )]
     camera: CameraAngles,
+    /// What the camera frames.
+    #[arg(long, value_enum, default_value_t = Fit::Mesh)]
+    fit: Fit,
     /// World axis pointing up in the picture.
     #[arg(long, value_enum, default_value_t = UpAxis::Y)]
     up: UpAxis,
@@ -141,6 +156,9 @@ pub fn run(args: &Args) -> Result<ExitCode> {
     if args.pairs.is_some() && args.color != ColorMode::Contacts {
         bail!("--pairs is only used with --color contacts");
     }
+    if args.fit == Fit::Contacts && args.color != ColorMode::Contacts {
+        bail!("--fit contacts needs --color contacts");
+    }
     let start = read_mesh(&args.frame)?;
     let step = match &args.step {
         Some(next_path) => {
@@ -157,6 +175,8 @@ pub fn run(args: &Args) -> Result<ExitCode> {
     let topo = Topology::new(step.triangles(), step.vertex_count());
     let faces = step.triangles().len();
 
+    let mut focus: Option<Vec<bool>> = None;
+    let mut show_through: Option<Vec<bool>> = None;
     let styles: Vec<TriangleStyle> = match args.color {
         ColorMode::Objects => {
             let (component, count) = connected_components(step.triangles(), step.vertex_count());
@@ -187,7 +207,13 @@ pub fn run(args: &Args) -> Result<ExitCode> {
                      ee,A0,A1,B0,B1,TOI)"
                 ),
             };
-            contact_styles(&contacts, &topo, faces)
+            let involved = contact_triangles(&contacts, &topo, faces);
+            let styles = contact_styles(&contacts, &involved);
+            if args.fit == Fit::Contacts {
+                focus = Some(involved.clone());
+            }
+            show_through = Some(involved);
+            styles
         }
     };
 
@@ -197,15 +223,15 @@ pub fn run(args: &Args) -> Result<ExitCode> {
         up: args.up,
     };
     let Size { width, height } = args.size;
-    let picture = draw(
-        step.x0(),
-        step.triangles(),
-        &styles,
-        &view,
+    let options = DrawOptions {
+        view,
         width,
         height,
-        supersampling(width, height),
-    );
+        samples: supersampling(width, height),
+        focus: focus.as_deref(),
+        show_through: show_through.as_deref(),
+    };
+    let picture = draw(step.x0(), step.triangles(), &styles, &options);
     let colors = if args.indexed {
         PngColors::Indexed
     } else {
@@ -220,9 +246,10 @@ pub fn run(args: &Args) -> Result<ExitCode> {
 }
 
 /// Styles for `--color contacts` from a list of contacts (read from `--pairs`, or computed by a
-/// whole-step query): the triangles they involve in red over grey. Prints the counts to stderr.
-pub fn contact_styles(contacts: &[Contact], topo: &Topology, faces: usize) -> Vec<TriangleStyle> {
-    let involved = contact_triangles(contacts, topo, faces);
+/// whole-step query) and the triangles they involve (see [`contact_triangles`]): those in red
+/// over grey. Prints the counts to stderr.
+pub fn contact_styles(contacts: &[Contact], involved: &[bool]) -> Vec<TriangleStyle> {
+    let faces = involved.len();
     let vf = contacts
         .iter()
         .filter(|c| matches!(c, Contact::VertexFace { .. }))
@@ -232,7 +259,7 @@ pub fn contact_styles(contacts: &[Contact], topo: &Topology, faces: usize) -> Ve
         contacts.len() - vf,
         involved.iter().filter(|&&hit| hit).count()
     );
-    paint_contacts(&involved)
+    paint_contacts(involved)
 }
 
 /// Refuses an output that is not a `.png` file or that is one of the input files.

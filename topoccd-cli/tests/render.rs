@@ -168,10 +168,44 @@ fn a_step_with_contacts_from_a_pairs_file() {
         "{}",
         stderr(&out)
     );
+    let red = |img: &image::RgbImage| count(img, |[r, g, b]| r > 60 && g < 30 && b < 30);
     let img = decode(&png);
-    let red = count(&img, |[r, g, b]| r > 60 && g < 30 && b < 30);
     let grey = count(&img, |[r, g, b]| r == g && g > 60 && r < 250 && b < 250);
-    assert!(red > 100 && grey > 100, "red {red}, grey {grey}");
+    assert!(
+        red(&img) > 100 && grey > 100,
+        "red {}, grey {grey}",
+        red(&img)
+    );
+    // Far apart tetrahedra, contacts on the first only (the edges 0-1 and 2-3): framed on
+    // them, the red part grows.
+    let far = dir.path("far.obj");
+    write(&far, &two_tetrahedra(6.0));
+    let pairs = dir.path("first.csv");
+    write(&pairs, "ee,0,1,2,3,0.25\n");
+    let red_pixels = |fit: &str| {
+        let png = dir.path(&format!("fit-{fit}.png"));
+        let out = topoccd(&[
+            "render",
+            s(&far),
+            "--color",
+            "contacts",
+            "--pairs",
+            s(&pairs),
+            "--size",
+            "200x150",
+            "--fit",
+            fit,
+            "--out",
+            s(&png),
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        red(&decode(&png))
+    };
+    let (whole, zoomed) = (red_pixels("mesh"), red_pixels("contacts"));
+    assert!(
+        zoomed > whole * 3 / 2,
+        "{zoomed} red pixels zoomed, {whole} unzoomed"
+    );
 }
 
 #[test]
@@ -247,6 +281,10 @@ fn bad_input_fails_with_a_message_naming_the_problem() {
     fails(
         &["render", s(&mesh), "--color", "contacts", "--out", s(&png)],
         "--color contacts needs --pairs",
+    );
+    fails(
+        &["render", s(&mesh), "--fit", "contacts", "--out", s(&png)],
+        "--fit contacts needs --color contacts",
     );
     let broken = dir.path("broken.obj");
     write(&broken, "v 0 0 0\nv 1 0 0\nf 1 2 3\n");

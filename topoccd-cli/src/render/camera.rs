@@ -52,8 +52,8 @@ impl Default for View {
     }
 }
 
-/// Fraction of the picture the mesh's projected extent fills (the rest is margin).
-const FILL: f64 = 0.94;
+/// Fraction of the picture the whole mesh's projection fills (the rest is margin).
+pub const FILL_ALL: f64 = 0.94;
 
 /// An orthographic camera mapping world points to pixels (see [`ScreenVertex`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,15 +72,22 @@ pub struct Camera {
 impl Camera {
     /// A camera for a `width x height` picture looking from `view` at the given points, with
     /// the scale and the centring chosen so that the rectangle bounding their projections fills
-    /// 94% of the picture's width or height (whichever is tighter), centred: every point is
-    /// inside the picture. Without points, or when they all project to one point, one world
-    /// unit spans 47% of the smaller side. Non-finite points are ignored.
+    /// the fraction `fill` (in `(0, 1]`, e.g. [`FILL_ALL`]) of the picture's width or height
+    /// (whichever is tighter), centred: every point is inside the picture. Without points, or
+    /// when they all project to one point, one world unit spans `fill / 2` of the smaller side.
+    /// Non-finite points are ignored.
     pub fn framing(
         points: impl IntoIterator<Item = DVec3> + Clone,
         view: &View,
         width: u32,
         height: u32,
+        fill: f64,
     ) -> Self {
+        let fill = if fill > 0.0 && fill <= 1.0 {
+            fill
+        } else {
+            FILL_ALL
+        };
         let finite = || points.clone().into_iter().filter(|p| p.is_finite());
         let (lo, hi) = finite().fold(
             (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
@@ -111,7 +118,7 @@ impl Camera {
         let (w, h) = (f64::from(width), f64::from(height));
         let fit = |pixels: f64, extent: f64| {
             if extent > 0.0 && extent.is_finite() {
-                FILL * pixels / extent
+                fill * pixels / extent
             } else {
                 f64::INFINITY
             }
@@ -120,7 +127,7 @@ impl Camera {
         let scale = if scale.is_finite() {
             scale
         } else {
-            0.5 * FILL * w.min(h)
+            0.5 * fill * w.min(h)
         };
         Self {
             centre,
@@ -133,6 +140,11 @@ impl Camera {
                 0.5 * h + scale * 0.5 * (y_lo + y_hi),
             ],
         }
+    }
+
+    /// Pixels per world unit.
+    pub fn scale(&self) -> f64 {
+        self.scale
     }
 
     /// The pixel position and depth of a world point (depth grows away from the viewer, in
@@ -170,7 +182,7 @@ mod tests {
                         elevation_deg: el,
                         up,
                     };
-                    let c = Camera::framing([DVec3::ZERO, DVec3::ONE], &view, 10, 10);
+                    let c = Camera::framing([DVec3::ZERO, DVec3::ONE], &view, 10, 10, FILL_ALL);
                     for v in [c.right, c.up, c.toward_viewer] {
                         assert!((v.length() - 1.0).abs() < 1e-12);
                     }
@@ -188,16 +200,16 @@ mod tests {
             elevation_deg: 0.0,
             up,
         };
-        let c = Camera::framing([DVec3::ZERO], &front(UpAxis::Y), 100, 100);
+        let c = Camera::framing([DVec3::ZERO], &front(UpAxis::Y), 100, 100, FILL_ALL);
         assert!(close(c.toward_viewer, DVec3::Z) && close(c.right, DVec3::X));
-        let c = Camera::framing([DVec3::ZERO], &front(UpAxis::Z), 100, 100);
+        let c = Camera::framing([DVec3::ZERO], &front(UpAxis::Z), 100, 100, FILL_ALL);
         assert!(close(c.toward_viewer, DVec3::NEG_Y) && close(c.up, DVec3::Z));
         // Looking straight down with y up: the picture's up is -z.
         let top = View {
             elevation_deg: 90.0,
             ..front(UpAxis::Y)
         };
-        let c = Camera::framing([DVec3::ZERO], &top, 100, 100);
+        let c = Camera::framing([DVec3::ZERO], &top, 100, 100, FILL_ALL);
         assert!(close(c.toward_viewer, DVec3::Y) && close(c.up, DVec3::NEG_Z));
     }
 
@@ -222,7 +234,7 @@ mod tests {
                         elevation_deg: el,
                         up: UpAxis::Y,
                     };
-                    let c = Camera::framing(points.iter().copied(), &view, w, h);
+                    let c = Camera::framing(points.iter().copied(), &view, w, h, FILL_ALL);
                     let (mut x_lo, mut x_hi) = (f64::INFINITY, f64::NEG_INFINITY);
                     let (mut y_lo, mut y_hi) = (f64::INFINITY, f64::NEG_INFINITY);
                     for p in &points {
@@ -244,7 +256,13 @@ mod tests {
 
     #[test]
     fn the_nearer_point_has_the_smaller_depth() {
-        let c = Camera::framing([DVec3::ZERO, DVec3::ONE], &View::default(), 10, 10);
+        let c = Camera::framing(
+            [DVec3::ZERO, DVec3::ONE],
+            &View::default(),
+            10,
+            10,
+            FILL_ALL,
+        );
         let near = c.project(c.centre + c.toward_viewer);
         let far = c.project(c.centre - c.toward_viewer);
         assert!(near.depth < far.depth);
@@ -258,7 +276,7 @@ mod tests {
             vec![DVec3::splat(3.0); 4],
             vec![DVec3::splat(f64::NAN)],
         ] {
-            let c = Camera::framing(points, &View::default(), 64, 48);
+            let c = Camera::framing(points, &View::default(), 64, 48, FILL_ALL);
             let s = c.project(DVec3::ZERO);
             assert!(s.x.is_finite() && s.y.is_finite() && s.depth.is_finite());
         }

@@ -52,46 +52,126 @@ pub fn supersampling(width: u32, height: u32) -> u32 {
         .unwrap_or(1)
 }
 
-/// Draws triangles `triangles` over `positions`, triangle `t` styled by `styles[t]`, seen from
-/// `view`, as a `width x height` picture on a white background, supersampled `samples` times
-/// in each direction (`>= 1`; see [`supersampling`]). The camera frames the vertices the
-/// triangles use. Triangles naming a vertex out of range, or of zero area, are skipped.
+/// Fraction of the picture the focused triangles fill (see [`DrawOptions::focus`]): the rest
+/// shows what surrounds them.
+pub const FILL_FOCUS: f64 = 0.5;
+
+/// How [`draw`] makes a picture.
+#[derive(Clone, Copy, Debug)]
+pub struct DrawOptions<'a> {
+    /// Where the camera looks from.
+    pub view: View,
+    /// Picture width in pixels, `>= 1` (with `height`, at most [`SAMPLE_BUDGET`] pixels).
+    pub width: u32,
+    /// Picture height in pixels, `>= 1`.
+    pub height: u32,
+    /// Supersampling factor in each direction, `1..=3` (see [`supersampling`]).
+    pub samples: u32,
+    /// Triangles to frame: `None` frames the whole mesh; `Some(marked)` frames the triangles
+    /// `t` with `marked[t]` (filling [`FILL_FOCUS`] of the picture, the rest of the mesh
+    /// around them and clipped at the picture's edges), unless that would show less than
+    /// the whole mesh framed, or none is marked: then the whole mesh is framed.
+    pub focus: Option<&'a [bool]>,
+    /// Triangles `t` with `marked[t]` show through whatever hides them, faded (with opacity
+    /// [`SHOW_THROUGH_OPACITY`]), so that they are seen wherever they are. `None`: none.
+    pub show_through: Option<&'a [bool]>,
+}
+
+/// Opacity of the triangles that show through nearer surfaces (see
+/// [`DrawOptions::show_through`]).
+pub const SHOW_THROUGH_OPACITY: f64 = 0.55;
+
+/// Draws triangles `triangles` over `positions`, triangle `t` styled by `styles[t]`, as a
+/// picture on a white background (see [`DrawOptions`]). Triangles naming a vertex out of
+/// range, or of zero area, are skipped.
 pub fn draw(
     positions: &[DVec3],
     triangles: &[[u32; 3]],
     styles: &[TriangleStyle],
-    view: &View,
-    width: u32,
-    height: u32,
-    samples: u32,
+    options: &DrawOptions,
 ) -> RgbImage {
     debug_assert_eq!(triangles.len(), styles.len());
-    let k = samples.max(1);
+    let (width, height) = (options.width, options.height);
+    let k = options.samples.clamp(1, MAX_SUPERSAMPLING);
     let (sw, sh) = (width * k, height * k);
     let vertex = |i: u32| positions.get(i as usize).copied();
-    let used = triangles.iter().flatten().filter_map(|&i| vertex(i));
-    let camera = Camera::framing(used, view, sw, sh);
-    let light = camera.light_direction();
-    let mut raster = Raster::new(sw, sh, palette::BACKGROUND);
-    for (tri, style) in triangles.iter().zip(styles) {
-        let (Some(a), Some(b), Some(c)) = (vertex(tri[0]), vertex(tri[1]), vertex(tri[2])) else {
-            continue;
-        };
-        let normal = (b - a).cross(c - a).normalize_or_zero();
-        if normal == DVec3::ZERO {
-            continue; // zero area in space
+    let used = |keep: &dyn Fn(usize) -> bool| {
+        let points = triangles
+            .iter()
+            .enumerate()
+            .filter(move |&(t, _)| keep(t))
+            .flat_map(move |(_, tri)| tri.iter().filter_map(move |&i| vertex(i)));
+        points.collect::<Vec<DVec3>>()
+    };
+    let whole = Camera::framing(used(&|_| true), &options.view, sw, sh, camera::FILL_ALL);
+    // Framing the focused triangles only ever zooms in.
+    let camera = match options.focus.filter(|f| f.contains(&true)) {
+        Some(marked) => {
+            let points = used(&|t| marked.get(t) == Some(&true));
+            let focused = Camera::framing(points, &options.view, sw, sh, FILL_FOCUS);
+            if focused.scale() > whole.scale() {
+                focused
+            } else {
+                whole
+            }
         }
-        let color = palette::shade(style.color, normal, light);
-        let outline = Outline {
-            edges: style.outline,
-            half_width: OUTLINE_HALF_WIDTH * f64::from(k),
-            color: palette::mix(color, palette::OUTLINE, OUTLINE_OPACITY),
-        };
-        let screen = [camera.project(a), camera.project(b), camera.project(c)];
-        let outline = style.outline.contains(&true).then_some(&outline);
-        raster.fill_triangle(&screen, color, outline);
+        None => whole,
+    };
+    let painter = Painter {
+        camera,
+        light: camera.light_direction(),
+        outline_half_width: OUTLINE_HALF_WIDTH * f64::from(k),
+        positions,
+        triangles,
+        styles,
+    };
+    let mut raster = Raster::new(sw, sh, palette::BACKGROUND);
+    painter.draw(&mut raster, &|_| true);
+    if let Some(marked) = options.show_through.filter(|m| m.contains(&true)) {
+        let mut hidden = Raster::new(sw, sh, palette::BACKGROUND);
+        painter.draw(&mut hidden, &|t| marked.get(t) == Some(&true));
+        raster.show_through(&hidden, SHOW_THROUGH_OPACITY);
     }
     downsample(&raster, k, width, height)
+}
+
+/// The mesh, its styles and the camera: what every pass of [`draw`] needs.
+struct Painter<'a> {
+    camera: Camera,
+    light: DVec3,
+    outline_half_width: f64,
+    positions: &'a [DVec3],
+    triangles: &'a [[u32; 3]],
+    styles: &'a [TriangleStyle],
+}
+
+impl Painter<'_> {
+    /// Draws the triangles `t` with `keep(t)`, shaded and outlined, into `raster`.
+    fn draw(&self, raster: &mut Raster, keep: &dyn Fn(usize) -> bool) {
+        let vertex = |i: u32| self.positions.get(i as usize).copied();
+        for (t, (tri, style)) in self.triangles.iter().zip(self.styles).enumerate() {
+            if !keep(t) {
+                continue;
+            }
+            let (Some(a), Some(b), Some(c)) = (vertex(tri[0]), vertex(tri[1]), vertex(tri[2]))
+            else {
+                continue;
+            };
+            let normal = (b - a).cross(c - a).normalize_or_zero();
+            if normal == DVec3::ZERO {
+                continue; // zero area in space
+            }
+            let color = palette::shade(style.color, normal, self.light);
+            let outline = Outline {
+                edges: style.outline,
+                half_width: self.outline_half_width,
+                color: palette::mix(color, palette::OUTLINE, OUTLINE_OPACITY),
+            };
+            let screen = [a, b, c].map(|p| self.camera.project(p));
+            let outline = style.outline.contains(&true).then_some(&outline);
+            raster.fill_triangle(&screen, color, outline);
+        }
+    }
 }
 
 /// Averages each `k x k` block of samples into one pixel (rounding to nearest).
@@ -146,8 +226,16 @@ mod tests {
         let styles: Vec<_> = (0..t.len() as u32)
             .map(|i| TriangleStyle::plain(palette::categorical(i)))
             .collect();
-        let a = draw(&p, &t, &styles, &View::default(), 64, 48, 2);
-        let b = draw(&p, &t, &styles, &View::default(), 64, 48, 2);
+        let options = DrawOptions {
+            view: View::default(),
+            width: 64,
+            height: 48,
+            samples: 2,
+            focus: None,
+            show_through: None,
+        };
+        let a = draw(&p, &t, &styles, &options);
+        let b = draw(&p, &t, &styles, &options);
         assert_eq!(a, b);
         assert!(non_background(&a) > 400);
         // Nothing touches the border: the whole cube is inside.
@@ -173,14 +261,87 @@ mod tests {
             elevation_deg: 0.0,
             ..View::default()
         };
-        let img = draw(&p, &t, &styles, &side, 32, 32, 1);
+        let options = |view, size, samples| DrawOptions {
+            view,
+            width: size,
+            height: size,
+            samples,
+            focus: None,
+            show_through: None,
+        };
+        let img = draw(&p, &t, &styles, &options(side, 32, 1));
         assert_eq!(non_background(&img), 0);
         // Repeated vertices, out-of-range indices, no triangles, a 1x1 picture.
         let bad = vec![[0, 0, 1], [0, 1, 99]];
-        assert_eq!(non_background(&draw(&p, &bad, &styles, &side, 8, 8, 1)), 0);
-        assert_eq!(non_background(&draw(&p, &[], &[], &side, 8, 8, 1)), 0);
-        let one = draw(&p, &t, &styles, &View::default(), 1, 1, 3);
+        assert_eq!(
+            non_background(&draw(&p, &bad, &styles, &options(side, 8, 1))),
+            0
+        );
+        assert_eq!(non_background(&draw(&p, &[], &[], &options(side, 8, 1))), 0);
+        let one = draw(&p, &t, &styles, &options(View::default(), 1, 3));
         assert_eq!(one.dimensions(), (1, 1));
+    }
+
+    #[test]
+    fn focus_frames_the_marked_triangles_with_the_rest_around_them() {
+        // A unit triangle beside a big one, in the plane z = 0, seen from the front.
+        let p = vec![
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(1.2, -5.0, 0.0),
+            DVec3::new(20.0, -5.0, 0.0),
+            DVec3::new(1.2, 20.0, 0.0),
+        ];
+        let t = vec![[0, 1, 2], [3, 4, 5]];
+        let styles = vec![
+            TriangleStyle::plain([200, 0, 0]),
+            TriangleStyle::plain([0, 0, 200]),
+        ];
+        let front = View {
+            azimuth_deg: 0.0,
+            elevation_deg: 0.0,
+            ..View::default()
+        };
+        let marked = [true, false];
+        let options = DrawOptions {
+            view: front,
+            width: 100,
+            height: 100,
+            samples: 1,
+            focus: Some(&marked),
+            show_through: None,
+        };
+        let img = draw(&p, &t, &styles, &options);
+        let own = count_color(&img, shaded(&styles[0], &p, t[0], &front));
+        // The unit triangle fills half the picture's side (half of a 50x50 square), and the
+        // big one shows beside it, clipped.
+        assert!((1150..=1350).contains(&own), "{own}");
+        assert!(non_background(&img) > own + 1000);
+        // Nothing marked, or only the big triangle: the whole mesh is framed, as without focus.
+        let unfocused = DrawOptions {
+            focus: None,
+            ..options
+        };
+        let all = draw(&p, &t, &styles, &unfocused);
+        for marked in [[false, false], [false, true]] {
+            let options = DrawOptions {
+                focus: Some(&marked),
+                ..options
+            };
+            assert_eq!(draw(&p, &t, &styles, &options), all);
+        }
+    }
+
+    fn count_color(img: &RgbImage, c: [u8; 3]) -> usize {
+        img.pixels().filter(|p| p.0 == c).count()
+    }
+
+    fn shaded(style: &TriangleStyle, p: &[DVec3], [a, b, c]: [u32; 3], view: &View) -> [u8; 3] {
+        let [a, b, c] = [a, b, c].map(|i| p[i as usize]);
+        let camera = Camera::framing(p.iter().copied(), view, 1, 1, camera::FILL_ALL);
+        let normal = (b - a).cross(c - a).normalize();
+        palette::shade(style.color, normal, camera.light_direction())
     }
 
     #[test]

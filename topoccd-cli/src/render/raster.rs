@@ -108,6 +108,24 @@ impl Raster {
         &self.color
     }
 
+    /// Shows what `hidden` drew (a raster of the same size, drawn over the same depths) where
+    /// this raster has something nearer: its colour is laid over this raster's with opacity
+    /// `opacity` in `[0, 1]`, so hidden triangles show through as if the nearer surfaces were
+    /// partly transparent. Pixels where `hidden` is the nearest (or drew nothing) are kept.
+    pub fn show_through(&mut self, hidden: &Raster, opacity: f64) {
+        debug_assert_eq!((self.width, self.height), (hidden.width, hidden.height));
+        let alpha = opacity.clamp(0.0, 1.0);
+        for (i, (&depth, &color)) in hidden.depth.iter().zip(&hidden.color).enumerate() {
+            if depth.is_finite() && self.depth.get(i).is_some_and(|&d| d < depth) {
+                let under = self.color[i];
+                self.color[i] = std::array::from_fn(|k| {
+                    let c = (1.0 - alpha) * f64::from(under[k]) + alpha * f64::from(color[k]);
+                    c.round().clamp(0.0, 255.0) as u8
+                });
+            }
+        }
+    }
+
     /// Draws a triangle in `color` (and `outline` along its marked edges) where it is nearer
     /// than what is already drawn; on equal depth the earlier triangle stays. Either
     /// orientation is drawn. Triangles of zero area after snapping, and triangles with a
@@ -300,6 +318,25 @@ mod tests {
             assert_eq!(r.pixel(6, 1), BLUE);
             assert_eq!(r.pixel(9, 9), BG);
         }
+    }
+
+    #[test]
+    fn hidden_triangles_show_through_nearer_ones() {
+        let big = [v(0.0, 0.0, 1.0), v(10.0, 0.0, 1.0), v(0.0, 10.0, 1.0)];
+        let hidden = [v(1.0, 1.0, 5.0), v(4.0, 1.0, 5.0), v(1.0, 4.0, 5.0)];
+        let in_front = [v(6.0, 6.0, 0.0), v(9.0, 6.0, 0.0), v(6.0, 9.0, 0.0)];
+        let mut scene = Raster::new(10, 10, BG);
+        for tri in [&big, &hidden, &in_front] {
+            scene.fill_triangle(tri, BLUE, None);
+        }
+        let mut marked = Raster::new(10, 10, BG);
+        marked.fill_triangle(&hidden, RED, None);
+        marked.fill_triangle(&in_front, RED, None);
+        scene.show_through(&marked, 0.5);
+        assert_eq!(scene.pixel(1, 1), [128, 0, 128]); // behind `big`: half red, half blue
+        assert_eq!(scene.pixel(6, 1), BLUE); // `big` alone
+        assert_eq!(scene.pixel(6, 6), BLUE); // nearest already, kept as drawn
+        assert_eq!(scene.pixel(9, 0), BG);
     }
 
     #[test]
