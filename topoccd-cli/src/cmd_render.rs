@@ -200,8 +200,9 @@ pub fn run(args: &Args) -> Result<ExitCode> {
         ColorMode::Contacts => {
             let contacts: Vec<Contact> = match &args.pairs {
                 Some(path) => read_pairs(path, step.vertex_count(), faces)?,
-                // Once the whole-step query (`topoccd::step`) is merged here, this arm can
-                // compute the step's contacts instead; `contact_styles` takes them as they are.
+                // Without --pairs, this arm can compute the step's contacts with the whole-step
+                // query (`topoccd::step::Ccd::query`): its `report.vf` and `report.ee` have the
+                // fields of `Contact::VertexFace` and `Contact::EdgeEdge`.
                 None => bail!(
                     "--color contacts needs --pairs FILE (lines vf,VERTEX,FACE,TOI or \
                      ee,A0,A1,B0,B1,TOI)"
