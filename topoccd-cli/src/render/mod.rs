@@ -103,12 +103,14 @@ pub fn draw(
             .flat_map(move |(_, tri)| tri.iter().filter_map(move |&i| vertex(i)));
         points.collect::<Vec<DVec3>>()
     };
-    let whole = Camera::framing(used(&|_| true), &options.view, sw, sh, camera::FILL_ALL);
+    let all = used(&|_| true);
+    let whole = Camera::framing(all.iter().copied(), &options.view, sw, sh, camera::FILL_ALL);
     // Framing the focused triangles only ever zooms in.
     let camera = match options.focus.filter(|f| f.contains(&true)) {
         Some(marked) => {
             let points = used(&|t| marked.get(t) == Some(&true));
-            let focused = Camera::framing(points, &options.view, sw, sh, FILL_FOCUS);
+            let focused =
+                Camera::framing(points.iter().copied(), &options.view, sw, sh, FILL_FOCUS);
             if focused.scale() > whole.scale() {
                 focused
             } else {
