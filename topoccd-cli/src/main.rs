@@ -2,9 +2,11 @@
 
 mod cmd_bench;
 mod cmd_queries;
+mod cmd_render;
 mod cmd_run;
 mod cmd_step;
 mod plot;
+mod render;
 
 use std::process::ExitCode;
 
@@ -32,6 +34,9 @@ enum Command {
     /// The paper's tables 1 and 2: each method on every step of each input, alternating the
     /// methods per step, with the speedup of `cluster` over `bvh`.
     Bench(cmd_bench::Args),
+    /// Draw a mesh or a step as a PNG: leaf clusters coloured and intermediate clusters
+    /// outlined, contacts in red, or connected components (orthographic, no display needed).
+    Render(cmd_render::Args),
 }
 
 fn main() -> ExitCode {
@@ -41,6 +46,7 @@ fn main() -> ExitCode {
         Command::Step(args) => cmd_step::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Run(args) => cmd_run::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Bench(args) => cmd_bench::run(&args),
+        Command::Render(args) => cmd_render::run(&args),
     };
     match result {
         Ok(code) => code,

@@ -1,0 +1,336 @@
+//! `topoccd render FRAME [--step NEXT_FRAME] [--color clusters|contacts|objects] [--pairs FILE]
+//! [--camera AZIMUTH,ELEVATION] [--fit mesh|contacts] [--up x|y|z] [--size WxH] [--indexed]
+//! --out FILE.png`: a picture of a mesh
+//! or of a step, for debugging by looking.
+//!
+//! With `--step`, FRAME is the step's t=0 and NEXT_FRAME its t=1 (NEXT_FRAME's triangles; new
+//! vertices start at their parent's position when a `.parents` file sits beside NEXT_FRAME, as
+//! in [`topoccd::io::sequence`]). The picture always shows the step's *start*: the positions at
+//! t=0 with the step's triangles. The clusters are those of the whole step (t=0 to t=1).
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::str::FromStr;
+
+use anyhow::{anyhow, bail, Context, Result};
+use topoccd::cluster::{cluster, ClusterOptions};
+use topoccd::io::{frame_number, read_mesh, sequence::step_between};
+use topoccd::step::{Step, Topology};
+
+use crate::render::camera::{UpAxis, View};
+use crate::render::contacts::{contact_triangles, read_pairs, Contact};
+use crate::render::encode::{encode_png, PngColors};
+use crate::render::paint::{
+    connected_components, paint_clusters, paint_contacts, paint_objects, TriangleStyle,
+};
+use crate::render::{draw, supersampling, DrawOptions};
+
+/// Largest picture side, in pixels.
+const MAX_SIDE: u32 = 8192;
+/// Largest picture, in pixels (keeps the buffers under about 200 MB).
+const MAX_PIXELS: u64 = 16 << 20;
+
+/// How the triangles are coloured.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ColorMode {
+    /// Leaf clusters in distinct colours; intermediate-cluster boundaries (and the mesh's
+    /// boundary) outlined in black, as in the paper's figures 4 and 5.
+    Clusters,
+    /// Triangles involved in a contact (from --pairs) in red over light grey; where other
+    /// surfaces hide them they show through, faded.
+    Contacts,
+    /// Connected components (through shared vertices) in distinct colours.
+    Objects,
+}
+
+/// What the camera frames.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Fit {
+    /// The whole mesh.
+    Mesh,
+    /// The triangles involved in contacts (needs --color contacts): they fill half of the
+    /// picture, the mesh around them is clipped at its edges. The whole mesh if there are none.
+    Contacts,
+}
+
+/// `--camera AZIMUTH,ELEVATION`, in degrees.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraAngles {
+    /// Degrees around the up axis, any finite value.
+    pub azimuth: f64,
+    /// Degrees above the horizontal plane, `[-90, 90]`.
+    pub elevation: f64,
+}
+
+impl FromStr for CameraAngles {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        let usage = "expected AZIMUTH,ELEVATION in degrees, e.g. 35,25";
+        let (a, e) = s.split_once(',').ok_or_else(|| format!("'{s}': {usage}"))?;
+        let number = |x: &str| x.trim().parse::<f64>().ok().filter(|v| v.is_finite());
+        let (Some(azimuth), Some(elevation)) = (number(a), number(e)) else {
+            return Err(format!("'{s}': {usage}"));
+        };
+        if !(-90.0..=90.0).contains(&elevation) {
+            return Err(format!("'{s}': the elevation must be in [-90, 90]"));
+        }
+        Ok(Self { azimuth, elevation })
+    }
+}
+
+/// `--size WxH`, in pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Size {
+    /// Width, `1..=8192`.
+    pub width: u32,
+    /// Height, `1..=8192`.
+    pub height: u32,
+}
+
+impl FromStr for Size {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        let bad = || format!("'{s}': expected WIDTHxHEIGHT in pixels, e.g. 1024x768");
+        let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+        let (width, height) = (
+            w.trim().parse::<u32>().map_err(|_| bad())?,
+            h.trim().parse::<u32>().map_err(|_| bad())?,
+        );
+        if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
+            return Err(format!("'{s}': each side must be in 1..={MAX_SIDE}"));
+        }
+        if u64::from(width) * u64::from(height) > MAX_PIXELS {
+            return Err(format!("'{s}': at most {MAX_PIXELS} pixels"));
+        }
+        Ok(Self { width, height })
+    }
+}
+
+/// Arguments of `topoccd render`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Mesh file (PLY or OBJ). The picture shows its positions (the step's t=0 with --step).
+    frame: PathBuf,
+    /// Next frame (PLY or OBJ): FRAME to NEXT_FRAME is the step, with NEXT_FRAME's triangles;
+    /// the clusters are computed over the step, the picture shows its start (t=0).
+    #[arg(long, value_name = "NEXT_FRAME")]
+    step: Option<PathBuf>,
+    /// What the colours show.
+    #[arg(long, value_enum, default_value_t = ColorMode::Clusters)]
+    color: ColorMode,
+    /// Contacts for --color contacts: lines `vf,VERTEX,FACE,TOI` or `ee,A0,A1,B0,B1,TOI`.
+    #[arg(long, value_name = "FILE")]
+    pairs: Option<PathBuf>,
+    /// View direction in degrees: azimuth around the up axis, elevation above the horizon
+    /// (orthographic; the whole mesh is framed).
+    #[arg(
+        long,
+        value_name = "AZIMUTH,ELEVATION",
+        default_value = "35,25",
+        allow_hyphen_values = true
+    )]
+    camera: CameraAngles,
+    /// What the camera frames.
+    #[arg(long, value_enum, default_value_t = Fit::Mesh)]
+    fit: Fit,
+    /// World axis pointing up in the picture.
+    #[arg(long, value_enum, default_value_t = UpAxis::Y)]
+    up: UpAxis,
+    /// Picture size in pixels.
+    #[arg(long, value_name = "WxH", default_value = "1024x768")]
+    size: Size,
+    /// Output PNG file (overwritten if it exists; never one of the input meshes).
+    #[arg(long, value_name = "FILE.png")]
+    out: PathBuf,
+    /// Store at most 256 colours (a palette PNG, about a third of the size; colours are
+    /// approximated when the picture has more), e.g. for pictures kept in a repository.
+    #[arg(long)]
+    indexed: bool,
+}
+
+/// Runs the command.
+pub fn run(args: &Args) -> Result<ExitCode> {
+    check_output(args)?;
+    if args.pairs.is_some() && args.color != ColorMode::Contacts {
+        bail!("--pairs is only used with --color contacts");
+    }
+    if args.fit == Fit::Contacts && args.color != ColorMode::Contacts {
+        bail!("--fit contacts needs --color contacts");
+    }
+    let start = read_mesh(&args.frame)?;
+    let step = match &args.step {
+        Some(next_path) => {
+            let end = read_mesh(next_path)?;
+            let k = frame_number(&args.frame).unwrap_or(0) as usize;
+            step_between(&start, &end, next_path, k)?
+        }
+        None => {
+            let positions = start.positions;
+            Step::new(positions.clone(), positions, start.triangles)
+                .map_err(|e| anyhow!("{}: {e}", args.frame.display()))?
+        }
+    };
+    let topo = Topology::new(step.triangles(), step.vertex_count());
+    let faces = step.triangles().len();
+
+    let mut focus: Option<Vec<bool>> = None;
+    let mut show_through: Option<Vec<bool>> = None;
+    let styles: Vec<TriangleStyle> = match args.color {
+        ColorMode::Objects => {
+            let (component, count) = connected_components(step.triangles(), step.vertex_count());
+            eprintln!("objects: {count} connected components over {faces} triangles");
+            paint_objects(&component)
+        }
+        ColorMode::Clusters => {
+            let clustering = cluster(&step, &topo, &ClusterOptions::default());
+            let s = &clustering.stats;
+            eprintln!(
+                "clusters: {} leaf clusters, {} intermediate clusters over {} triangles \
+                 ({:.1} triangles per leaf, {:.1} per intermediate cluster)",
+                s.leaves,
+                s.intermediates,
+                s.triangles,
+                s.triangles_per_leaf,
+                s.triangles_per_intermediate
+            );
+            paint_clusters(&clustering, &topo)
+        }
+        ColorMode::Contacts => {
+            let contacts: Vec<Contact> = match &args.pairs {
+                Some(path) => read_pairs(path, step.vertex_count(), faces)?,
+                // Without --pairs, this arm can compute the step's contacts with the whole-step
+                // query (`topoccd::step::Ccd::query`): its `report.vf` and `report.ee` have the
+                // fields of `Contact::VertexFace` and `Contact::EdgeEdge`.
+                None => bail!(
+                    "--color contacts needs --pairs FILE (lines vf,VERTEX,FACE,TOI or \
+                     ee,A0,A1,B0,B1,TOI)"
+                ),
+            };
+            let involved = contact_triangles(&contacts, &topo, faces);
+            let styles = contact_styles(&contacts, &involved);
+            if args.fit == Fit::Contacts {
+                focus = Some(involved.clone());
+            }
+            show_through = Some(involved);
+            styles
+        }
+    };
+
+    let view = View {
+        azimuth_deg: args.camera.azimuth,
+        elevation_deg: args.camera.elevation,
+        up: args.up,
+    };
+    let Size { width, height } = args.size;
+    let options = DrawOptions {
+        view,
+        width,
+        height,
+        samples: supersampling(width, height),
+        focus: focus.as_deref(),
+        show_through: show_through.as_deref(),
+    };
+    let picture = draw(step.x0(), step.triangles(), &styles, &options);
+    let colors = if args.indexed {
+        PngColors::Indexed
+    } else {
+        PngColors::TrueColor
+    };
+    let bytes = encode_png(&picture, colors)
+        .with_context(|| format!("{}: cannot encode", args.out.display()))?;
+    std::fs::write(&args.out, bytes)
+        .with_context(|| format!("{}: cannot write", args.out.display()))?;
+    eprintln!("wrote {} ({width}x{height})", args.out.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Styles for `--color contacts` from a list of contacts (read from `--pairs`, or computed by a
+/// whole-step query) and the triangles they involve (see [`contact_triangles`]): those in red
+/// over grey. Prints the counts to stderr.
+pub fn contact_styles(contacts: &[Contact], involved: &[bool]) -> Vec<TriangleStyle> {
+    let faces = involved.len();
+    let vf = contacts
+        .iter()
+        .filter(|c| matches!(c, Contact::VertexFace { .. }))
+        .count();
+    eprintln!(
+        "contacts: {vf} vertex-face and {} edge-edge contacts involve {} of {faces} triangles",
+        contacts.len() - vf,
+        involved.iter().filter(|&&hit| hit).count()
+    );
+    paint_contacts(involved)
+}
+
+/// Refuses an output that is not a `.png` file or that is one of the input files.
+fn check_output(args: &Args) -> Result<()> {
+    let out = &args.out;
+    let is_png = out
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if !is_png {
+        bail!("{}: --out must name a .png file", out.display());
+    }
+    let inputs = std::iter::once(&args.frame)
+        .chain(&args.step)
+        .chain(&args.pairs);
+    for input in inputs {
+        if same_file(out, input) {
+            bail!(
+                "{}: --out names an input file; refusing to overwrite it",
+                out.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Whether two paths name the same file (the same text, or the same file once resolved).
+fn same_file(a: &Path, b: &Path) -> bool {
+    if a == b {
+        return true;
+    }
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn camera_angles() {
+        let c: CameraAngles = "-30, 12.5".parse().unwrap();
+        assert_eq!((c.azimuth, c.elevation), (-30.0, 12.5));
+        assert!("35".parse::<CameraAngles>().is_err());
+        assert!("a,b".parse::<CameraAngles>().is_err());
+        assert!("35,91".parse::<CameraAngles>().is_err());
+        assert!("inf,0".parse::<CameraAngles>().is_err());
+        assert!("NaN,0".parse::<CameraAngles>().is_err());
+    }
+
+    #[test]
+    fn sizes() {
+        assert_eq!(
+            "1024x768".parse::<Size>(),
+            Ok(Size {
+                width: 1024,
+                height: 768
+            })
+        );
+        assert_eq!(
+            "1X1".parse::<Size>(),
+            Ok(Size {
+                width: 1,
+                height: 1
+            })
+        );
+        for bad in ["0x10", "10", "x", "-1x5", "9000x10", "8192x8192"] {
+            assert!(bad.parse::<Size>().is_err(), "{bad}");
+        }
+    }
+}
