@@ -200,13 +200,30 @@ pub fn run(args: &Args) -> Result<ExitCode> {
         ColorMode::Contacts => {
             let contacts: Vec<Contact> = match &args.pairs {
                 Some(path) => read_pairs(path, step.vertex_count(), faces)?,
-                // Without --pairs, this arm can compute the step's contacts with the whole-step
-                // query (`topoccd::step::Ccd::query`): its `report.vf` and `report.ee` have the
-                // fields of `Contact::VertexFace` and `Contact::EdgeEdge`.
-                None => bail!(
-                    "--color contacts needs --pairs FILE (lines vf,VERTEX,FACE,TOI or \
-                     ee,A0,A1,B0,B1,TOI)"
-                ),
+                // Without --pairs: the step's own contacts, from the whole-step query.
+                None => {
+                    let report = topoccd::step::query(
+                        &step,
+                        topoccd::step::Method::default(),
+                        &topoccd::step::QueryOptions::default(),
+                    );
+                    eprintln!(
+                        "{} vf and {} ee contacts in the step",
+                        report.vf.len(),
+                        report.ee.len()
+                    );
+                    let vf = report.vf.iter().map(|c| Contact::VertexFace {
+                        vertex: c.vertex,
+                        face: c.face,
+                        toi: c.toi,
+                    });
+                    let ee = report.ee.iter().map(|c| Contact::EdgeEdge {
+                        a: c.a,
+                        b: c.b,
+                        toi: c.toi,
+                    });
+                    vf.chain(ee).collect()
+                }
             };
             let involved = contact_triangles(&contacts, &topo, faces);
             let styles = contact_styles(&contacts, &involved);
