@@ -16,6 +16,10 @@ use clap::{Parser, Subcommand};
 #[derive(Parser, Debug)]
 #[command(name = "topoccd", version, about)]
 struct Cli {
+    /// Threads for the elementary tests (default: one per core). Results are identical for any
+    /// count; use 1 for single-core timings.
+    #[arg(long, global = true, value_name = "N")]
+    threads: Option<usize>,
     #[command(subcommand)]
     command: Command,
 }
@@ -41,6 +45,15 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Some(n) = cli.threads {
+        if let Err(err) = rayon::ThreadPoolBuilder::new()
+            .num_threads(n.max(1))
+            .build_global()
+        {
+            eprintln!("error: cannot set up {n} threads: {err}");
+            return ExitCode::from(2);
+        }
+    }
     let result = match cli.command {
         Command::Queries(args) => cmd_queries::run(&args),
         Command::Step(args) => cmd_step::run(&args).map(|()| ExitCode::SUCCESS),

@@ -1,6 +1,8 @@
 //! The narrow phase shared by every method: the elementary tests over a buffer of candidate
 //! feature pairs, in either mode.
 
+use rayon::prelude::*;
+
 use super::prefilter::{ee_separated, vf_separated};
 use super::report::{Contact, EeContact, VfContact};
 use super::{Mode, QueryOptions, Step};
@@ -72,30 +74,38 @@ pub(crate) fn run(
     let mut found = Found::default();
     match options.mode {
         Mode::All => {
-            for &pair in vf {
-                let q = vf_query(step, pair);
-                if vf_separated(&q, sep) {
-                    continue;
-                }
-                if let Some(toi) = vertex_face(&q, &full).toi() {
-                    found.vf.push(VfContact {
+            // Every candidate is independent: run them on the current rayon pool (one thread
+            // or many); the results are sorted below, so the output does not depend on it.
+            found.vf = vf
+                .par_iter()
+                .with_min_len(256)
+                .filter_map(|&pair| {
+                    let q = vf_query(step, pair);
+                    if vf_separated(&q, sep) {
+                        return None;
+                    }
+                    let toi = vertex_face(&q, &full).toi()?;
+                    Some(VfContact {
                         vertex: pair[0],
                         face: pair[1],
                         toi,
-                    });
-                }
-            }
-            for &[e, f] in ee {
-                let (a, b) = (edges[e as usize], edges[f as usize]);
-                debug_assert!(a < b);
-                let q = ee_query(step, a, b);
-                if ee_separated(&q, sep) {
-                    continue;
-                }
-                if let Some(toi) = edge_edge(&q, &full).toi() {
-                    found.ee.push(EeContact { a, b, toi });
-                }
-            }
+                    })
+                })
+                .collect();
+            found.ee = ee
+                .par_iter()
+                .with_min_len(256)
+                .filter_map(|&[e, f]| {
+                    let (a, b) = (edges[e as usize], edges[f as usize]);
+                    debug_assert!(a < b);
+                    let q = ee_query(step, a, b);
+                    if ee_separated(&q, sep) {
+                        return None;
+                    }
+                    let toi = edge_edge(&q, &full).toi()?;
+                    Some(EeContact { a, b, toi })
+                })
+                .collect();
             found.vf.sort_unstable_by_key(|c| (c.vertex, c.face));
             found.ee.sort_unstable_by_key(|c| (c.a, c.b));
             found.earliest = found
