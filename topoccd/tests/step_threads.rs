@@ -11,13 +11,14 @@ fn run_with(threads: usize, f: impl FnOnce() -> Report + Send) -> Report {
         .install(f)
 }
 
-fn key(
-    r: &Report,
-) -> (
+/// The pairs with their times' bits, and the earliest time's bits.
+type Key = (
     Vec<(u32, u32, u64)>,
     Vec<([u32; 2], [u32; 2], u64)>,
     Option<u64>,
-) {
+);
+
+fn key(r: &Report) -> Key {
     (
         r.vf.iter()
             .map(|c| (c.vertex, c.face, c.toi.to_bits()))
