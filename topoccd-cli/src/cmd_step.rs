@@ -10,7 +10,7 @@ use serde::Serialize;
 use topoccd::io::read_mesh;
 use topoccd::kdop::DopKind;
 use topoccd::narrow::NarrowOptions;
-use topoccd::step::{Ccd, Method, Mode, QueryOptions, Report, Step};
+use topoccd::step::{Ccd, ClusterGrowth, Method, Mode, QueryOptions, Report, Step};
 
 /// The whole-step query's method, as named on the command line.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -19,6 +19,9 @@ pub enum MethodArg {
     Bvh,
     /// Every feature pair whose swept boxes overlap (the oracle).
     Brute,
+    /// The paper's method: clusters proved free of self-contact, a hierarchy over them, lazy
+    /// hierarchies over the leaf clusters' triangles.
+    Cluster,
 }
 
 impl From<MethodArg> for Method {
@@ -26,6 +29,36 @@ impl From<MethodArg> for Method {
         match m {
             MethodArg::Bvh => Method::Bvh,
             MethodArg::Brute => Method::Brute,
+            MethodArg::Cluster => Method::Cluster,
+        }
+    }
+}
+
+/// How `--method cluster` grows its leaf clusters, as named on the command line.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GrowthArg {
+    /// The paper's criterion (every ring faces away from the observation point) and the disk
+    /// certificate.
+    Paper,
+    /// The disk certificate alone: bigger clusters, equally sound.
+    Certificate,
+}
+
+impl From<GrowthArg> for ClusterGrowth {
+    fn from(g: GrowthArg) -> Self {
+        match g {
+            GrowthArg::Paper => ClusterGrowth::Paper,
+            GrowthArg::Certificate => ClusterGrowth::Certificate,
+        }
+    }
+}
+
+impl GrowthArg {
+    /// The library's default.
+    fn default_growth() -> Self {
+        match ClusterGrowth::default() {
+            ClusterGrowth::Paper => GrowthArg::Paper,
+            ClusterGrowth::Certificate => GrowthArg::Certificate,
         }
     }
 }
@@ -48,6 +81,9 @@ pub struct QueryArgs {
     /// Time resolution of the elementary tests, in (0, 1).
     #[arg(long, default_value_t = NarrowOptions::default().tolerance)]
     pub tolerance: f64,
+    /// How `--method cluster` grows its leaf clusters (ignored by the other methods).
+    #[arg(long, value_enum, default_value_t = GrowthArg::default_growth())]
+    pub growth: GrowthArg,
 }
 
 fn parse_k(s: &str) -> Result<usize, String> {
@@ -81,6 +117,7 @@ impl QueryArgs {
             } else {
                 Mode::All
             },
+            growth: self.growth.into(),
         })
     }
 }
@@ -109,6 +146,23 @@ pub struct SecondsOut {
     traverse: f64,
     narrow: f64,
     total: f64,
+    /// `--method cluster` only: growing the leaf clusters.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    clustering: Option<f64>,
+    /// `--method cluster` only: merging them into intermediate clusters.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    merging: Option<f64>,
+}
+
+/// The clusters of `--method cluster` (the paper's table 2) and its lazy hierarchies.
+#[derive(Serialize, Debug)]
+pub struct ClustersOut {
+    leaf: usize,
+    intermediate: usize,
+    triangles_per_leaf: f64,
+    triangles_per_intermediate: f64,
+    lazy_bvhs: usize,
+    leaf_pairs: u64,
 }
 
 /// Work counters.
@@ -129,6 +183,9 @@ pub struct StepOut {
     earliest_toi: Option<f64>,
     seconds: SecondsOut,
     stats: StatsOut,
+    /// `--method cluster` only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    clusters: Option<ClustersOut>,
 }
 
 impl StepOut {
@@ -146,12 +203,22 @@ impl StepOut {
                 traverse: s.seconds.traverse,
                 narrow: s.seconds.narrow,
                 total: s.seconds.total,
+                clustering: s.seconds.clustering,
+                merging: s.seconds.merging,
             },
             stats: StatsOut {
                 bv_tests: s.bv_tests,
                 vf_tests: s.vf_tests,
                 ee_tests: s.ee_tests,
             },
+            clusters: s.cluster.map(|c| ClustersOut {
+                leaf: c.leaf,
+                intermediate: c.intermediate,
+                triangles_per_leaf: c.triangles_per_leaf,
+                triangles_per_intermediate: c.triangles_per_intermediate,
+                lazy_bvhs: c.lazy_bvhs,
+                leaf_pairs: c.leaf_pairs,
+            }),
         }
     }
 
@@ -171,6 +238,23 @@ impl StepOut {
             self.stats.bv_tests,
             self.stats.vf_tests,
             self.stats.ee_tests,
+        ) + &self.clusters_text()
+    }
+
+    /// The cluster figures as text, empty for the other methods.
+    fn clusters_text(&self) -> String {
+        let Some(c) = &self.clusters else {
+            return String::new();
+        };
+        format!(
+            "; clustering {:.4} s, merging {:.4} s; {} leaf clusters ({:.1} triangles each), {} intermediate, {} lazy BVHs, {} leaf pairs",
+            self.seconds.clustering.unwrap_or(0.0),
+            self.seconds.merging.unwrap_or(0.0),
+            c.leaf,
+            c.triangles_per_leaf,
+            c.intermediate,
+            c.lazy_bvhs,
+            c.leaf_pairs
         )
     }
 }

@@ -5,8 +5,8 @@ use topoccd::step::{Ccd, Contact, EeContact, Method, Mode, QueryOptions, Step, V
 
 const TOLERANCE: f64 = 1e-6;
 
-fn methods() -> [Method; 2] {
-    [Method::Brute, Method::Bvh]
+fn methods() -> [Method; 3] {
+    [Method::Brute, Method::Bvh, Method::Cluster]
 }
 
 /// Triangle 0 fixed in z = 0; triangle 1 is a small triangle whose corner 3 falls from z = h0

@@ -83,7 +83,7 @@ fn empty_and_single_triangle_meshes_have_no_contacts() {
     x1.push(DVec3::new(0.2, 0.2, -1.0));
     let unreferenced = Step::new(x0, x1, vec![[0, 1, 2]]).unwrap();
     for step in [&empty, &lonely, &unreferenced] {
-        for method in [Method::Brute, Method::Bvh] {
+        for method in [Method::Brute, Method::Bvh, Method::Cluster] {
             for mode in [Mode::All, Mode::Earliest] {
                 let options = QueryOptions {
                     mode,

@@ -5,7 +5,8 @@
 //!   centres along the longest axis of their bounds (deterministic; `O(n log n)`).
 //! - [`Bvh::self_pairs`] reports every unordered pair of distinct leaves whose volumes overlap,
 //!   once; [`Bvh::tree_pairs`] every overlapping pair of a leaf of one tree and a leaf of
-//!   another. Both count the bounding-volume tests they make.
+//!   another; [`Bvh::volume_leaves`] every leaf overlapping one given volume. All count the
+//!   bounding-volume tests they make.
 //! - [`Bvh::validate`] checks the tree against its leaves; the tests run it after every build.
 //!
 //! Scratch memory lives in a [`BvhWorkspace`] that a caller keeps across steps, and

@@ -52,6 +52,59 @@ impl<V: BoundingVolume> Bvh<V> {
         tests
     }
 
+    /// Calls `leaf(id)` for every leaf whose volume overlaps `volume`, each once, in a
+    /// deterministic order. Returns the number of bounding-volume overlap tests. The query of
+    /// one volume against a tree, for a caller that has a few volumes and no tree of its own.
+    ///
+    /// ```
+    /// use topoccd::bvh::{Bvh, Leaf};
+    /// use topoccd::kdop::Kdop;
+    /// use topoccd::math::DVec3;
+    /// let leaves: Vec<_> = [0.0, 2.0, 4.0]
+    ///     .iter()
+    ///     .enumerate()
+    ///     .map(|(i, &x)| Leaf {
+    ///         id: i as u32,
+    ///         volume: Kdop::<3>::from_points(&[DVec3::splat(x), DVec3::splat(x + 1.0)]),
+    ///     })
+    ///     .collect();
+    /// let bvh = Bvh::from_leaves(&leaves);
+    /// let probe = Kdop::<3>::from_points(&[DVec3::splat(1.5), DVec3::splat(4.5)]);
+    /// let mut hits = Vec::new();
+    /// bvh.volume_leaves(&probe, &mut Default::default(), |id| hits.push(id));
+    /// assert_eq!(hits, vec![1, 2]);
+    /// ```
+    pub fn volume_leaves(
+        &self,
+        volume: &V,
+        ws: &mut BvhWorkspace,
+        mut leaf: impl FnMut(u32),
+    ) -> u64 {
+        let nodes = &self.nodes[..];
+        let mut tests = 0u64;
+        if nodes.is_empty() {
+            return 0;
+        }
+        let stack = &mut ws.pairs;
+        stack.clear();
+        stack.push((0, 0));
+        while let Some((n, _)) = stack.pop() {
+            tests += 1;
+            let node = &nodes[n as usize];
+            if !node.volume.overlaps(volume) {
+                continue;
+            }
+            match node.children() {
+                None => leaf(node.a),
+                Some([l, r]) => {
+                    stack.push((r, 0));
+                    stack.push((l, 0));
+                }
+            }
+        }
+        tests
+    }
+
     /// Calls `leaf_pair(a, b)` for every leaf `a` of `self` and leaf `b` of `other` whose
     /// volumes overlap, each pair once, in a deterministic order. Returns the number of
     /// bounding-volume overlap tests.

@@ -150,8 +150,23 @@ pub fn cluster_with(
     options: &ClusterOptions,
     workspace: &mut ClusterWorkspace,
 ) -> Clustering {
-    debug_assert_eq!(topo.triangle_edges.len(), step.triangles().len());
     let mut out = Clustering::default();
+    cluster_into(step, topo, options, workspace, &mut out);
+    out
+}
+
+/// [`cluster_with`] writing into `out`, whose arrays are cleared and reused: once warm, a step
+/// allocates little. Nothing of `out`'s previous content is used.
+pub fn cluster_into(
+    step: &Step,
+    topo: &Topology,
+    options: &ClusterOptions,
+    workspace: &mut ClusterWorkspace,
+    out: &mut Clustering,
+) {
+    debug_assert_eq!(topo.triangle_edges.len(), step.triangles().len());
+    out.clear();
+    let out = &mut *out;
     let mut stats = ClusterStats::default();
     let started = Instant::now();
     leaf::grow_leaves(
@@ -160,18 +175,11 @@ pub fn cluster_with(
         options,
         &mut workspace.leaf,
         &mut workspace.disk,
-        &mut out,
+        out,
         &mut stats,
     );
     let grown = Instant::now();
-    merge::merge_leaves(
-        step,
-        topo,
-        options,
-        &mut workspace.disk,
-        &mut out,
-        &mut stats,
-    );
+    merge::merge_leaves(step, topo, options, &mut workspace.disk, out, &mut stats);
     stats.clustering_seconds = (grown - started).as_secs_f64();
     stats.merging_seconds = grown.elapsed().as_secs_f64();
     stats.triangles = step.triangles().len();
@@ -184,5 +192,4 @@ pub fn cluster_with(
         stats.triangles_per_intermediate = stats.triangles as f64 / stats.intermediates as f64;
     }
     out.stats = stats;
-    out
 }

@@ -184,6 +184,19 @@ pub struct Clustering {
 }
 
 impl Clustering {
+    /// Empties every array (keeping its memory) and zeroes the statistics.
+    pub fn clear(&mut self) {
+        self.leaf_of_triangle.clear();
+        self.leaves.clear();
+        self.leaf_triangles.clear();
+        self.ring_starts.clear();
+        self.last_ring_vertices.clear();
+        self.intermediates.clear();
+        self.intermediate_leaves.clear();
+        self.intermediate_of_leaf.clear();
+        self.stats = ClusterStats::default();
+    }
+
     /// Triangles of leaf `leaf`, ring by ring.
     pub fn leaf_triangles(&self, leaf: usize) -> &[u32] {
         &self.leaf_triangles[self.leaves[leaf].triangles.clone()]

@@ -13,6 +13,8 @@
 //! an overlapping triangle pair tests only the features its two triangles own.
 
 mod brute;
+mod cluster_query;
+mod cluster_tree;
 mod features;
 mod mesh;
 mod narrow_phase;
@@ -23,7 +25,7 @@ mod report;
 mod topology;
 
 pub use mesh::{Frame, Step, StepError};
-pub use options::{Method, Mode, QueryOptions};
+pub use options::{ClusterGrowth, Method, Mode, QueryOptions};
 pub use query::{query, Candidates, Ccd};
-pub use report::{Contact, EeContact, Report, Seconds, Stats, VfContact};
+pub use report::{ClusterFigures, Contact, EeContact, Report, Seconds, Stats, VfContact};
 pub use topology::Topology;

@@ -28,6 +28,12 @@ pub enum Method {
     /// step (the paper's baseline, as in Self-CCD).
     #[default]
     Bvh,
+    /// The paper's method (section 4): the step's triangles are clustered into leaf and
+    /// intermediate clusters proved free of self-contact ([`cluster`](crate::cluster)), a
+    /// k-DOP hierarchy is built over the clusters, and a hierarchy over a leaf cluster's
+    /// triangles only when that cluster's volume overlaps another's. Feature pairs inside one
+    /// intermediate cluster are never tested. See [`QueryOptions::growth`].
+    Cluster,
 }
 
 impl std::fmt::Display for Method {
@@ -35,6 +41,32 @@ impl std::fmt::Display for Method {
         f.write_str(match self {
             Method::Brute => "brute",
             Method::Bvh => "bvh",
+            Method::Cluster => "cluster",
+        })
+    }
+}
+
+/// How [`Method::Cluster`] grows its leaf clusters. Both are sound: what makes a cluster free
+/// of self-contact is the disk certificate of [`cluster`](crate::cluster), which both apply.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum ClusterGrowth {
+    /// The paper's criterion on top of the certificate: a ring joins a leaf only if all its
+    /// triangles face away from the observation point (`phi >= 0`, equation 2), and a merge
+    /// also needs algorithm 1's `phi` test. On curved cloth it stops at most saddles and
+    /// hollows, giving leaves of one or two triangles.
+    Paper,
+    /// The disk certificate alone ([`ClusterOptions::phi_filter`](crate::cluster::ClusterOptions::phi_filter)
+    /// `false`): far bigger clusters, fewer candidate pairs; the default.
+    #[default]
+    Certificate,
+}
+
+impl std::fmt::Display for ClusterGrowth {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ClusterGrowth::Paper => "paper",
+            ClusterGrowth::Certificate => "certificate",
         })
     }
 }
@@ -59,4 +91,6 @@ pub struct QueryOptions {
     pub kdop: DopKind,
     /// Report all contacts or only the earliest.
     pub mode: Mode,
+    /// How [`Method::Cluster`] grows its leaf clusters (ignored by the other methods).
+    pub growth: ClusterGrowth,
 }

@@ -3,10 +3,13 @@
 
 use std::time::Instant;
 
+use super::cluster_query::{self, Counts, Inputs, PairScratch};
+use super::cluster_tree::ClusterTree;
 use super::features::Features;
-use super::report::{Report, Seconds, Stats};
-use super::{brute, narrow_phase, Method, QueryOptions, Step, Topology};
+use super::report::{ClusterFigures, Report, Seconds, Stats};
+use super::{brute, narrow_phase, ClusterGrowth, Method, QueryOptions, Step, Topology};
 use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf};
+use crate::cluster::{cluster_into, ClusterOptions, ClusterWorkspace, Clustering};
 use crate::kdop::{DopKind, Kdop};
 
 /// The leaves and hierarchy of one k-DOP type, kept for reuse.
@@ -52,8 +55,19 @@ pub struct Ccd {
     k14: Tree<7>,
     k18: Tree<9>,
     k26: Tree<13>,
-    /// The k-DOP type of the last hierarchy built, if the last query built one.
-    last_tree: Option<DopKind>,
+    /// The hierarchies of [`Method::Cluster`], one per k-DOP type.
+    c6: ClusterTree<3>,
+    c14: ClusterTree<7>,
+    c18: ClusterTree<9>,
+    c26: ClusterTree<13>,
+    /// The clustering of the last [`Method::Cluster`] query, and its scratch memory.
+    clustering: Clustering,
+    cluster_ws: ClusterWorkspace,
+    pairs: PairScratch,
+    /// Treat every leaf cluster as uncertified (see [`Ccd::distrust_certificates`]).
+    distrust: bool,
+    /// The method and k-DOP type of the last hierarchy built, if the last query built one.
+    last_tree: Option<(Method, DopKind)>,
     vf: Vec<[u32; 2]>,
     ee: Vec<[u32; 2]>,
 }
@@ -107,6 +121,8 @@ impl Ccd {
         self.ee.clear();
         self.last_tree = None;
         let mut bv_tests = 0;
+        let mut cluster = None;
+        let (mut clustering, mut merging) = (None, None);
         let (build, traverse) = match method {
             Method::Brute => {
                 let t = Instant::now();
@@ -120,8 +136,54 @@ impl Ccd {
                 let sweep = t.elapsed().as_secs_f64();
                 (start.elapsed().as_secs_f64() - sweep, sweep)
             }
+            Method::Cluster => {
+                let prepared = start.elapsed().as_secs_f64();
+                let copts = ClusterOptions {
+                    min_separation: sep,
+                    phi_filter: options.growth == ClusterGrowth::Paper,
+                    ..ClusterOptions::default()
+                };
+                let topo = &self.features.topo;
+                cluster_into(
+                    step,
+                    topo,
+                    &copts,
+                    &mut self.cluster_ws,
+                    &mut self.clustering,
+                );
+                let cs = self.clustering.stats;
+                clustering = Some(cs.clustering_seconds);
+                merging = Some(cs.merging_seconds);
+                self.last_tree = Some((Method::Cluster, options.kdop));
+                let s = &mut *self;
+                let input = Inputs {
+                    clustering: &s.clustering,
+                    triangles: step.triangles(),
+                    features: &s.features,
+                    sep,
+                    trust: !s.distrust,
+                };
+                let args = (&input, &mut s.pairs, &mut s.ws, &mut s.vf, &mut s.ee);
+                let (build, traverse, counts) = match options.kdop {
+                    DopKind::K6 => cluster_candidates(&mut s.c6, step, args),
+                    DopKind::K14 => cluster_candidates(&mut s.c14, step, args),
+                    DopKind::K18 => cluster_candidates(&mut s.c18, step, args),
+                    DopKind::K26 => cluster_candidates(&mut s.c26, step, args),
+                };
+                bv_tests = counts.bv_tests;
+                cluster = Some(ClusterFigures {
+                    leaf: cs.leaves,
+                    intermediate: cs.intermediates,
+                    triangles_per_leaf: cs.triangles_per_leaf,
+                    triangles_per_intermediate: cs.triangles_per_intermediate,
+                    lazy_bvhs: counts.lazy_bvhs,
+                    leaf_pairs: counts.leaf_pairs,
+                    uncertified_leaves: counts.uncertified_leaves,
+                });
+                (prepared + build, traverse)
+            }
             Method::Bvh => {
-                self.last_tree = Some(options.kdop);
+                self.last_tree = Some((Method::Bvh, options.kdop));
                 let s = &mut *self;
                 let args = (&s.features, &mut s.ws, &mut s.vf, &mut s.ee);
                 let traverse = match options.kdop {
@@ -149,7 +211,10 @@ impl Ccd {
                     traverse,
                     narrow,
                     total: start.elapsed().as_secs_f64(),
+                    clustering,
+                    merging,
                 },
+                cluster,
             },
         }
     }
@@ -169,16 +234,41 @@ impl Ccd {
         &self.features.topo
     }
 
-    /// Runs [`Bvh::validate`] on the hierarchy built by the last query. `Ok` when the last
-    /// query built none (as [`Method::Brute`] does).
+    /// Runs [`Bvh::validate`] on the hierarchy built by the last query (for
+    /// [`Method::Cluster`]: on the tree over the intermediate clusters, every sub-tree over
+    /// leaf clusters and every lazy hierarchy built, and checks that each cluster's volume
+    /// contains its parts'). `Ok` when the last query built none (as [`Method::Brute`] does).
     pub fn validate_tree(&self) -> Result<(), BvhError> {
+        let c = &self.clustering;
         match self.last_tree {
             None => Ok(()),
-            Some(DopKind::K6) => self.k6.validate(),
-            Some(DopKind::K14) => self.k14.validate(),
-            Some(DopKind::K18) => self.k18.validate(),
-            Some(DopKind::K26) => self.k26.validate(),
+            Some((Method::Cluster, kind)) => match kind {
+                DopKind::K6 => self.c6.validate(c),
+                DopKind::K14 => self.c14.validate(c),
+                DopKind::K18 => self.c18.validate(c),
+                DopKind::K26 => self.c26.validate(c),
+            },
+            Some((_, DopKind::K6)) => self.k6.validate(),
+            Some((_, DopKind::K14)) => self.k14.validate(),
+            Some((_, DopKind::K18)) => self.k18.validate(),
+            Some((_, DopKind::K26)) => self.k26.validate(),
         }
+    }
+
+    /// The clustering computed by the last [`Method::Cluster`] query (empty before the first).
+    /// For tests and diagnostics: nothing of it is used by the next query.
+    pub fn clustering(&self) -> &Clustering {
+        &self.clustering
+    }
+
+    /// With `true`, [`Method::Cluster`] treats every leaf cluster as if it carried no
+    /// certificate: every leaf cluster is tested against itself and every pair of leaves inside
+    /// an intermediate cluster against each other, so its candidates are exactly those of
+    /// [`Method::Bvh`]. A check of the traversal's general path, for tests; `false` (the
+    /// default) trusts the certificates.
+    #[doc(hidden)]
+    pub fn distrust_certificates(&mut self, distrust: bool) {
+        self.distrust = distrust;
     }
 }
 
@@ -206,6 +296,35 @@ fn bvh_candidates<const H: usize>(
         features.triangle_pair(tris, a, b, sep, vf, ee);
     });
     t.elapsed().as_secs_f64()
+}
+
+/// The mutable state the cluster traversal needs besides its hierarchy.
+type ClusterArgs<'a, 'b> = (
+    &'a Inputs<'b>,
+    &'a mut PairScratch,
+    &'a mut BvhWorkspace,
+    &'a mut Vec<[u32; 2]>,
+    &'a mut Vec<[u32; 2]>,
+);
+
+/// Builds the cluster hierarchy and collects the candidate feature pairs. Returns the build
+/// time (lazy hierarchies included) and the traversal time (without them), in seconds.
+fn cluster_candidates<const H: usize>(
+    tree: &mut ClusterTree<H>,
+    step: &Step,
+    (input, pairs, ws, vf, ee): ClusterArgs<'_, '_>,
+) -> (f64, f64, Counts) {
+    let t = Instant::now();
+    tree.build(step, input.clustering, input.sep, ws);
+    let built = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let counts = cluster_query::candidates(tree, input, pairs, ws, vf, ee);
+    let traversed = t.elapsed().as_secs_f64();
+    (
+        built + counts.lazy_seconds,
+        (traversed - counts.lazy_seconds).max(0.0),
+        counts,
+    )
 }
 
 /// One-shot form of [`Ccd::query`] (allocates fresh buffers).

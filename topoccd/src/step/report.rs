@@ -66,6 +66,9 @@ impl Contact {
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Seconds {
     /// Topology, feature ownership, swept volumes and the hierarchy (or the oracle's sort).
+    /// For [`Method::Cluster`](super::Method::Cluster): the swept volumes, the hierarchy over
+    /// the clusters and the lazy hierarchies over leaf clusters' triangles, but not the
+    /// clustering itself.
     pub build: f64,
     /// Traversal (or sweep) down to the candidate feature pairs.
     pub traverse: f64,
@@ -73,14 +76,44 @@ pub struct Seconds {
     pub narrow: f64,
     /// The whole query.
     pub total: f64,
+    /// [`Method::Cluster`](super::Method::Cluster) only: growing the leaf clusters.
+    pub clustering: Option<f64>,
+    /// [`Method::Cluster`](super::Method::Cluster) only: merging them into intermediate
+    /// clusters.
+    pub merging: Option<f64>,
+}
+
+/// The figures of the paper's table 2 and the lazy hierarchies of
+/// [`Method::Cluster`](super::Method::Cluster).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct ClusterFigures {
+    /// Number of leaf clusters.
+    pub leaf: usize,
+    /// Number of intermediate clusters.
+    pub intermediate: usize,
+    /// Average triangles per leaf cluster (table 2's ratio).
+    pub triangles_per_leaf: f64,
+    /// Average triangles per intermediate cluster.
+    pub triangles_per_intermediate: f64,
+    /// Hierarchies built over a leaf cluster's triangles, each at most once per step, only for
+    /// leaf clusters whose volume overlaps another's.
+    pub lazy_bvhs: usize,
+    /// Overlapping pairs of leaf clusters in different intermediate clusters (and leaf pairs
+    /// inside an intermediate cluster without certificate, if any).
+    pub leaf_pairs: u64,
+    /// Leaf clusters tested for self-contact because they carry no certificate (always `0`
+    /// with the clustering of this crate, whose leaves are all certified).
+    pub uncertified_leaves: usize,
 }
 
 /// Work counters of a query.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Stats {
-    /// Bounding-volume overlap tests: k-DOP node pairs in [`Method::Bvh`](super::Method::Bvh),
-    /// box pairs of the sweep in [`Method::Brute`](super::Method::Brute).
+    /// Bounding-volume overlap tests: k-DOP node pairs in [`Method::Bvh`](super::Method::Bvh)
+    /// (in [`Method::Cluster`](super::Method::Cluster): of the cluster hierarchy and of the
+    /// lazy hierarchies), box pairs of the sweep in [`Method::Brute`](super::Method::Brute).
     pub bv_tests: u64,
     /// Vertex-face pairs given to the narrow phase (its conservative prefilter, then the
     /// elementary test for the pairs it cannot reject); each pair at most once per query.
@@ -89,6 +122,8 @@ pub struct Stats {
     pub ee_tests: u64,
     /// Time of each phase.
     pub seconds: Seconds,
+    /// [`Method::Cluster`](super::Method::Cluster) only: the clusters and lazy hierarchies.
+    pub cluster: Option<ClusterFigures>,
 }
 
 /// The result of a whole-step query.
