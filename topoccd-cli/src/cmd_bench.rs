@@ -12,7 +12,7 @@ use topoccd::narrow::NarrowOptions;
 use topoccd::step::{Ccd, Method, QueryOptions, Report, Step};
 
 use crate::cmd_run::progress;
-use crate::cmd_step::{MethodArg, QueryArgs};
+use crate::cmd_step::{GrowthArg, MethodArg, QueryArgs};
 
 /// Arguments of `topoccd bench`.
 #[derive(clap::Args, Debug)]
@@ -22,7 +22,7 @@ pub struct Args {
     #[arg(required = true)]
     inputs: Vec<PathBuf>,
     /// Methods to compare, comma-separated.
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [MethodArg::Bvh, MethodArg::Brute])]
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [MethodArg::Bvh, MethodArg::Cluster])]
     methods: Vec<MethodArg>,
     /// k of the k-DOP bounding volumes: 6, 14, 18 or 26.
     #[arg(long, default_value_t = 18)]
@@ -30,6 +30,9 @@ pub struct Args {
     /// Time resolution of the elementary tests, in (0, 1).
     #[arg(long, default_value_t = NarrowOptions::default().tolerance)]
     tolerance: f64,
+    /// How the cluster method grows its leaf clusters.
+    #[arg(long, value_enum, default_value_t = GrowthArg::default_growth())]
+    growth: GrowthArg,
     /// Print the tables as one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -129,19 +132,32 @@ impl Sample {
     }
 }
 
-/// The phases of a report, in pipeline order.
+/// The phases of a report, in pipeline order (clustering and merging for the cluster method).
 fn phases(report: &Report) -> Vec<(&'static str, f64)> {
     let s = &report.stats.seconds;
-    vec![
+    let mut out = Vec::with_capacity(5);
+    if let Some(c) = s.clustering {
+        out.push(("clustering", c));
+    }
+    if let Some(m) = s.merging {
+        out.push(("merging", m));
+    }
+    out.extend([
         ("build", s.build),
         ("traverse", s.traverse),
         ("narrow", s.narrow),
-    ]
+    ]);
+    out
 }
 
 /// Table-2 figures, for reports of the cluster method.
-fn cluster_figures(_report: &Report) -> Option<ClusterFigures> {
-    None
+fn cluster_figures(report: &Report) -> Option<ClusterFigures> {
+    report.stats.cluster.as_ref().map(|c| ClusterFigures {
+        leaf: c.leaf as f64,
+        intermediate: c.intermediate as f64,
+        triangles_per_leaf: c.triangles_per_leaf,
+        lazy_bvhs: c.lazy_bvhs as f64,
+    })
 }
 
 /// One method's averages over the steps of one input.
@@ -315,16 +331,15 @@ pub fn print_text(t: &InputTables) {
         if t.agree { "" } else { "  METHODS DISAGREE" }
     );
     println!("Table 1: average per step");
-    let phase_names: Vec<&str> = t
-        .methods
-        .iter()
-        .flat_map(|m| m.seconds.iter().map(|p| p.0))
-        .fold(Vec::new(), |mut v, p| {
-            if !v.contains(&p) {
-                v.push(p);
-            }
-            v
-        });
+    // Every phase any method has, in pipeline order.
+    let phase_names: Vec<&str> = ["clustering", "merging", "build", "traverse", "narrow"]
+        .into_iter()
+        .filter(|p| {
+            t.methods
+                .iter()
+                .any(|m| m.seconds.iter().any(|s| s.0 == *p))
+        })
+        .collect();
     let mut header = format!("  {:<8}", "method");
     for p in &phase_names {
         header.push_str(&format!(" {:>11}", format!("{p} ms")));
@@ -378,6 +393,7 @@ pub fn run(args: &Args) -> Result<std::process::ExitCode> {
         k: args.k,
         min_separation: 0.0,
         tolerance: args.tolerance,
+        growth: args.growth,
     };
     let options = query.options()?;
     if let Some(plot) = &args.plot {

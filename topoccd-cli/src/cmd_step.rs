@@ -55,7 +55,7 @@ impl From<GrowthArg> for ClusterGrowth {
 
 impl GrowthArg {
     /// The library's default.
-    fn default_growth() -> Self {
+    pub fn default_growth() -> Self {
         match ClusterGrowth::default() {
             ClusterGrowth::Paper => GrowthArg::Paper,
             ClusterGrowth::Certificate => GrowthArg::Certificate,
