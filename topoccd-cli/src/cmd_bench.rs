@@ -47,6 +47,8 @@ pub enum Source {
     Sequence(Sequence),
     /// Two frames of a scene folder.
     Pair(PathBuf, PathBuf),
+    /// Steps already in memory (a generated scene).
+    Memory(Vec<Step>),
 }
 
 impl Source {
@@ -69,6 +71,7 @@ impl Source {
         match self {
             Source::Sequence(s) => s.steps(),
             Source::Pair(..) => 1,
+            Source::Memory(steps) => steps.len(),
         }
     }
 
@@ -83,6 +86,12 @@ impl Source {
                 Ok(())
             }
             Source::Pair(t0, t1) => f(0, crate::cmd_step::read_step(t0, t1)?),
+            Source::Memory(steps) => {
+                for (k, step) in steps.iter().enumerate() {
+                    f(k, step.clone())?;
+                }
+                Ok(())
+            }
         }
     }
 }
@@ -186,14 +195,14 @@ pub struct InputTables {
 
 /// Runs every method on every step of one input. Returns the tables and the per-step totals
 /// of each method (for the plot).
-fn bench_input(
-    path: &Path,
+pub fn bench_source(
+    name: &str,
+    source: &Source,
     methods: &[MethodArg],
     options: &QueryOptions,
     ccd: &mut Ccd,
 ) -> Result<(InputTables, Vec<Vec<f64>>)> {
-    let source = Source::open(path)?;
-    let bar = progress(source.steps(), &path.display().to_string());
+    let bar = progress(source.steps(), name);
     let mut samples: Vec<Vec<Sample>> = vec![Vec::new(); methods.len()];
     let mut triangles = [usize::MAX, 0];
     let mut agree = true;
@@ -229,7 +238,7 @@ fn bench_input(
     bar.finish_and_clear();
     let steps = samples.first().map_or(0, Vec::len);
     if steps == 0 {
-        bail!("{}: no steps", path.display());
+        bail!("{name}: no steps");
     }
     let rows: Vec<MethodRow> = methods
         .iter()
@@ -264,7 +273,7 @@ fn bench_input(
         .map(|s| s.iter().map(|x| x.total).collect())
         .collect();
     let tables = InputTables {
-        input: path.display().to_string(),
+        input: name.to_string(),
         steps,
         triangles,
         methods: rows,
@@ -405,7 +414,9 @@ pub fn run(args: &Args) -> Result<std::process::ExitCode> {
     let mut all = Vec::new();
     let mut series = Vec::new();
     for input in &args.inputs {
-        let (tables, totals) = bench_input(input, &args.methods, &options, &mut ccd)?;
+        let source = Source::open(input)?;
+        let name = input.display().to_string();
+        let (tables, totals) = bench_source(&name, &source, &args.methods, &options, &mut ccd)?;
         if !args.json {
             print_text(&tables);
         }
