@@ -1,5 +1,6 @@
 //! The `topoccd` command-line tool. Results go to stdout, errors and progress to stderr.
 
+mod cmd_gen;
 mod cmd_queries;
 mod cmd_step;
 
@@ -23,6 +24,9 @@ enum Command {
     /// Continuous collision detection over one step between two mesh files (the faces are
     /// T1's): every vertex-face and edge-edge contact with its time of impact.
     Step(cmd_step::Args),
+    /// Generate a frame sequence of one of the paper's scenes (nidus, nidus-cut, airbag, lion,
+    /// bunny-dragon, crash) into a new or empty folder.
+    Gen(cmd_gen::Args),
 }
 
 fn main() -> ExitCode {
@@ -30,6 +34,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Queries(args) => cmd_queries::run(&args),
         Command::Step(args) => cmd_step::run(&args).map(|()| ExitCode::SUCCESS),
+        Command::Gen(args) => cmd_gen::run(&args).map(|()| ExitCode::SUCCESS),
     };
     match result {
         Ok(code) => code,
