@@ -26,6 +26,9 @@ pub struct Args {
     /// Seed of the random numbers: the same seed writes the same bytes.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Print the summary as one JSON object (with the contacts of every step) instead of text.
+    #[arg(long)]
+    json: bool,
 }
 
 fn parse_scene(s: &str) -> Result<PaperScene, String> {
@@ -84,7 +87,11 @@ pub fn run(args: &Args) -> Result<()> {
     });
     bar.finish_and_clear();
     let summary = summary.with_context(|| format!("writing {}", args.out_dir.display()))?;
-    println!("{}", summary_line(&summary, &args.out_dir));
+    if args.json {
+        println!("{}", serde_json::to_string(&summary)?);
+    } else {
+        println!("{}", summary_line(&summary, &args.out_dir));
+    }
     Ok(())
 }
 
@@ -96,7 +103,7 @@ fn summary_line(s: &GenSummary, dir: &Path) -> String {
         .fold((usize::MAX, 0), |(lo, hi), &c| (lo.min(c), hi.max(c)));
     let mean = s.contacts.iter().sum::<usize>() as f64 / s.contacts.len().max(1) as f64;
     format!(
-        "{}: {} frames in {} in {:.1} s; triangles {} -> {}, vertices {} -> {}, {} of {} steps change the triangles, {} pieces; contacts per step min {} mean {:.0} max {}",
+        "{}: {} frames in {} in {:.1} s; triangles {} -> {}, vertices {} -> {}, {} of {} steps change the triangles, {} pieces; contacts per step min {} mean {:.0} max {}: {:?}, of which collisions (not along fresh cracks) {:?}",
         s.scene,
         s.frames,
         dir.display(),
@@ -111,5 +118,7 @@ fn summary_line(s: &GenSummary, dir: &Path) -> String {
         if s.contacts.is_empty() { 0 } else { min },
         mean,
         max,
+        s.contacts,
+        s.collisions,
     )
 }

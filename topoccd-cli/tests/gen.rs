@@ -69,6 +69,14 @@ fn gen_writes_a_sequence_that_reads_back() {
     let files = contents(&dir.0);
     assert!(files.iter().any(|(name, _)| name.ends_with(".parents")));
 
+    // The JSON summary has the contacts of every step.
+    let json_dir = TempPath::new("json");
+    let out = gen("airbag", &json_dir.0, &["--json"]);
+    assert!(out.status.success());
+    let summary: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(summary["scene"], "Airbag");
+    assert_eq!(summary["contacts"].as_array().map(Vec::len), Some(3));
+
     // Same seed, same bytes.
     let again = TempPath::new("nidus-cut-again");
     let out = gen("nidus-cut", &again.0, &["--seed", "4"]);
