@@ -190,7 +190,7 @@ pub struct InputTables {
     clusters: Option<ClusterFigures>,
     speedup_cluster_over_bvh: Option<f64>,
     /// Whether every method reported the same pairs with the same times on every step.
-    agree: bool,
+    pub agree: bool,
 }
 
 /// Runs every method on every step of one input. Returns the tables and the per-step totals

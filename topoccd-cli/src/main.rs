@@ -1,6 +1,8 @@
 //! The `topoccd` command-line tool. Results go to stdout, errors and progress to stderr.
 
 mod cmd_bench;
+mod cmd_demo;
+mod cmd_gen;
 mod cmd_queries;
 mod cmd_render;
 mod cmd_run;
@@ -26,6 +28,9 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// The main job on a built-in scene: generate a small topology-changing scene in memory,
+    /// run every step with each method, print the paper's tables.
+    Demo(cmd_demo::Args),
     /// Run the elementary tests on every query file below a folder and compare with its ground
     /// truth (files `*/vertex-face/*.csv` and `*/edge-edge/*.csv`, as in Sample-Queries).
     Queries(cmd_queries::Args),
@@ -41,6 +46,9 @@ enum Command {
     /// Draw a mesh or a step as a PNG: leaf clusters coloured and intermediate clusters
     /// outlined, contacts in red, or connected components (orthographic, no display needed).
     Render(cmd_render::Args),
+    /// Generate a frame sequence of one of the paper's scenes (nidus, nidus-cut, airbag, lion,
+    /// bunny-dragon, crash) into a new or empty folder.
+    Gen(cmd_gen::Args),
 }
 
 fn main() -> ExitCode {
@@ -55,11 +63,13 @@ fn main() -> ExitCode {
         }
     }
     let result = match cli.command {
+        Command::Demo(args) => cmd_demo::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Queries(args) => cmd_queries::run(&args),
         Command::Step(args) => cmd_step::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Run(args) => cmd_run::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Bench(args) => cmd_bench::run(&args),
         Command::Render(args) => cmd_render::run(&args),
+        Command::Gen(args) => cmd_gen::run(&args).map(|()| ExitCode::SUCCESS),
     };
     match result {
         Ok(code) => code,

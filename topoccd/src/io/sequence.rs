@@ -214,6 +214,27 @@ pub fn step_between(
     k: usize,
 ) -> Result<Step, SequenceError> {
     let (n0, n1) = (start.positions.len(), end.positions.len());
+    let parents_file = parents_path(end_path);
+    // (A shrinking vertex count is reported by `step_from_frames`.)
+    let parents = if n1 >= n0 && parents_file.exists() {
+        read_parents(&parents_file, n0, n1)?
+    } else {
+        Vec::new()
+    };
+    step_from_frames(start, end, &parents, end_path, k)
+}
+
+/// Builds step `k` from its two frames and the `(new, parent)` pairs of the vertices new in
+/// `end` (already validated: `start.len() <= new < end.len()`, `parent < start.len()`); `end_path`
+/// only names the frame in errors. A new vertex without a parent starts where it ends.
+pub fn step_from_frames(
+    start: &Mesh,
+    end: &Mesh,
+    parents: &[(u32, u32)],
+    end_path: &Path,
+    k: usize,
+) -> Result<Step, SequenceError> {
+    let (n0, n1) = (start.positions.len(), end.positions.len());
     if n1 < n0 {
         return Err(SequenceError::Shrinks {
             path: end_path.to_path_buf(),
@@ -224,10 +245,14 @@ pub fn step_between(
     let mut x0: Vec<DVec3> = Vec::with_capacity(n1);
     x0.extend_from_slice(&start.positions);
     x0.extend_from_slice(&end.positions[n0..]);
-    let parents = parents_path(end_path);
-    if parents.exists() {
-        for (new, parent) in read_parents(&parents, n0, n1)? {
-            x0[new as usize] = start.positions[parent as usize];
+    for &(new, parent) in parents {
+        if let (Some(slot), Some(&p)) = (
+            x0.get_mut(new as usize),
+            start.positions.get(parent as usize),
+        ) {
+            if new as usize >= n0 {
+                *slot = p;
+            }
         }
     }
     Step::new(x0, end.positions.clone(), end.triangles.clone()).map_err(|source| {

@@ -20,6 +20,7 @@
 //! ```
 
 mod objects;
+pub mod paper;
 mod sheets;
 
 pub use objects::small_objects;
