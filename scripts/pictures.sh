@@ -36,4 +36,13 @@ topoccd step "$funnel/227.ply" "$funnel/228.ply" --pairs "$pairs"
 topoccd render "$funnel/227.ply" --step "$funnel/228.ply" --color contacts --pairs "$pairs" \
     --up z --camera 35,20 --fit contacts --indexed --out docs/cloth-funnel-contacts.png
 
-ls -l docs/cloth-ball-clusters.png docs/cloth-funnel-contacts.png
+# 3. The contacts of a fracture step: step 3 of the generated bunny-dragon scene (scale 0.05),
+#    where the bunny breaks pieces off the dragon; contacts computed by the whole-step query.
+scene=$(mktemp -d "${TMPDIR:-/tmp}/topoccd-bunny-dragon.XXXXXX")
+trap 'rm -f "$pairs"; rm -rf "$scene"' EXIT
+rmdir "$scene"
+topoccd gen bunny-dragon "$scene" --scale 0.05 --frames 5 --seed 1
+topoccd render "$scene/0003.ply" --step "$scene/0004.ply" --color contacts \
+    --indexed --out docs/fracture-contacts.png
+
+ls -l docs/cloth-ball-clusters.png docs/cloth-funnel-contacts.png docs/fracture-contacts.png

@@ -14,6 +14,8 @@ use std::str::FromStr;
 
 use anyhow::{anyhow, bail, Context, Result};
 use topoccd::cluster::{cluster, ClusterOptions};
+
+use crate::cmd_step::GrowthArg;
 use topoccd::io::{frame_number, read_mesh, sequence::step_between};
 use topoccd::step::{Step, Topology};
 
@@ -120,6 +122,9 @@ pub struct Args {
     /// What the colours show.
     #[arg(long, value_enum, default_value_t = ColorMode::Clusters)]
     color: ColorMode,
+    /// How leaf clusters grow (for `--color clusters`), as `topoccd step --method cluster`.
+    #[arg(long, value_enum, default_value_t = GrowthArg::default_growth())]
+    growth: GrowthArg,
     /// Contacts for --color contacts: lines `vf,VERTEX,FACE,TOI` or `ee,A0,A1,B0,B1,TOI`.
     #[arg(long, value_name = "FILE")]
     pairs: Option<PathBuf>,
@@ -184,7 +189,11 @@ pub fn run(args: &Args) -> Result<ExitCode> {
             paint_objects(&component)
         }
         ColorMode::Clusters => {
-            let clustering = cluster(&step, &topo, &ClusterOptions::default());
+            let options = ClusterOptions {
+                phi_filter: args.growth == GrowthArg::Paper,
+                ..ClusterOptions::default()
+            };
+            let clustering = cluster(&step, &topo, &options);
             let s = &clustering.stats;
             eprintln!(
                 "clusters: {} leaf clusters, {} intermediate clusters over {} triangles \
