@@ -46,6 +46,16 @@ pub fn point_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> Option<DVec3> {
 /// The closest points `(on p1 q1, on p2 q2)` of two segments, or `None` if they could not be
 /// computed finitely. Zero-length segments are handled as points.
 pub fn segment_segment(p1: DVec3, q1: DVec3, p2: DVec3, q2: DVec3) -> Option<(DVec3, DVec3)> {
+    let (s, t) = segment_segment_parameters(p1, q1, p2, q2);
+    let c1 = p1 + (q1 - p1) * s;
+    let c2 = p2 + (q2 - p2) * t;
+    (c1.is_finite() && c2.is_finite()).then_some((c1, c2))
+}
+
+/// The parameters `(s, t)` in `[0, 1]^2` of the closest points `p1 + s (q1 - p1)` and
+/// `p2 + t (q2 - p2)` of two segments (zero-length segments handled as points; `(0, 0)` when
+/// nothing finite can be said).
+pub fn segment_segment_parameters(p1: DVec3, q1: DVec3, p2: DVec3, q2: DVec3) -> (f64, f64) {
     let d1 = q1 - p1;
     let d2 = q2 - p2;
     let r = p1 - p2;
@@ -79,9 +89,11 @@ pub fn segment_segment(p1: DVec3, q1: DVec3, p2: DVec3, q2: DVec3) -> Option<(DV
             (s, t)
         }
     };
-    let c1 = p1 + d1 * s;
-    let c2 = p2 + d2 * t;
-    (c1.is_finite() && c2.is_finite()).then_some((c1, c2))
+    if s.is_finite() && t.is_finite() {
+        (s, t)
+    } else {
+        (0.0, 0.0)
+    }
 }
 
 fn finite(p: DVec3) -> Option<DVec3> {

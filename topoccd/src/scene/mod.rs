@@ -110,3 +110,19 @@ fn grid_triangles(nx: usize, ny: usize, offset: u32, out: &mut Vec<[u32; 3]>) {
         }
     }
 }
+
+/// A random unit vector, uniform on the sphere (rejection sampling in the unit ball).
+pub(crate) fn random_unit(rng: &mut rand_chacha::ChaCha8Rng) -> crate::math::DVec3 {
+    use rand::Rng;
+    loop {
+        let p = crate::math::DVec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        );
+        let len = p.length();
+        if len > 0.1 && len <= 1.0 {
+            return p / len;
+        }
+    }
+}

@@ -109,17 +109,7 @@ pub fn small_objects(count: usize, seed: u64) -> Step {
     let side = (count as f64).cbrt().ceil() as usize;
     let shapes = [icosphere(), cube()];
     let (mut x0, mut x1, mut tris) = (Vec::new(), Vec::new(), Vec::new());
-    let unit = |rng: &mut ChaCha8Rng| loop {
-        let p = DVec3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
-        let len = p.length();
-        if len > 0.1 && len <= 1.0 {
-            return p / len;
-        }
-    };
+    let unit = super::random_unit;
     for k in 0..count {
         let (verts, faces) = &shapes[k % 2];
         let cell = DVec3::new(

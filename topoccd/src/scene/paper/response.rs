@@ -110,7 +110,7 @@ pub(crate) fn hits(world: &World, step: &Step, report: &Report) -> Vec<Hit> {
         }
         let (a0, a1) = (at(c.a[0], c.toi), at(c.a[1], c.toi));
         let (b0, b1) = (at(c.b[0], c.toi), at(c.b[1], c.toi));
-        let (s, t) = closest_parameters(a0, a1, b0, b1);
+        let (s, t) = crate::narrow::closest::segment_segment_parameters(a0, a1, b0, b1);
         let mut n = (a1 - a0).cross(b1 - b0).normalize_or_zero();
         if n == DVec3::ZERO {
             n = ((a0 + (a1 - a0) * s) - (b0 + (b1 - b0) * t)).normalize_or_zero();
@@ -152,38 +152,6 @@ fn orientation(side: f64, approach: f64) -> f64 {
     } else {
         0.0
     }
-}
-
-/// Parameters `(s, t)` in `[0, 1]^2` of the closest points of segments `a0 a1` and `b0 b1`.
-fn closest_parameters(a0: DVec3, a1: DVec3, b0: DVec3, b1: DVec3) -> (f64, f64) {
-    let (d1, d2, r) = (a1 - a0, b1 - b0, a0 - b0);
-    let (a, e, f) = (d1.dot(d1), d2.dot(d2), d2.dot(r));
-    if a <= 1e-30 && e <= 1e-30 {
-        return (0.0, 0.0);
-    }
-    if a <= 1e-30 {
-        return (0.0, (f / e).clamp(0.0, 1.0));
-    }
-    let c = d1.dot(r);
-    if e <= 1e-30 {
-        return ((-c / a).clamp(0.0, 1.0), 0.0);
-    }
-    let b = d1.dot(d2);
-    let denom = a * e - b * b;
-    let mut s = if denom > 1e-30 {
-        ((b * f - c * e) / denom).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let mut t = (b * s + f) / e;
-    if t < 0.0 {
-        t = 0.0;
-        s = (-c / a).clamp(0.0, 1.0);
-    } else if t > 1.0 {
-        t = 1.0;
-        s = ((b - c) / a).clamp(0.0, 1.0);
-    }
-    (s, t)
 }
 
 /// Applies the response to the hits of a step (see the module docs), after the rigid centres

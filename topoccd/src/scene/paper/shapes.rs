@@ -20,20 +20,7 @@ pub(crate) struct Part {
     pub triangles: Vec<[u32; 3]>,
 }
 
-/// A random unit vector, uniform on the sphere.
-pub(crate) fn unit(rng: &mut ChaCha8Rng) -> DVec3 {
-    loop {
-        let p = DVec3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
-        let len = p.length();
-        if len > 0.1 && len <= 1.0 {
-            return p / len;
-        }
-    }
-}
+pub(crate) use crate::scene::random_unit as unit;
 
 /// A smooth random scalar field on space: a sum of plane waves `a sin(w . p + phase)` with
 /// wave vectors up to `max_freq` radians per unit and amplitudes summing to about 1.
