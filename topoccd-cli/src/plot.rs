@@ -64,6 +64,7 @@ pub fn step_times(
             .x_labels(steps.min(12))
             .x_label_formatter(&|x| format!("{x:.0}"))
             .y_desc("milliseconds")
+            .y_label_formatter(&|y| format!("{y:.0}"))
             .label_style(("sans-serif", 13))
             .draw()
             .map_err(|e| err(&e))?;
