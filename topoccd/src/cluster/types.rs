@@ -25,6 +25,21 @@ pub struct ClusterOptions {
     /// it exists to measure what the paper's criterion costs. Default `true` (the paper's
     /// algorithm).
     pub phi_filter: bool,
+    /// How a ring of a leaf cluster is accepted when the paper's filter is off; with
+    /// [`ClusterOptions::phi_filter`] the paper's whole rings are always used. Default
+    /// [`RingGrowth::Partial`].
+    pub rings: RingGrowth,
+}
+
+/// How leaf growth accepts the triangles of a ring (with the paper's filter off).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RingGrowth {
+    /// A ring joins only if all its triangles do (the paper's rule).
+    Whole,
+    /// The ring's triangles join one at a time, each only if the patch stays a certified disk;
+    /// the rest of the ring is left to later rings and other leaves.
+    #[default]
+    Partial,
 }
 
 impl Default for ClusterOptions {
@@ -35,6 +50,7 @@ impl Default for ClusterOptions {
             merge: true,
             max_intermediate_leaves: 128,
             phi_filter: true,
+            rings: RingGrowth::default(),
         }
     }
 }
