@@ -5,7 +5,8 @@
 use super::bernstein::{phi, Verdict};
 use super::certificate::{DiskBuilder, DiskFailure};
 use super::{
-    ClusterOptions, ClusterStats, Clustering, GrowthStop, LeafCertificate, LeafCluster, RingGrowth,
+    ClusterOptions, ClusterStats, Clustering, GrowthStop, LeafCertificate, LeafCluster,
+    LeafDirection, RingGrowth,
 };
 use crate::math::DVec3;
 use crate::step::{Step, Topology};
@@ -93,8 +94,11 @@ pub(super) fn grow_leaves(
 
         let (s0, s1) = corners(step, seed);
         let observation = [(s0[0] + s0[1] + s0[2]) / 3.0, (s1[0] + s1[1] + s1[2]) / 3.0];
-        let normal = (s0[1] - s0[0]).cross(s0[2] - s0[0]);
-        let direction = normal.normalize_or_zero();
+        let direction = if options.phi_filter || options.rings == RingGrowth::Whole {
+            (s0[1] - s0[0]).cross(s0[2] - s0[0]).normalize_or_zero()
+        } else {
+            leaf_direction(step, topo, seed, options.direction)
+        };
         scratch.frontier.clear();
         scratch
             .frontier
@@ -354,5 +358,39 @@ fn grow_partial_rings(
         );
         scratch.frontier.clear();
         scratch.frontier.extend_from_slice(disk.fresh_vertices());
+    }
+}
+
+/// Unit normal of triangle `t` at t=0 and at t=1 (zero when degenerate).
+fn unit_normals(step: &Step, t: u32) -> [DVec3; 2] {
+    let (p0, p1) = corners(step, t);
+    [p0, p1].map(|p| (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero())
+}
+
+/// The direction `V` of a leaf grown from `seed` (any fixed vector serves the disk theorem; this
+/// only decides how far the leaf can grow). Zero when the seed is degenerate.
+fn leaf_direction(step: &Step, topo: &Topology, seed: u32, choice: LeafDirection) -> DVec3 {
+    let [n0, n1] = unit_normals(step, seed);
+    if n0 == DVec3::ZERO || n1 == DVec3::ZERO {
+        return DVec3::ZERO;
+    }
+    let mut sum = n0 + n1;
+    if choice == LeafDirection::Neighbourhood {
+        // The seed counts twice as much as each neighbour sharing one of its vertices.
+        sum *= 2.0;
+        for &v in &step.triangles()[seed as usize] {
+            for &t in topo.triangles_of(v) {
+                if t != seed {
+                    let [m0, m1] = unit_normals(step, t);
+                    sum += (m0 + m1) / topo.triangles_of(v).len() as f64;
+                }
+            }
+        }
+    }
+    let direction = sum.normalize_or_zero();
+    if direction.is_finite() {
+        direction
+    } else {
+        DVec3::ZERO
     }
 }

@@ -76,7 +76,10 @@
 //! it) and the grown patch passes the disk theorem with `V` the seed's unit normal at t=0 and
 //! `c = O` (or the mean of the patch's vertices); growth stops at the first ring that fails.
 //!
-//! Without the filter, by default ([`RingGrowth::Partial`]), a ring is accepted in part: its
+//! Without the filter, by default ([`RingGrowth::Partial`]), `V` is the normalised sum of the
+//! seed's unit normals at t=0 and t=1 ([`LeafDirection`]; any fixed `V` serves the theorem),
+//! `c` starts at `O` and may move to the mean of the patch's vertices when the whole boundary
+//! passes around it, and a ring is accepted in part: its
 //! triangles are offered one at a time, in a fixed order, and each joins only if the patch with
 //! it still satisfies hypotheses 1 to 5 ([`DiskBuilder::try_add`]: hypotheses 1, 2 and 4 are
 //! checked for the new triangle and its new boundary edges, 3 by counting, 5 is preserved
@@ -113,7 +116,7 @@ pub use certificate::{DiskBuilder, DiskFailure};
 pub use merge::SweptBox;
 pub use types::{
     ClusterOptions, ClusterStats, Clustering, DiskFailureCounts, GrowthStop, IntermediateCluster,
-    LeafCertificate, LeafCluster, RingGrowth,
+    LeafCertificate, LeafCluster, LeafDirection, RingGrowth,
 };
 
 use crate::step::{Step, Topology};
