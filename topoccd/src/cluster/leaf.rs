@@ -236,8 +236,11 @@ fn grow_rings(
             Err(DiskFailure::Star | DiskFailure::Winding) => {
                 // Seen from the current centre the boundary is not star-shaped: try the mean
                 // of the patch's vertices, checking every boundary edge against it.
+                let certified_centre = disk.centre();
                 disk.set_centre(disk.vertex_centroid());
                 if let Err(f) = disk.check_boundary(step, topo, true) {
+                    // The leaf keeps the centre its accepted rings were certified with.
+                    disk.set_centre(certified_centre);
                     return GrowthStop::Certificate(f);
                 }
             }
