@@ -17,6 +17,10 @@
 //!
 //! A batch that breaks 1 or 2 leaves the builder unusable until the next
 //! [`DiskBuilder::begin`]; so does a failed boundary check.
+//!
+//! Partial rings grow a certified patch one triangle at a time instead
+//! ([`DiskBuilder::try_add`]): each triangle is checked against hypotheses 1 to 4 locally and
+//! refused without changing the patch, so one bad triangle no longer stops a whole ring.
 
 use super::bernstein::{normal_along, star_around, Verdict};
 use crate::math::{max_abs, DVec3, UNIT_ROUNDOFF};
@@ -187,6 +191,127 @@ impl DiskBuilder {
         }
         std::mem::swap(&mut self.boundary, &mut self.scratch);
         Ok(())
+    }
+
+    /// Starts a batch of single-triangle additions ([`DiskBuilder::try_add`]): clears
+    /// [`DiskBuilder::fresh_vertices`].
+    pub fn begin_batch(&mut self) {
+        self.fresh_vertices.clear();
+        self.fresh_from = self.boundary.len();
+    }
+
+    /// Adds triangle `t` to a non-empty patch if the patch stays certified, and leaves the
+    /// patch unchanged otherwise (unlike [`DiskBuilder::extend`]).
+    ///
+    /// Requires (and keeps) the invariant that the patch satisfies hypotheses 1 to 5 with the
+    /// current centre, every boundary edge having passed the star test with it (true after a
+    /// successful [`DiskBuilder::check_boundary`] with `all_edges`, or after the seed with
+    /// `all_edges` false, which then covers every edge). `t` is accepted when:
+    ///
+    /// - its edges already in the patch (`k` of them) are boundary edges traversed by `t` in the
+    ///   opposite direction, and `k >= 1` (hypothesis 2 and connectedness);
+    /// - it brings `2 - k` new vertices, so `V - E + F` is unchanged (hypothesis 3: an ear with
+    ///   one new apex when `k = 1`, a notch filled when `k = 2`);
+    /// - `n(t)·V > 0` on `[0, 1]` (hypothesis 1);
+    /// - each of its other `3 - k` edges, the new boundary edges, passes the star test around
+    ///   the current centre (hypothesis 4; the removed boundary edges had passed it before).
+    ///
+    /// Hypothesis 5 then holds exactly for the new patch: its boundary chain is the old one plus
+    /// the boundary of `t` (a shared edge cancels against its reverse), and the projected angles
+    /// of `t`'s three edges around `c` sum to zero because `c` lies strictly outside `t`'s
+    /// projection (across a shared edge `e`, `g_t(e) = -g_S(e) < 0`, while `t`'s projection is
+    /// counter-clockwise). So the winding number stays one. The grower still re-checks the
+    /// final patch in full ([`DiskBuilder::check_boundary`] with `all_edges`), so that the
+    /// certificate never rests on this argument.
+    pub fn try_add(&mut self, step: &Step, topo: &Topology, t: u32) -> Result<(), DiskFailure> {
+        let (x0, x1) = (step.x0(), step.x1());
+        let tri = step.triangles()[t as usize];
+        let edges = topo.triangle_edges[t as usize];
+        let (mut shared, mut new_vertices) = (0u32, 0u32);
+        let mut is_shared = [false; 3];
+        for k in 0..3 {
+            let v = tri[k];
+            if self.vertex_stamp[v as usize] != self.stamp {
+                new_vertices += 1;
+            }
+            let e = edges[k] as usize;
+            if self.edge_stamp[e] == self.stamp {
+                let forward = if v < tri[(k + 1) % 3] { FORWARD } else { 0 };
+                let state = self.edge_state[e];
+                if state & COUNT_MASK != 1 || state & FORWARD == forward {
+                    return Err(DiskFailure::NonManifold);
+                }
+                shared += 1;
+                is_shared[k] = true;
+            }
+        }
+        if shared == 0 || shared + new_vertices != 2 {
+            return Err(DiskFailure::Topology);
+        }
+        let p0 = tri.map(|v| x0[v as usize]);
+        let p1 = tri.map(|v| x1[v as usize]);
+        if normal_along(self.direction, &p0, &p1).positive(self.subdivisions) != Verdict::Holds {
+            return Err(DiskFailure::Normal);
+        }
+        for k in (0..3).filter(|&k| !is_shared[k]) {
+            let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
+            let (pa, pb) = ([x0[a], x1[a]], [x0[b], x1[b]]);
+            if star_around(self.direction, pa, pb, self.centre).positive(self.subdivisions)
+                != Verdict::Holds
+            {
+                return Err(DiskFailure::Star);
+            }
+        }
+        // Commit.
+        self.faces += 1;
+        for k in 0..3 {
+            let v = tri[k];
+            if self.vertex_stamp[v as usize] != self.stamp {
+                self.vertex_stamp[v as usize] = self.stamp;
+                self.vertices += 1;
+                self.fresh_vertices.push(v);
+                self.vertex_sum[0] += x0[v as usize];
+                self.vertex_sum[1] += x1[v as usize];
+            }
+            let e = edges[k] as usize;
+            if is_shared[k] {
+                self.edge_state[e] = 2 | (self.edge_state[e] & FORWARD);
+            } else {
+                let forward = if v < tri[(k + 1) % 3] { FORWARD } else { 0 };
+                self.edge_stamp[e] = self.stamp;
+                self.edge_state[e] = 1 | forward;
+                self.edges += 1;
+                self.boundary.push(e as u32);
+            }
+        }
+        Ok(())
+    }
+
+    /// Drops the edges that [`DiskBuilder::try_add`] made interior from the boundary list.
+    pub fn end_batch(&mut self) {
+        let state = &self.edge_state;
+        self.boundary
+            .retain(|&e| state[e as usize] & COUNT_MASK == 1);
+        // Positions moved: count every edge as fresh (a conservative star re-check).
+        self.fresh_from = 0;
+    }
+
+    /// Tries the star centre `centre`: keeps it if the whole boundary passes hypotheses 3 to 5
+    /// around it, otherwise restores the previous centre (which still certifies the patch).
+    pub fn try_recentre(
+        &mut self,
+        step: &Step,
+        topo: &Topology,
+        centre: [DVec3; 2],
+    ) -> Result<(), DiskFailure> {
+        self.end_batch();
+        let old = self.centre;
+        self.centre = centre;
+        let checked = self.check_boundary(step, topo, true);
+        if checked.is_err() {
+            self.centre = old;
+        }
+        checked
     }
 
     /// Checks hypotheses 3 to 5. With `all_edges` false, only the boundary edges that appeared

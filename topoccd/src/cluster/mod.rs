@@ -70,10 +70,25 @@
 //! # Leaf clusters
 //! A leaf grows from a seed (the lowest-numbered free triangle) by rings: `T1` = free triangles
 //! incident to the seed's vertices, `T(k+1)` = free triangles incident to the new vertices of
-//! `Tk`. A ring is accepted only if all its triangles pass `phi(tau, O, t) >= 0` (up to rounding;
-//! `O` the seed's centroid, moving with it) and the grown patch passes the disk theorem with `V`
-//! the seed's unit normal at t=0 and `c = O`; growth stops at the first ring that fails. A leaf of
-//! one triangle needs no certificate: its features all share a vertex.
+//! `Tk`. With the paper's filter ([`ClusterOptions::phi_filter`]), or with
+//! [`RingGrowth::Whole`], a ring is accepted only if all its triangles pass
+//! `phi(tau, O, t) >= 0` (up to rounding, with the filter; `O` the seed's centroid, moving with
+//! it) and the grown patch passes the disk theorem with `V` the seed's unit normal at t=0 and
+//! `c = O` (or the mean of the patch's vertices); growth stops at the first ring that fails.
+//!
+//! Without the filter, by default ([`RingGrowth::Partial`]), `V` is the normalised sum of the
+//! seed's unit normals at t=0 and t=1 ([`LeafDirection`]; any fixed `V` serves the theorem),
+//! `c` starts at `O` and may move to the mean of the patch's vertices when the whole boundary
+//! passes around it, and a ring is accepted in part: its
+//! triangles are offered one at a time, in a fixed order, and each joins only if the patch with
+//! it still satisfies hypotheses 1 to 5 ([`DiskBuilder::try_add`]: hypotheses 1, 2 and 4 are
+//! checked for the new triangle and its new boundary edges, 3 by counting, 5 is preserved
+//! exactly); refused triangles are offered again while others join, and in the next ring. The
+//! accepted triangles form the leaf's ring `Tk`, and `T(k+1)` is gathered around their new
+//! vertices. When growth ends the final patch is checked against hypotheses 3 to 5 in full
+//! (every boundary edge, the winding number), so the theorem applies to each leaf as stated,
+//! whatever the order of growth. A leaf of one triangle needs no certificate: its features all
+//! share a vertex.
 //!
 //! # Intermediate clusters
 //! Leaves are walked in a deterministic order; a leaf `LC_n` adjacent (sharing an edge) to the
@@ -101,7 +116,7 @@ pub use certificate::{DiskBuilder, DiskFailure};
 pub use merge::SweptBox;
 pub use types::{
     ClusterOptions, ClusterStats, Clustering, DiskFailureCounts, GrowthStop, IntermediateCluster,
-    LeafCertificate, LeafCluster,
+    LeafCertificate, LeafCluster, LeafDirection, RingGrowth,
 };
 
 use crate::step::{Step, Topology};

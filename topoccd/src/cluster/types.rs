@@ -25,6 +25,37 @@ pub struct ClusterOptions {
     /// it exists to measure what the paper's criterion costs. Default `true` (the paper's
     /// algorithm).
     pub phi_filter: bool,
+    /// How a ring of a leaf cluster is accepted when the paper's filter is off; with
+    /// [`ClusterOptions::phi_filter`] the paper's whole rings are always used. Default
+    /// [`RingGrowth::Partial`].
+    pub rings: RingGrowth,
+    /// The direction `V` of each leaf's disk certificate with [`RingGrowth::Partial`] (with
+    /// whole rings or the paper's filter, the seed's normal at t=0). Default
+    /// [`LeafDirection::Seed`].
+    pub direction: LeafDirection,
+}
+
+/// How a leaf cluster's direction `V` is chosen (any fixed vector makes the disk theorem hold;
+/// a better one lets the leaf grow further).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LeafDirection {
+    /// The normalised sum of the seed's unit normals at t=0 and t=1.
+    #[default]
+    Seed,
+    /// That sum with the seed counted twice, plus the unit normals (t=0 and t=1) of the
+    /// triangles around each seed vertex, weighted by one over the vertex's triangle count.
+    Neighbourhood,
+}
+
+/// How leaf growth accepts the triangles of a ring (with the paper's filter off).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RingGrowth {
+    /// A ring joins only if all its triangles do (the paper's rule).
+    Whole,
+    /// The ring's triangles join one at a time, each only if the patch stays a certified disk;
+    /// the rest of the ring is left to later rings and other leaves.
+    #[default]
+    Partial,
 }
 
 impl Default for ClusterOptions {
@@ -35,6 +66,8 @@ impl Default for ClusterOptions {
             merge: true,
             max_intermediate_leaves: 128,
             phi_filter: true,
+            rings: RingGrowth::default(),
+            direction: LeafDirection::default(),
         }
     }
 }
@@ -72,7 +105,8 @@ pub struct LeafCluster {
     pub last_ring_vertices: Range<usize>,
     /// Observation point `O` (the seed's centroid, equation 3) at t=0 and t=1.
     pub observation: [DVec3; 2],
-    /// Direction `V` of the disk certificate: the seed's unit normal at t=0 (zero if the seed is
+    /// Direction `V` of the disk certificate: the seed's unit normal at t=0 with whole rings,
+    /// the choice of [`ClusterOptions::direction`] with partial rings (zero if the seed is
     /// degenerate).
     pub direction: DVec3,
     /// Star centre `c` of its disk certificate at t=0 and t=1 (the observation point, or the

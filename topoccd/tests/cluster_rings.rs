@@ -1,0 +1,77 @@
+//! Partial and whole rings: every leaf with several triangles is re-certified from scratch with
+//! a fresh [`DiskBuilder`] (its direction and centre, all triangles in one batch, the whole
+//! boundary), the clustering is deterministic, and partial rings never make more leaves than
+//! whole rings on smooth input.
+
+mod mesh_util;
+
+use topoccd::cluster::{
+    cluster, ClusterOptions, Clustering, DiskBuilder, LeafCertificate, LeafDirection, RingGrowth,
+};
+use topoccd::step::{Step, Topology};
+
+fn recertify(name: &str, step: &Step, options: &ClusterOptions) -> Clustering {
+    let topo = Topology::new(step.triangles(), step.vertex_count());
+    let c = cluster(step, &topo, options);
+    let mut again = cluster(step, &topo, options);
+    // Everything but the wall times.
+    again.stats.clustering_seconds = c.stats.clustering_seconds;
+    again.stats.merging_seconds = c.stats.merging_seconds;
+    assert!(c == again, "{name}: not deterministic");
+    let mut disk = DiskBuilder::default();
+    for (l, leaf) in c.leaves.iter().enumerate() {
+        if leaf.certificate == LeafCertificate::SingleTriangle {
+            assert_eq!(leaf.triangles.len(), 1, "{name}: leaf {l}");
+            continue;
+        }
+        disk.begin(
+            &topo,
+            step.vertex_count(),
+            leaf.direction,
+            leaf.centre,
+            options.subdivisions,
+        );
+        let checked = disk
+            .extend(step, &topo, c.leaf_triangles(l))
+            .and_then(|()| disk.check_boundary(step, &topo, true));
+        assert_eq!(checked, Ok(()), "{name}: leaf {l} is not a certified disk");
+    }
+    c
+}
+
+#[test]
+fn partial_leaves_are_certified_disks() {
+    let mut steps: Vec<(String, Step)> = (0..12u64)
+        .map(|s| (format!("random {s}"), mesh_util::random_smooth(s)))
+        .collect();
+    for s in 0..4u64 {
+        steps.push((format!("crumpled {s}"), mesh_util::crumpled(24, s)));
+    }
+    steps.push(("helicoid".into(), mesh_util::sinking_helicoid()));
+    steps.push(("tight fold".into(), mesh_util::tight_fold()));
+    steps.push(("partial tear".into(), mesh_util::partial_tear()));
+    let (mut partial_leaves, mut whole_leaves) = (0, 0);
+    for (name, step) in &steps {
+        for direction in [LeafDirection::Seed, LeafDirection::Neighbourhood] {
+            let options = ClusterOptions {
+                phi_filter: false,
+                direction,
+                ..ClusterOptions::default()
+            };
+            let c = recertify(&format!("{name} {direction:?}"), step, &options);
+            if direction == LeafDirection::Seed {
+                partial_leaves += c.leaves.len();
+            }
+        }
+        let whole = ClusterOptions {
+            phi_filter: false,
+            rings: RingGrowth::Whole,
+            ..ClusterOptions::default()
+        };
+        whole_leaves += recertify(&format!("{name} whole"), step, &whole)
+            .leaves
+            .len();
+    }
+    println!("leaves: partial rings {partial_leaves}, whole rings {whole_leaves}");
+    assert!(partial_leaves < whole_leaves);
+}
