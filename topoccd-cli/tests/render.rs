@@ -137,6 +137,40 @@ fn default_size_and_deterministic_bytes_and_indexed_output() {
 }
 
 #[test]
+fn contacts_are_computed_without_a_pairs_file() {
+    // The second tetrahedron moves through the first during the step: the query finds contacts.
+    let dir = TempDir::new("computed");
+    let (t0, t1, png) = (
+        dir.path("t0.obj"),
+        dir.path("t1.obj"),
+        dir.path("computed.png"),
+    );
+    write(&t0, &two_tetrahedra(1.0));
+    write(&t1, &two_tetrahedra(-2.8));
+    let out = topoccd(&[
+        "render",
+        s(&t0),
+        "--step",
+        s(&t1),
+        "--color",
+        "contacts",
+        "--out",
+        s(&png),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("contacts in the step"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!stderr(&out).contains(" 0 vf and 0 ee"), "{}", stderr(&out));
+    assert!(
+        decode(&png).pixels().any(|p| p[0] > 150 && p[1] < 90),
+        "no red pixel"
+    );
+}
+
+#[test]
 fn a_step_with_contacts_from_a_pairs_file() {
     let dir = TempDir::new("contacts");
     let (t0, t1) = (dir.path("t0.obj"), dir.path("t1.obj"));
@@ -277,10 +311,6 @@ fn bad_input_fails_with_a_message_naming_the_problem() {
             s(&png),
         ],
         &format!("{}:2: face 99 is out of range", pairs.display()),
-    );
-    fails(
-        &["render", s(&mesh), "--color", "contacts", "--out", s(&png)],
-        "--color contacts needs --pairs",
     );
     fails(
         &["render", s(&mesh), "--fit", "contacts", "--out", s(&png)],
