@@ -206,6 +206,11 @@ fn can_merge(
     stats: &mut ClusterStats,
 ) -> bool {
     let (n, p) = (next as usize, *members.last().unwrap_or(&next) as usize);
+    let size = c.leaves[n].triangles.len() + c.leaves[p].triangles.len();
+    if size > options.max_merge_triangles as usize {
+        stats.merge_rejected_size += 1;
+        return false;
+    }
     let g_n = &geometry[n];
     // Algorithm 2: B_n must miss the boxes of all members but the predecessor.
     if members[..members.len() - 1]

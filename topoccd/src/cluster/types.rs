@@ -20,6 +20,11 @@ pub struct ClusterOptions {
     /// Most leaf clusters per intermediate cluster, `>= 1` (the box test of algorithm 2 is
     /// quadratic in it). Default `128`.
     pub max_intermediate_leaves: u32,
+    /// Largest number of triangles two leaf clusters may hold together for a merge to be
+    /// attempted. Every attempt certifies the union's disk from scratch, in time proportional
+    /// to its size, and big leaves gain little from merging; `u32::MAX` attempts them all.
+    /// Default 512.
+    pub max_merge_triangles: u32,
     /// Whether to apply the paper's test `phi >= 0` (equation 2 for rings, algorithm 1 for
     /// merges). Soundness rests on the disk certificate alone, so turning it off stays sound;
     /// it exists to measure what the paper's criterion costs. Default `true` (the paper's
@@ -65,6 +70,7 @@ impl Default for ClusterOptions {
             subdivisions: 2,
             merge: true,
             max_intermediate_leaves: 128,
+            max_merge_triangles: 512,
             phi_filter: true,
             rings: RingGrowth::default(),
             direction: LeafDirection::default(),
@@ -181,6 +187,8 @@ pub struct ClusterStats {
     pub merged_by_ring: usize,
     /// Merges by the fallback route (union of both leaves a disk).
     pub merged_by_union: usize,
+    /// Merges not attempted: the two leaves hold more than `max_merge_triangles`.
+    pub merge_rejected_size: usize,
     /// Merge attempts refused by algorithm 2's box test.
     pub merge_rejected_box: usize,
     /// Merge attempts refused by the paper's `phi` test of algorithm 1.
