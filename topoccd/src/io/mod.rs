@@ -22,7 +22,7 @@ pub mod sequence;
 pub use error::{IoError, Location};
 pub use mesh::{read_mesh, write_mesh, Mesh, MeshFormat};
 pub use obj::{read_obj, read_obj_from, write_obj, write_obj_to};
-pub use ply_read::{read_ply, read_ply_from};
+pub use ply_read::{read_ply, read_ply_from, read_ply_header, PlyCounts};
 pub use ply_write::{write_ply, write_ply_to};
 pub use scene::{
     frame_number, libigl_edges, read_scene_truth, scene_frames, EdgePair, SceneFrames, SceneTruth,
