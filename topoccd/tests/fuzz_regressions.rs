@@ -1,0 +1,70 @@
+//! What the fuzz targets of `fuzz/` found, kept as tests: each case is the fuzzer's input (or
+//! a smaller case built from it) with the answer now expected. See `fuzz/README.md`.
+
+use topoccd::math::DVec3;
+use topoccd::step::{Ccd, Contact, Method, Mode, QueryOptions, Step};
+
+fn p(x: f64, y: f64, z: f64) -> DVec3 {
+    DVec3::new(x, y, z)
+}
+
+/// `step` target: three triangles sharing the edge (4, 3), a non-manifold fan, with vertices
+/// already touching the fan at t=0. Under `max_iterations = 1` the elementary test of
+/// (vertex 0, face 2) cannot rule out a contact over [0, 1], so `Mode::All` reports it at
+/// toi 0, but `Mode::Earliest` first solves it over [0, 2 tolerance] after finding (1, 0) at
+/// toi 0, where one iteration does rule it out: the two modes name different contacts, both
+/// at the earliest time 0 and both conservative. This was the fuzz target's assumption, not
+/// a bug: at the default iteration limit both modes agree exactly, and under a small limit
+/// Earliest names one of All's contacts.
+#[test]
+fn earliest_names_one_of_alls_contacts_under_an_iteration_limit() {
+    let x0 = vec![
+        p(-0.015625, -0.015625, -0.015625),
+        p(-0.03125, -0.03125, -0.03125),
+        p(-0.046875, -0.046875, -0.046875),
+        p(-0.03125, -0.03125, -0.03125),
+        p(-0.0625, -0.0625, -0.0625),
+    ];
+    let x1 = vec![
+        p(-5.953125, -5.953125, -5.953125),
+        p(-5.96875, -5.96875, -5.96875),
+        p(-5.984375, -0.109375, -0.109375),
+        p(2.59375, -5.96875, -5.96875),
+        p(-0.0625, -6.0, -6.0),
+    ];
+    let step = Step::new(x0, x1, vec![[4, 3, 0], [4, 3, 1], [4, 3, 2]]).expect("valid step");
+    let mut ccd = Ccd::new();
+    for max_iterations in [1, 64, 1_000_000] {
+        let mut options = QueryOptions::default();
+        options.narrow.max_iterations = max_iterations;
+        options.kdop = topoccd::kdop::DopKind::K6;
+        let all = ccd.query(&step, Method::Bvh, &options);
+        assert_eq!(all.vf, ccd.query(&step, Method::Brute, &options).vf);
+        assert_eq!(all.earliest_toi(), Some(0.0), "{max_iterations}");
+        options.mode = Mode::Earliest;
+        for method in [Method::Bvh, Method::Brute] {
+            let earliest = ccd.query(&step, method, &options).earliest;
+            let Some(Contact::Vf(c)) = earliest else {
+                panic!("{max_iterations}: {earliest:?}");
+            };
+            assert!(
+                all.vf.contains(&c),
+                "{max_iterations}: {c:?} not in {:?}",
+                all.vf
+            );
+            if max_iterations > 1 {
+                assert_eq!(earliest, all.earliest, "{max_iterations}");
+            }
+        }
+        if max_iterations == 1 {
+            // The case the fuzzer found: All's earliest is (0, 2), Earliest's is (1, 0).
+            let first = |c: Option<Contact>| match c {
+                Some(Contact::Vf(c)) => (c.vertex, c.face),
+                other => panic!("{other:?}"),
+            };
+            assert_eq!(first(all.earliest), (0, 2));
+            let earliest = ccd.query(&step, Method::Bvh, &options).earliest;
+            assert_eq!(first(earliest), (1, 0));
+        }
+    }
+}
