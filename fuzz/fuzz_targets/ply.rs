@@ -49,9 +49,11 @@ fuzz_target!(|data: &[u8]| {
         (Ok(_), Err(e)) => panic!("the file is refused but the bytes are read: {e}"),
         (Err(_), Ok(_)) => panic!("the file is read but the bytes are refused"),
         (Err(_), Err(IoError::CountsExceedFile { .. })) => {}
-        (Err(a), Err(b)) => assert_eq!(
-            a.to_string().replace("fuzz.ply", ""),
-            b.to_string().replace(&path.display().to_string(), ""),
-        ),
+        (Err(a), Err(b)) => {
+            // The same error, but for the file's name at the start of the message.
+            let (a, b) = (a.to_string(), b.to_string());
+            let path = path.display().to_string();
+            assert_eq!(a.strip_prefix("fuzz.ply"), b.strip_prefix(path.as_str()));
+        }
     }
 });
