@@ -2,10 +2,11 @@
 //! that mix ordinary values with NaN, infinities, huge, tiny and subnormal numbers, repeated
 //! points, degenerate and repeated triangles, and edges shared by many triangles.
 //!
-//! `Step::new` must refuse the invalid ones with an error; for a valid step, the BVH and the
-//! brute-force oracle must report the same contacts, every time of impact must be finite and
-//! in `[0, t_max]`, and `Mode::Earliest` must find the earliest contact of `Mode::All` (at the default iteration
-//! limit; under a small limit, one of All's contacts).
+//! `Step::new` must refuse the invalid ones with an error; for a valid step, the BVH, the
+//! cluster method and the brute-force oracle must report the same contacts, every time of
+//! impact must be finite and in `[0, t_max]`, and `Mode::Earliest` must find the earliest
+//! contact of `Mode::All` (at the default iteration limit; under a small limit, one of All's
+//! contacts).
 #![no_main]
 
 use arbitrary::Arbitrary;
@@ -202,17 +203,23 @@ fuzz_target!(|input: Input| {
     let t_max = options.narrow.t_max;
 
     let mut ccd = Ccd::new();
-    let bvh = ccd.query(&step, Method::Bvh, &options);
-    assert!(ccd.validate_tree().is_ok(), "invalid tree");
     let brute = ccd.query(&step, Method::Brute, &options);
-    check_report(&bvh, t_max, "bvh");
     check_report(&brute, t_max, "brute");
+    let bvh = ccd.query(&step, Method::Bvh, &options);
+    assert!(ccd.validate_tree().is_ok(), "invalid bvh");
+    check_report(&bvh, t_max, "bvh");
     assert_eq!(bvh.vf, brute.vf, "vf differs between bvh and brute");
     assert_eq!(bvh.ee, brute.ee, "ee differs between bvh and brute");
     assert_eq!(bvh.earliest, brute.earliest);
+    let cluster = ccd.query(&step, Method::Cluster, &options);
+    assert!(ccd.validate_tree().is_ok(), "invalid cluster tree");
+    check_report(&cluster, t_max, "cluster");
+    assert_eq!(cluster.vf, brute.vf, "vf differs between cluster and brute");
+    assert_eq!(cluster.ee, brute.ee, "ee differs between cluster and brute");
+    assert_eq!(cluster.earliest, brute.earliest);
 
     options.mode = Mode::Earliest;
-    for method in [Method::Bvh, Method::Brute] {
+    for method in [Method::Bvh, Method::Brute, Method::Cluster] {
         let earliest = ccd.query(&step, method, &options);
         assert!(earliest.vf.is_empty() && earliest.ee.is_empty());
         check_report(&earliest, t_max, "earliest");
