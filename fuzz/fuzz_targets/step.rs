@@ -5,8 +5,11 @@
 //! `Step::new` must refuse the invalid ones with an error; for a valid step, the BVH, the
 //! cluster method and the brute-force oracle must report the same contacts, every time of
 //! impact must be finite and in `[0, t_max]`, and `Mode::Earliest` must find the earliest
-//! contact of `Mode::All` (at the default iteration limit; under a small limit, one of All's
-//! contacts).
+//! contact of `Mode::All`. Under a small iteration limit (which the target also draws, for
+//! speed and because the limit is itself an answer to check) an unresolved pair is reported
+//! as a contact, so the checks weaken to what still holds: BVH equals brute force, the cluster
+//! method reports a subset of brute force's contacts (it skips certified pairs without
+//! solving them), and Earliest names one of All's contacts.
 #![no_main]
 
 use arbitrary::Arbitrary;
@@ -214,18 +217,38 @@ fuzz_target!(|input: Input| {
     let cluster = ccd.query(&step, Method::Cluster, &options);
     assert!(ccd.validate_tree().is_ok(), "invalid cluster tree");
     check_report(&cluster, t_max, "cluster");
-    assert_eq!(cluster.vf, brute.vf, "vf differs between cluster and brute");
-    assert_eq!(cluster.ee, brute.ee, "ee differs between cluster and brute");
-    assert_eq!(cluster.earliest, brute.earliest);
+    if exact {
+        assert_eq!(cluster.vf, brute.vf, "vf differs between cluster and brute");
+        assert_eq!(cluster.ee, brute.ee, "ee differs between cluster and brute");
+        assert_eq!(cluster.earliest, brute.earliest);
+    } else {
+        // Under a small iteration limit brute force may report a pair it could not resolve,
+        // which the cluster method skips as proved free of contact by its certificate: the
+        // cluster method reports a subset of brute force's contacts, with the same times.
+        assert!(
+            cluster.vf.iter().all(|c| brute.vf.contains(c)),
+            "cluster vf not in brute"
+        );
+        assert!(
+            cluster.ee.iter().all(|c| brute.ee.contains(c)),
+            "cluster ee not in brute"
+        );
+        let toi = |r: &Report| r.earliest_toi().unwrap_or(f64::INFINITY);
+        assert!(toi(&cluster) >= toi(&brute));
+    }
 
     options.mode = Mode::Earliest;
-    for method in [Method::Bvh, Method::Brute, Method::Cluster] {
+    for (method, all) in [
+        (Method::Bvh, &bvh),
+        (Method::Brute, &brute),
+        (Method::Cluster, &cluster),
+    ] {
         let earliest = ccd.query(&step, method, &options);
         assert!(earliest.vf.is_empty() && earliest.ee.is_empty());
         check_report(&earliest, t_max, "earliest");
         if exact {
             assert_eq!(
-                earliest.earliest, bvh.earliest,
+                earliest.earliest, all.earliest,
                 "{method}: earliest differs from all's"
             );
             continue;
@@ -235,12 +258,12 @@ fuzz_target!(|input: Input| {
         // another contact of All (both answers are conservative), but never one All lacks.
         assert_eq!(
             earliest.earliest.is_some(),
-            bvh.earliest.is_some(),
+            all.earliest.is_some(),
             "{method}"
         );
         match earliest.earliest {
-            Some(Contact::Vf(c)) => assert!(bvh.vf.contains(&c), "{method}: {c:?} not in all"),
-            Some(Contact::Ee(c)) => assert!(bvh.ee.contains(&c), "{method}: {c:?} not in all"),
+            Some(Contact::Vf(c)) => assert!(all.vf.contains(&c), "{method}: {c:?} not in all"),
+            Some(Contact::Ee(c)) => assert!(all.ee.contains(&c), "{method}: {c:?} not in all"),
             None => {}
         }
     }
