@@ -8,7 +8,9 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::error::Error;
 use std::path::{Path, PathBuf};
-use topoccd::io::{read_mesh, read_ply, read_ply_from, IoError, Location};
+use topoccd::io::{
+    read_mesh, read_ply, read_ply_from, read_ply_header, IoError, Location, PlyCounts,
+};
 
 const TRIANGLE: [[f64; 3]; 4] = [
     [0.0, 0.0, 0.0],
@@ -120,18 +122,34 @@ fn truncated_binary_names_the_element_where_it_ended() {
         .expect("header")
         + 11;
     // In the middle of vertex 2, at the end of vertex 3, inside face 1.
-    for (cut, location) in [
-        (header + 2 * 24 + 5, element("vertex", 2, 4, None)),
-        (header + 3 * 24, element("vertex", 3, 4, None)),
-        (header + 4 * 24 + 13 + 3, element("face", 1, 2, None)),
+    for (cut, location, too_small_for_header) in [
+        (header + 2 * 24 + 5, element("vertex", 2, 4, None), true),
+        (header + 3 * 24, element("vertex", 3, 4, None), true),
+        (header + 4 * 24 + 13 + 3, element("face", 1, 2, None), false),
     ] {
-        let (e, path) = read_err(&tmp, "cut.ply", &bytes[..cut]);
-        let text = format!("file ended in {location}");
+        // From a reader of unknown size, reading stops where the data runs out.
+        let e = read_ply_from(&bytes[..cut], Path::new("cut.ply")).expect_err("cut");
         assert!(
             matches!(&e, IoError::Truncated { location: l, .. } if *l == location),
             "{e:?}"
         );
-        assert_names(&e, &path, &text);
+        assert_eq!(e.to_string(), format!("cut.ply: file ended in {location}"));
+        // From a file, a size too small for the header's counts is seen before any data.
+        let (e, path) = read_err(&tmp, "cut.ply", &bytes[..cut]);
+        if too_small_for_header {
+            assert!(matches!(&e, IoError::CountsExceedFile { .. }), "{e:?}");
+            assert_names(
+                &e,
+                &path,
+                "too few for the 4 vertex elements its header declares",
+            );
+        } else {
+            assert!(
+                matches!(&e, IoError::Truncated { location: l, .. } if *l == location),
+                "{e:?}"
+            );
+            assert_names(&e, &path, &format!("file ended in {location}"));
+        }
     }
     // Every shorter prefix of a binary file is an error, never a panic.
     for cut in 0..bytes.len() {
@@ -155,9 +173,18 @@ fn truncated_real_frame_says_vertex_120_of_9450() {
         .expect("header")
         + 11;
     let tmp = TempDir::new("io-err-trunc-real");
-    let (e, path) = read_err(&tmp, "227.ply", &bytes[..header + 120 * 24 + 7]);
+    let cut = &bytes[..header + 120 * 24 + 7];
+    let e = read_ply_from(cut, Path::new("227.ply")).expect_err("cut");
     assert!(matches!(e, IoError::Truncated { .. }), "{e:?}");
-    assert_names(&e, &path, "file ended in vertex 120 of 9450");
+    assert_eq!(e.to_string(), "227.ply: file ended in vertex 120 of 9450");
+    // As a file, its size gives the cut away right after the header.
+    let (e, path) = read_err(&tmp, "227.ply", cut);
+    assert!(matches!(e, IoError::CountsExceedFile { .. }), "{e:?}");
+    assert_names(
+        &e,
+        &path,
+        "too few for the 9450 vertex elements its header declares",
+    );
     let (e, path) = read_err(&tmp, "227.ply", &bytes[..bytes.len() - 1]);
     assert_names(&e, &path, "file ended in face 18483 of 18484");
 }
@@ -353,4 +380,151 @@ fn random_corruption_never_panics() {
     }
     eprintln!("corrupted inputs: {ok} read, {err} refused");
     assert!(err > 0 && ok > 0);
+}
+
+/// The header of a binary little-endian file of float vertices and uchar/int faces.
+fn binary_header(vertices: u64, faces: u64) -> String {
+    format!(
+        "ply\nformat binary_little_endian 1.0\nelement vertex {vertices}\nproperty float x\n\
+         property float y\nproperty float z\nelement face {faces}\n\
+         property list uchar int vertex_indices\nend_header\n"
+    )
+}
+
+#[test]
+fn absurd_counts_are_refused_right_after_the_header() {
+    let tmp = TempDir::new("io-err-absurd");
+    let header = binary_header(10_000_000_000, 20_000_000_000);
+    let path = tmp.file("absurd.ply", &header);
+    let started = std::time::Instant::now();
+    for e in [
+        read_ply(&path).expect_err("absurd"),
+        read_ply_header(&path).expect_err("absurd"),
+    ] {
+        match &e {
+            IoError::CountsExceedFile {
+                element,
+                count,
+                needed,
+                size,
+                ..
+            } => {
+                assert_eq!((element.as_str(), *count), ("vertex", 10_000_000_000));
+                assert_eq!(*size, header.len() as u64);
+                assert_eq!(*needed, header.len() as u64 + 12 * 10_000_000_000);
+            }
+            other => panic!("{other:?}"),
+        }
+        assert_names(
+            &e,
+            &path,
+            "absurd.ply: the file has 189 bytes, too few for the 10000000000 vertex elements its \
+             header declares (at least 120000000189 bytes with the header and the elements before \
+             them): the file is truncated or its header is wrong",
+        );
+    }
+    // Without a size (any reader), the data runs out at once; nothing is allocated up front.
+    let e = read_ply_from(header.as_bytes(), Path::new("absurd.ply")).expect_err("absurd");
+    assert!(
+        matches!(&e, IoError::Truncated { location, .. }
+            if *location == element("vertex", 0, 10_000_000_000, None)),
+        "{e:?}"
+    );
+    assert!(started.elapsed() < std::time::Duration::from_secs(5));
+}
+
+#[test]
+fn declared_counts_are_checked_against_the_file_size() {
+    let tmp = TempDir::new("io-err-size");
+    let mut vertices = Vec::new();
+    for v in TRIANGLE {
+        vertices.extend(v.iter().flat_map(|&c| (c as f32).to_le_bytes()));
+    }
+    let face = [3u8, 0, 0, 0, 0, 1, 0, 0, 0, 2, 0, 0, 0];
+    // More vertices declared than present: 6 * 12 + 1 bytes cannot fit in 4 * 12 + 13.
+    let mut bytes = binary_header(6, 1).into_bytes();
+    bytes.extend(&vertices);
+    bytes.extend(face);
+    let path = tmp.file("vertices.ply", &bytes);
+    let e = read_ply(&path).expect_err("too few vertices");
+    assert!(
+        matches!(&e, IoError::CountsExceedFile { element, count: 6, .. } if element == "vertex"),
+        "{e:?}"
+    );
+    // More faces declared than bytes (an empty index list takes one byte): 14 > 13.
+    let mut bytes = binary_header(4, 14).into_bytes();
+    bytes.extend(&vertices);
+    bytes.extend(face);
+    let path = tmp.file("faces.ply", &bytes);
+    let e = read_ply(&path).expect_err("too few faces");
+    assert!(
+        matches!(&e, IoError::CountsExceedFile { element, count: 14, .. } if element == "face"),
+        "{e:?}"
+    );
+    assert_names(
+        &e,
+        &path,
+        "too few for the 14 face elements its header declares",
+    );
+    // Up to that bound the check passes and reading says where the data ran out.
+    let mut bytes = binary_header(4, 2).into_bytes();
+    bytes.extend(&vertices);
+    bytes.extend(face);
+    let path = tmp.file("two.ply", &bytes);
+    let e = read_ply(&path).expect_err("one face missing");
+    assert!(
+        matches!(&e, IoError::Truncated { location, .. } if *location == element("face", 1, 2, None)),
+        "{e:?}"
+    );
+    assert_eq!(
+        read_ply_header(&path).expect("the header fits"),
+        PlyCounts {
+            vertices: 4,
+            faces: 2
+        }
+    );
+}
+
+#[test]
+fn the_smallest_ascii_file_passes_the_size_check() {
+    let tmp = TempDir::new("io-err-ascii-size");
+    let head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                property float z\nend_header\n";
+    // Single-digit values, single spaces, and no newline at the end: exactly the minimum.
+    let text = format!("{head}0 0 0\n1 0 0\n0 1 0");
+    let mesh = read_ply(&tmp.file("min.ply", &text)).expect("minimal file");
+    assert_eq!(mesh.positions.len(), 3);
+    // One vertex more than the text can hold.
+    let text = text.replace("element vertex 3", "element vertex 4");
+    let e = read_ply(&tmp.file("more.ply", &text)).expect_err("4 vertices");
+    assert!(
+        matches!(&e, IoError::CountsExceedFile { element, count: 4, needed, size, .. }
+            if element == "vertex" && *needed == *size + 6),
+        "{e:?}"
+    );
+}
+
+#[test]
+fn empty_and_single_triangle_files_are_meshes() {
+    let tmp = TempDir::new("io-err-empty");
+    let empty = tmp.file(
+        "empty.ply",
+        "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n\
+         property float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n",
+    );
+    assert_eq!(
+        read_ply(&empty).expect("empty"),
+        topoccd::io::Mesh::default()
+    );
+    let empty_obj = tmp.file("empty.obj", "# no data\n\n");
+    assert_eq!(
+        read_mesh(&empty_obj).expect("empty"),
+        topoccd::io::Mesh::default()
+    );
+    let one = tmp.file(
+        "one.ply",
+        encode_ply_faces(&TRIANGLE[..3], &faces(&[&[0, 1, 2]]), &PlySpec::default()),
+    );
+    let mesh = read_ply(&one).expect("one triangle");
+    assert_eq!((mesh.positions.len(), mesh.triangles.len()), (3, 1));
 }

@@ -90,6 +90,26 @@ pub enum IoError {
         /// What is missing or unsupported.
         message: String,
     },
+    /// The PLY header declares more elements than the file has bytes for: refused right after
+    /// the header, before any data is read or allocated (a truncated file, or a corrupt count).
+    #[error(
+        "{path}: the file has {size} bytes, too few for the {count} {element} elements its \
+         header declares (at least {needed} bytes with the header and the elements before them): \
+         the file is truncated or its header is wrong"
+    )]
+    CountsExceedFile {
+        /// The file.
+        path: PathBuf,
+        /// The first element, in the order of the header, that does not fit.
+        element: String,
+        /// How many of it the header declares.
+        count: usize,
+        /// The fewest bytes the header and the elements up to this one take (saturated at
+        /// `u64::MAX`).
+        needed: u64,
+        /// The size of the file in bytes.
+        size: u64,
+    },
     /// The file ended before all the elements its header declares.
     #[error("{path}: file ended in {location}")]
     Truncated {

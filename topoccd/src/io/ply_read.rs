@@ -15,7 +15,10 @@ use std::path::Path;
 /// allocate gigabytes before the data runs out.
 const MAX_PREALLOCATED: usize = 1 << 16;
 
-/// Reads a PLY mesh from a file. See [`read_ply_from`] for what is accepted.
+/// Reads a PLY mesh from a file. See [`read_ply_from`] for what is accepted. As the file's size
+/// is known, a header declaring more elements than the file can hold (a truncated file, or a
+/// corrupt count such as 10^10 vertices) is refused right after the header, before any data is
+/// read or memory reserved: [`IoError::CountsExceedFile`].
 ///
 /// ```no_run
 /// use std::path::Path;
@@ -24,8 +27,53 @@ const MAX_PREALLOCATED: usize = 1 << 16;
 /// # Ok::<(), topoccd::io::IoError>(())
 /// ```
 pub fn read_ply(path: &Path) -> Result<Mesh, IoError> {
+    let (file, size) = open_sized(path)?;
+    read_ply_sized(file, path, size)
+}
+
+/// Opens a file, with its size if it is a regular file (not a pipe or a device).
+fn open_sized(path: &Path) -> Result<(File, Option<u64>), IoError> {
     let file = File::open(path).map_err(|e| IoError::os(path, "open", e))?;
-    read_ply_from(file, path)
+    let size = file
+        .metadata()
+        .ok()
+        .filter(|m| m.is_file())
+        .map(|m| m.len());
+    Ok((file, size))
+}
+
+/// The element counts a PLY header declares, read by [`read_ply_header`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PlyCounts {
+    /// Number of `vertex` elements.
+    pub vertices: usize,
+    /// Number of `face` elements (0 when there is no `face` element).
+    pub faces: usize,
+}
+
+/// Reads only the header of a PLY file: the vertex and face counts it declares, after the same
+/// checks as [`read_ply`] makes before reading any data (the magic line, the header syntax, a
+/// triangle-mesh layout, and counts whose data fit in the file's size). A caller can thus
+/// refuse a mesh too large for its memory before reading it.
+///
+/// ```
+/// use topoccd::io::{read_ply_header, write_ply, Mesh, PlyCounts};
+/// use topoccd::math::DVec3;
+/// let mesh = Mesh { positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y], triangles: vec![[0, 1, 2]] };
+/// let path = std::env::temp_dir().join(format!("topoccd-doc-header-{}.ply", std::process::id()));
+/// write_ply(&path, &mesh)?;
+/// assert_eq!(read_ply_header(&path)?, PlyCounts { vertices: 3, faces: 1 });
+/// std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn read_ply_header(path: &Path) -> Result<PlyCounts, IoError> {
+    let (file, size) = open_sized(path)?;
+    let mut input = BufReader::with_capacity(1 << 16, file);
+    let (header, _, _) = read_checked_header(&mut input, path, size)?;
+    Ok(PlyCounts {
+        vertices: header.elements.get("vertex").map_or(0, |e| e.count),
+        faces: header.elements.get("face").map_or(0, |e| e.count),
+    })
 }
 
 /// Reads a PLY mesh from any reader; `name` is the file name used in error messages.
@@ -55,32 +103,23 @@ pub fn read_ply(path: &Path) -> Result<Mesh, IoError> {
 /// # Ok::<(), IoError>(())
 /// ```
 pub fn read_ply_from(reader: impl Read, name: &Path) -> Result<Mesh, IoError> {
+    read_ply_sized(reader, name, None)
+}
+
+/// [`read_ply_from`], refusing right after the header if `size` (the file's size in bytes,
+/// when known) cannot hold the elements the header declares.
+fn read_ply_sized(reader: impl Read, name: &Path, size: Option<u64>) -> Result<Mesh, IoError> {
     let mut input = BufReader::with_capacity(1 << 16, reader);
-    check_magic(&mut input, name)?;
-    // The header is parsed from our own copy, so that an error can quote the offending line;
-    // the payload is then read straight from `input`.
-    let header_text = read_header_text(&mut input, name)?;
-    let mut header_reader = Reader::new(header_text.as_slice());
-    let header = Parser::<Skip>::new()
-        .read_header(&mut header_reader)
-        .map_err(|e| header_error(&e, &header_text, name))?;
-    let vertex_count = check_layout(&header, name)?;
+    let (header, vertex_count, next_line) = read_checked_header(&mut input, name, size)?;
     let mut elements = Elements {
         name,
         encoding: header.encoding,
-        next_line: header_reader.line(),
+        next_line,
         text: String::new(),
     };
-
-    // Read up to the last element we need; whatever follows is not looked at.
-    let needed = header
-        .elements
-        .values()
-        .rposition(|def| def.name == "vertex" || def.name == "face")
-        .map_or(0, |last| last + 1);
     let mut positions = Vec::new();
     let mut triangles = Vec::new();
-    for def in header.elements.values().take(needed) {
+    for def in header.elements.values().take(needed_elements(&header)) {
         match def.name.as_str() {
             "vertex" => {
                 positions.reserve(def.count.min(MAX_PREALLOCATED));
@@ -104,6 +143,90 @@ pub fn read_ply_from(reader: impl Read, name: &Path) -> Result<Mesh, IoError> {
         positions,
         triangles,
     })
+}
+
+/// Reads and checks the header: the magic line, the syntax, the layout, and (when `size` is
+/// known) that the file can hold the declared elements. Returns the header, the vertex count
+/// and the line (1-based) of the first element.
+fn read_checked_header(
+    input: &mut impl BufRead,
+    name: &Path,
+    size: Option<u64>,
+) -> Result<(Header, usize, usize), IoError> {
+    check_magic(input, name)?;
+    // The header is parsed from our own copy, so that an error can quote the offending line;
+    // the payload is then read straight from `input`.
+    let header_text = read_header_text(input, name)?;
+    let mut header_reader = Reader::new(header_text.as_slice());
+    let header = Parser::<Skip>::new()
+        .read_header(&mut header_reader)
+        .map_err(|e| header_error(&e, &header_text, name))?;
+    let vertex_count = check_layout(&header, name)?;
+    if let Some(size) = size {
+        check_declared_size(&header, header_text.len() as u64, size, name)?;
+    }
+    Ok((header, vertex_count, header_reader.line()))
+}
+
+/// How many elements of the header (in order) are read: up to the last `vertex` or `face`;
+/// whatever follows is not looked at.
+fn needed_elements(header: &Header) -> usize {
+    header
+        .elements
+        .values()
+        .rposition(|def| def.name == "vertex" || def.name == "face")
+        .map_or(0, |last| last + 1)
+}
+
+/// The fewest bytes one element of `def` can take. Binary: the sizes of its scalars plus the
+/// count of each list (a list may be empty). ASCII: one character per value (a list's count at
+/// least) and one separator or newline after each, or one newline for an element without
+/// properties.
+fn min_element_bytes(def: &ElementDef, encoding: Encoding) -> u64 {
+    let properties = def.properties.values().map(|p| &p.data_type);
+    match encoding {
+        Encoding::Ascii => (2 * def.properties.len() as u64).max(1),
+        Encoding::BinaryBigEndian | Encoding::BinaryLittleEndian => properties
+            .map(|t| match t {
+                PropertyType::Scalar(s) | PropertyType::List(s, _) => scalar_bytes(s),
+            })
+            .sum(),
+    }
+}
+
+fn scalar_bytes(t: &ScalarType) -> u64 {
+    match t {
+        ScalarType::Char | ScalarType::UChar => 1,
+        ScalarType::Short | ScalarType::UShort => 2,
+        ScalarType::Int | ScalarType::UInt | ScalarType::Float => 4,
+        ScalarType::Double => 8,
+    }
+}
+
+/// Refuses a header whose elements cannot fit in a file of `size` bytes (a truncated file, or
+/// corrupt counts such as 10^10 vertices in a file of a few kilobytes) before any data is read.
+fn check_declared_size(
+    header: &Header,
+    header_bytes: u64,
+    size: u64,
+    name: &Path,
+) -> Result<(), IoError> {
+    // The last ASCII line may lack its newline.
+    let slack = u128::from(header.encoding == Encoding::Ascii);
+    let mut needed = u128::from(header_bytes);
+    for def in header.elements.values().take(needed_elements(header)) {
+        needed += def.count as u128 * u128::from(min_element_bytes(def, header.encoding));
+        if needed.saturating_sub(slack) > u128::from(size) {
+            return Err(IoError::CountsExceedFile {
+                path: name.to_path_buf(),
+                element: def.name.clone(),
+                count: def.count,
+                needed: u64::try_from(needed - slack).unwrap_or(u64::MAX),
+                size,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Refuses anything that does not start with the magic line `ply`.

@@ -265,7 +265,7 @@ pub fn step_from_frames(
 }
 
 /// Reads a parents file: pairs `(new, parent)` with `previous <= new < current` and
-/// `parent < previous`, each new vertex at most once.
+/// `parent < previous`, each new vertex at most once. See [`parse_parents`] for the format.
 pub fn read_parents(
     path: &Path,
     previous: usize,
@@ -278,6 +278,30 @@ pub fn read_parents(
             source: e,
         })
     })?;
+    parse_parents(&text, path, previous, current)
+}
+
+/// Parses the text of a parents file; `path` only names the file in errors. `previous` is the
+/// vertex count of the step's first frame, `current` that of its second: each line
+/// `NEW_ID PARENT_ID` needs `previous <= NEW_ID < current` and `PARENT_ID < previous`, and a
+/// new vertex may be given a parent at most once. `#` starts a comment; blank lines are
+/// skipped.
+///
+/// ```
+/// use std::path::Path;
+/// use topoccd::io::sequence::{parse_parents, SequenceError};
+/// let text = "# NEW_ID PARENT_ID\n4 0\n5 2  # the crack's other side\n";
+/// assert_eq!(parse_parents(text, Path::new("0001.parents"), 4, 6)?, vec![(4, 0), (5, 2)]);
+/// let err = parse_parents("4 0\n4 1\n", Path::new("0001.parents"), 4, 6).unwrap_err();
+/// assert_eq!(err.to_string(), "0001.parents:2: NEW_ID 4 is given a parent twice");
+/// # Ok::<(), SequenceError>(())
+/// ```
+pub fn parse_parents(
+    text: &str,
+    path: &Path,
+    previous: usize,
+    current: usize,
+) -> Result<Vec<(u32, u32)>, SequenceError> {
     let mut seen = vec![false; current.saturating_sub(previous)];
     let mut out = Vec::new();
     for (i, raw) in text.lines().enumerate() {
