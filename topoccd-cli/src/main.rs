@@ -75,6 +75,11 @@ fn main() -> ExitCode {
         Ok(code) => code,
         Err(err) => {
             eprintln!("error: {err:#}");
+            // With --json, stdout stays valid JSON (lines) whatever happens: the error is one
+            // more object.
+            if std::env::args().any(|a| a == "--json") {
+                println!("{}", serde_json::json!({ "error": format!("{err:#}") }));
+            }
             ExitCode::from(2)
         }
     }

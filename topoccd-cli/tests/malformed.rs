@@ -65,11 +65,20 @@ fn p(s: &str) -> &Path {
     Path::new(s)
 }
 
-/// Asserts a failure: exit code 2, nothing on stdout, and an `error:` on stderr containing
-/// every one of `needles`.
+/// Asserts a failure: exit code 2, an `error:` on stderr containing every one of `needles`,
+/// and on stdout nothing, or with `--json` one JSON object `{"error": ...}` saying the same.
 fn assert_fails(run: &Run, needles: &[&str]) {
     assert_eq!(run.output.status.code(), Some(2), "stderr: {}", run.stderr);
-    assert!(run.stdout.is_empty(), "stdout: {}", run.stdout);
+    if !run.stdout.is_empty() {
+        let json: serde_json::Value = serde_json::from_str(run.stdout.trim())
+            .unwrap_or_else(|e| panic!("stdout is not JSON ({e}): {}", run.stdout));
+        let message = json["error"].as_str().unwrap_or_default();
+        assert!(
+            run.stderr.contains(message) && !message.is_empty(),
+            "stdout: {}",
+            run.stdout
+        );
+    }
     assert!(run.stderr.starts_with("error: "), "stderr: {}", run.stderr);
     for needle in needles {
         assert!(
