@@ -4,6 +4,7 @@
 use std::path::Path;
 use topoccd::io::{read_ply, read_ply_from, IoError};
 use topoccd::math::DVec3;
+use topoccd::narrow::{vertex_face, Certainty, Outcome, VertexFace};
 use topoccd::step::{Ccd, Contact, Method, Mode, QueryOptions, Step};
 
 fn p(x: f64, y: f64, z: f64) -> DVec3 {
@@ -138,6 +139,78 @@ fn cluster_skips_an_unresolved_pair_its_certificate_rules_out() {
             assert_eq!(cluster.earliest, brute.earliest);
         }
     }
+}
+
+/// `step` target, a slow unit (86 s under the address sanitizer, 1.5 s in a release build,
+/// for 12 feature pairs): three triangles on an edge with one end at y = z = -1e300 while the
+/// other vertices stay within 10 of the origin. The differences are within the solver's range
+/// (`MAX_DIFFERENCE`), but spanning 300 orders of magnitude half the pairs cannot be resolved:
+/// each runs to the iteration limit (hundreds of milliseconds at the default 10^6) and is
+/// reported as a conservative contact. Kept at a small limit so the test stays fast; what must hold is that every pair
+/// is reported, identically by every method, at a time in [0, 1].
+#[test]
+fn mixed_scales_exhaust_the_iteration_limit_and_stay_conservative() {
+    let x0 = vec![
+        p(0.0, -1e300, -1e300),
+        p(0.890625, -0.03125, 0.171875),
+        p(0.0, 0.0, 0.0),
+        p(0.0, 0.0, 0.0),
+        p(0.0, 0.0, 0.0),
+    ];
+    let x1 = vec![
+        p(-2.875, -1e300, -1e300),
+        p(-5.046875, -5.96875, -5.765625),
+        p(-2.875, 6.5, -7.0625),
+        p(7.6875, 0.0, 0.0),
+        p(2.0625, -0.0625, -5.9375),
+    ];
+    let step = Step::new(x0, x1, vec![[0, 1, 2], [0, 1, 3], [0, 1, 4]]).expect("valid step");
+    let mut options = QueryOptions::default();
+    options.narrow.max_iterations = 10_000;
+    options.narrow.min_separation = 1e-6;
+    let mut ccd = Ccd::new();
+    let brute = ccd.query(&step, Method::Brute, &options);
+    assert_eq!((brute.stats.vf_tests, brute.stats.ee_tests), (6, 6));
+    assert_eq!(
+        (brute.vf.len(), brute.ee.len()),
+        (6, 6),
+        "every pair is a contact"
+    );
+    for c in &brute.vf {
+        assert!((0.0..=1.0).contains(&c.toi), "{c:?}");
+    }
+    for method in [Method::Bvh, Method::Cluster] {
+        let report = ccd.query(&step, method, &options);
+        assert_eq!((&report.vf, &report.ee), (&brute.vf, &brute.ee), "{method}");
+    }
+    // Three of the six vertex-face pairs gave up at the iteration limit.
+    let (x0, x1) = (step.x0(), step.x1());
+    let mut certainties = Vec::new();
+    for c in &brute.vf {
+        let [f0, f1, f2] = step.triangles()[c.face as usize].map(|i| i as usize);
+        let v = c.vertex as usize;
+        let q = VertexFace {
+            v_t0: x0[v],
+            f0_t0: x0[f0],
+            f1_t0: x0[f1],
+            f2_t0: x0[f2],
+            v_t1: x1[v],
+            f0_t1: x1[f0],
+            f1_t1: x1[f1],
+            f2_t1: x1[f2],
+        };
+        match vertex_face(&q, &options.narrow) {
+            Outcome::Contact { toi, certainty } => {
+                assert_eq!(toi, c.toi);
+                certainties.push(certainty);
+            }
+            Outcome::Separated => panic!("{c:?}"),
+        }
+    }
+    assert!(
+        certainties.contains(&Certainty::IterationLimit),
+        "{certainties:?}"
+    );
 }
 
 /// `ply` target: a header line that quotes the name of the file the target wrote (the fuzzer
