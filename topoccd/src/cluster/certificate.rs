@@ -130,6 +130,25 @@ impl DiskBuilder {
         self.faces
     }
 
+    /// Hypothesis 1 for one triangle: its normal faces the patch's direction over the whole
+    /// step (certified).
+    fn faces_direction(&self, tri: [u32; 3], x0: &[DVec3], x1: &[DVec3]) -> bool {
+        let p0 = tri.map(|v| x0[v as usize]);
+        let p1 = tri.map(|v| x1[v as usize]);
+        normal_along(self.direction, &p0, &p1).positive(self.subdivisions) == Verdict::Holds
+    }
+
+    /// Counts vertex `v` into the patch, the first time it is seen.
+    fn add_vertex(&mut self, v: u32, x0: &[DVec3], x1: &[DVec3]) {
+        if self.vertex_stamp[v as usize] != self.stamp {
+            self.vertex_stamp[v as usize] = self.stamp;
+            self.vertices += 1;
+            self.fresh_vertices.push(v);
+            self.vertex_sum[0] += x0[v as usize];
+            self.vertex_sum[1] += x1[v as usize];
+        }
+    }
+
     /// Adds a batch of triangles (ids into `step.triangles()`, each at most once per patch) and
     /// checks hypotheses 1 and 2 for them. The boundary is updated; call
     /// [`DiskBuilder::check_boundary`] before relying on the patch.
@@ -144,21 +163,12 @@ impl DiskBuilder {
         self.fresh_vertices.clear();
         for &t in batch {
             let tri = tris[t as usize];
-            let p0 = tri.map(|v| x0[v as usize]);
-            let p1 = tri.map(|v| x1[v as usize]);
-            if normal_along(self.direction, &p0, &p1).positive(self.subdivisions) != Verdict::Holds
-            {
+            if !self.faces_direction(tri, x0, x1) {
                 return Err(DiskFailure::Normal);
             }
             self.faces += 1;
             for (k, &v) in tri.iter().enumerate() {
-                if self.vertex_stamp[v as usize] != self.stamp {
-                    self.vertex_stamp[v as usize] = self.stamp;
-                    self.vertices += 1;
-                    self.fresh_vertices.push(v);
-                    self.vertex_sum[0] += x0[v as usize];
-                    self.vertex_sum[1] += x1[v as usize];
-                }
+                self.add_vertex(v, x0, x1);
                 let e = topo.triangle_edges[t as usize][k] as usize;
                 let forward = if v < tri[(k + 1) % 3] { FORWARD } else { 0 };
                 if self.edge_stamp[e] != self.stamp {
@@ -248,9 +258,7 @@ impl DiskBuilder {
         if shared == 0 || shared + new_vertices != 2 {
             return Err(DiskFailure::Topology);
         }
-        let p0 = tri.map(|v| x0[v as usize]);
-        let p1 = tri.map(|v| x1[v as usize]);
-        if normal_along(self.direction, &p0, &p1).positive(self.subdivisions) != Verdict::Holds {
+        if !self.faces_direction(tri, x0, x1) {
             return Err(DiskFailure::Normal);
         }
         for k in (0..3).filter(|&k| !is_shared[k]) {
@@ -266,13 +274,7 @@ impl DiskBuilder {
         self.faces += 1;
         for k in 0..3 {
             let v = tri[k];
-            if self.vertex_stamp[v as usize] != self.stamp {
-                self.vertex_stamp[v as usize] = self.stamp;
-                self.vertices += 1;
-                self.fresh_vertices.push(v);
-                self.vertex_sum[0] += x0[v as usize];
-                self.vertex_sum[1] += x1[v as usize];
-            }
+            self.add_vertex(v, x0, x1);
             let e = edges[k] as usize;
             if is_shared[k] {
                 self.edge_state[e] = 2 | (self.edge_state[e] & FORWARD);

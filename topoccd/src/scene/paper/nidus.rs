@@ -25,7 +25,7 @@ use super::shapes::{cube_sphere_resolution, spread_directions, unit, Blob, Lobe,
 use super::world::{Motion, World};
 use super::{GenSummary, PaperScene};
 use crate::math::DVec3;
-use crate::step::Ccd;
+use crate::step::{Ccd, Topology};
 
 /// The paper's triangle count.
 const PAPER: f64 = 32_798.0;
@@ -115,31 +115,15 @@ impl Script for Nidus {
                     > 0.0
             })
             .collect();
-        // Vertex -> triangles, compressed.
-        let mut start = vec![0u32; previous + 1];
-        for t in tris {
-            for &v in t {
-                start[v as usize + 1] += 1;
-            }
-        }
-        for i in 0..previous {
-            start[i + 1] += start[i];
-        }
-        let mut fill = start.clone();
-        let mut incident = vec![0u32; start[previous] as usize];
-        for (i, t) in tris.iter().enumerate() {
-            for &v in t {
-                incident[fill[v as usize] as usize] = i as u32;
-                fill[v as usize] += 1;
-            }
-        }
+        // Vertex -> triangles (a snapshot: splitting below changes the triangles).
+        let topo = Topology::new(tris, previous);
         cut.done.resize(previous, false);
         cut.side.resize(previous, 0.0);
         for v in 0..previous {
             if cut.done[v] || world.rest[v].dot(cut.along) > front {
                 continue;
             }
-            let around = &incident[start[v] as usize..start[v + 1] as usize];
+            let around = topo.triangles_of(v as u32);
             let below: Vec<u32> = around
                 .iter()
                 .copied()
