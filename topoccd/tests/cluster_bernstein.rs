@@ -1,7 +1,7 @@
 //! Sign certificates of the clustering: quadratics and cubics with known signs, roots just
 //! inside or outside `[0, 1]`, scale and translation invariance.
 
-use topoccd::cluster::bernstein::{
+use topoccd::narrow::bernstein::{
     normal_along, phi, star_around, triple_product, Bernstein, Verdict,
 };
 use topoccd::math::DVec3;

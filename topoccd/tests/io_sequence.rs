@@ -46,10 +46,10 @@ fn steps_use_the_next_frames_triangles_and_parent_positions() {
     assert_eq!(*k, 0);
     assert_eq!(s0.triangles(), &[[0, 1, 3]]);
     // Vertex 3 starts at its parent's position in frame 0.
-    assert_eq!(s0.x0()[3], DVec3::new(0.0, 1.0, 0.0));
-    assert_eq!(s0.x1()[3], DVec3::new(0.0, 2.0, 1.0));
+    assert_eq!(s0.x0()[3], [0.0, 1.0, 0.0]);
+    assert_eq!(s0.x1()[3], [0.0, 2.0, 1.0]);
     // Without a parents file a vertex that exists in both frames just moves.
-    assert_eq!(steps[1].1.x0()[3], DVec3::new(0.0, 2.0, 1.0));
+    assert_eq!(steps[1].1.x0()[3], [0.0, 2.0, 1.0]);
     let _ = fs::remove_dir_all(&dir);
 }
 
@@ -64,7 +64,7 @@ fn new_vertex_without_parent_starts_where_it_ends() {
         .next()
         .expect("one")
         .expect("ok");
-    assert_eq!(step.x0()[3], step.x1()[3]);
+    assert_eq!(step.pos0()[3], step.pos1()[3]);
     let _ = fs::remove_dir_all(&dir);
 }
 

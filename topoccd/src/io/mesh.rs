@@ -6,7 +6,7 @@ use std::path::Path;
 
 /// A triangle mesh as stored in a file: positions and triangles, in the order of the file.
 /// Nothing is validated beyond what the format needs (indices in range, three vertices per
-/// face); [`Step::new`](crate::step::Step::new) checks the rest (finite coordinates, repeated
+/// face); [`Step::new`](crate::Step::new) checks the rest (finite coordinates, repeated
 /// vertices).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {

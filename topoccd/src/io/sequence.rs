@@ -15,8 +15,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 use super::{read_mesh, write_mesh, IoError, Mesh};
-use crate::math::DVec3;
-use crate::step::{Step, StepError};
+use crate::mesh::{Step, StepError};
 
 /// Why a sequence could not be read.
 #[derive(Debug, Error)]
@@ -175,7 +174,7 @@ pub struct StepIter<'a> {
 }
 
 impl Iterator for StepIter<'_> {
-    type Item = Result<(usize, Step), SequenceError>;
+    type Item = Result<(usize, Step<'static>), SequenceError>;
 
     fn next(&mut self) -> Option<Self::Item> {
         let k = self.next;
@@ -212,7 +211,7 @@ pub fn step_between(
     end: &Mesh,
     end_path: &Path,
     k: usize,
-) -> Result<Step, SequenceError> {
+) -> Result<Step<'static>, SequenceError> {
     let (n0, n1) = (start.positions.len(), end.positions.len());
     let parents_file = parents_path(end_path);
     // (A shrinking vertex count is reported by `step_from_frames`.)
@@ -233,7 +232,7 @@ pub fn step_from_frames(
     parents: &[(u32, u32)],
     end_path: &Path,
     k: usize,
-) -> Result<Step, SequenceError> {
+) -> Result<Step<'static>, SequenceError> {
     let (n0, n1) = (start.positions.len(), end.positions.len());
     if n1 < n0 {
         return Err(SequenceError::Shrinks {
@@ -242,20 +241,9 @@ pub fn step_from_frames(
             previous: n0,
         });
     }
-    let mut x0: Vec<DVec3> = Vec::with_capacity(n1);
-    x0.extend_from_slice(&start.positions);
-    x0.extend_from_slice(&end.positions[n0..]);
-    for &(new, parent) in parents {
-        if let (Some(slot), Some(&p)) = (
-            x0.get_mut(new as usize),
-            start.positions.get(parent as usize),
-        ) {
-            if new as usize >= n0 {
-                *slot = p;
-            }
-        }
-    }
-    Step::new(x0, end.positions.clone(), end.triangles.clone()).map_err(|source| {
+    let points = |m: &Mesh| m.positions.iter().map(|p| p.to_array()).collect::<Vec<_>>();
+    let rows: Vec<[u32; 2]> = parents.iter().map(|&(new, parent)| [new, parent]).collect();
+    Step::with_parents(points(start), points(end), end.triangles.clone(), &rows).map_err(|source| {
         SequenceError::Step {
             step: k,
             path: end_path.to_path_buf(),
