@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use topoccd::io::{read_mesh, scene_frames};
+use topoccd::math::DVec3;
 use topoccd::scene::SceneKind;
 use topoccd::step::{Ccd, Method, QueryOptions, Step};
 
@@ -17,7 +18,10 @@ fn real_step(name: &str) -> Option<Step> {
         .join(name);
     let frames = scene_frames(&dir).ok()?;
     let (m0, m1) = (read_mesh(&frames.t0).ok()?, read_mesh(&frames.t1).ok()?);
-    Step::new(m0.positions, m1.positions, m1.triangles).ok()
+    let vectors = |positions: &[[f64; 3]]| -> Vec<DVec3> {
+        positions.iter().map(|&p| DVec3::from_array(p)).collect()
+    };
+    Step::new(vectors(&m0.positions), vectors(&m1.positions), m1.triangles).ok()
 }
 
 fn methods() -> Vec<Method> {

@@ -17,6 +17,7 @@ use topoccd::cluster::{cluster, ClusterOptions};
 
 use crate::cmd_step::GrowthArg;
 use topoccd::io::{frame_number, read_mesh, sequence::step_between};
+use topoccd::math::DVec3;
 use topoccd::step::{Step, Topology};
 
 use crate::render::camera::{UpAxis, View};
@@ -172,7 +173,11 @@ pub fn run(args: &Args) -> Result<ExitCode> {
             step_between(&start, &end, next_path, k)?
         }
         None => {
-            let positions = start.positions;
+            let positions: Vec<DVec3> = start
+                .positions
+                .iter()
+                .map(|&p| DVec3::from_array(p))
+                .collect();
             Step::new(positions.clone(), positions, start.triangles)
                 .map_err(|e| anyhow!("{}: {e}", args.frame.display()))?
         }

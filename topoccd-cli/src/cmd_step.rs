@@ -11,6 +11,7 @@ use topoccd::io::{
     available_memory, read_mesh, read_ply_header, MemoryEstimate, MeshFormat, PlyCounts,
 };
 use topoccd::kdop::DopKind;
+use topoccd::math::DVec3;
 use topoccd::narrow::NarrowOptions;
 use topoccd::step::{Ccd, ClusterGrowth, Method, Mode, QueryOptions, Report, Step};
 
@@ -403,7 +404,10 @@ pub fn read_step_within(t0: &Path, t1: &Path, limit: MemoryLimit) -> Result<Step
         ));
     }
     limit.check(m1.positions.len(), m1.triangles.len(), t0, t1)?;
-    Step::new(m0.positions, m1.positions, m1.triangles)
+    let vectors = |positions: &[[f64; 3]]| -> Vec<DVec3> {
+        positions.iter().map(|&p| DVec3::from_array(p)).collect()
+    };
+    Step::new(vectors(&m0.positions), vectors(&m1.positions), m1.triangles)
         .with_context(|| format!("step from {} to {}", t0.display(), t1.display()))
 }
 

@@ -326,7 +326,7 @@ fn empty_elements_with_huge_counts_do_not_spin() {
     bytes.extend([1.0f32, 2.0, 3.0].iter().flat_map(|c| c.to_be_bytes()));
     let mesh = read_ply_from(bytes.as_slice(), Path::new("junk.ply")).expect("read");
     assert_eq!(mesh.positions.len(), 1);
-    assert_eq!(mesh.positions[0].z, 3.0);
+    assert_eq!(mesh.positions[0][2], 3.0);
 }
 
 #[test]

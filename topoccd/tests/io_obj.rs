@@ -8,7 +8,6 @@ use std::path::{Path, PathBuf};
 use topoccd::io::{
     read_mesh, read_obj, read_obj_from, read_ply, scene_frames, write_obj, IoError, Location, Mesh,
 };
-use topoccd::math::DVec3;
 
 fn parse(text: &str) -> Result<Mesh, IoError> {
     read_obj_from(text.as_bytes(), Path::new("test.obj"))
@@ -58,12 +57,7 @@ f -4/1 2//1 -1/1/1";
     let mesh = parse(text).expect("parse");
     assert_eq!(
         mesh.positions,
-        vec![
-            DVec3::ZERO,
-            DVec3::new(1.5, -2.0, 3e-3),
-            DVec3::new(0.5, 0.25, -1.0),
-            DVec3::ONE
-        ]
+        vec![[0.0; 3], [1.5, -2.0, 3e-3], [0.5, 0.25, -1.0], [1.0; 3]]
     );
     assert_eq!(
         mesh.triangles,

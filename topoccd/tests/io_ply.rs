@@ -9,7 +9,6 @@ use io_util::{
 use std::path::Path;
 use std::time::Instant;
 use topoccd::io::{read_mesh, read_ply, read_ply_from, scene_frames, write_mesh, write_ply, Mesh};
-use topoccd::math::DVec3;
 
 /// (scene, vertices, triangles, format line, coordinate type) as in the data README and files.
 const SCENES: [(&str, usize, usize, &str, &str); 2] = [
@@ -47,7 +46,7 @@ fn real_frames_have_the_documented_counts_and_encodings() {
                 .iter()
                 .flatten()
                 .all(|&i| (i as usize) < vertices));
-            assert!(mesh.positions.iter().all(|p| p.is_finite()));
+            assert!(mesh.positions.iter().flatten().all(|c| c.is_finite()));
             // The mesh is not degenerate: positions spread out, every vertex used.
             let mut used = vec![false; vertices];
             mesh.triangles
@@ -150,7 +149,7 @@ fn every_encoding_and_type_of_the_real_funnel_reads_the_same() {
                 positions: original
                     .positions
                     .iter()
-                    .map(|p| p.as_vec3().as_dvec3())
+                    .map(|p| p.map(|c| f64::from(c as f32)))
                     .collect(),
                 triangles: original.triangles.clone(),
             }
@@ -184,7 +183,7 @@ fn small_indices_and_extras_in_every_encoding() {
                 let mesh = read_ply(&path).unwrap_or_else(|e| panic!("{spec:?}: {e}"));
                 assert_eq!(mesh.triangles, vec![[0, 1, 2], [3, 2, 1]], "{spec:?}");
                 let expected = if double { 0.3 } else { f64::from(0.3f32) };
-                assert_eq!(mesh.positions[3].z, expected, "{spec:?}");
+                assert_eq!(mesh.positions[3][2], expected, "{spec:?}");
             }
         }
     }
@@ -194,10 +193,7 @@ fn small_indices_and_extras_in_every_encoding() {
 fn a_mesh_without_faces_is_a_point_set() {
     let text = "ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\nproperty double y\nproperty double z\nend_header\n1 2 3\n4 5 6\n";
     let mesh = read_ply_from(text.as_bytes(), Path::new("points.ply")).expect("read");
-    assert_eq!(
-        mesh.positions,
-        vec![DVec3::new(1.0, 2.0, 3.0), DVec3::new(4.0, 5.0, 6.0)]
-    );
+    assert_eq!(mesh.positions, vec![[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]]);
     assert!(mesh.triangles.is_empty());
 }
 
@@ -230,8 +226,8 @@ fn tricky_mesh() -> Mesh {
             x
         }
     };
-    let mut positions: Vec<DVec3> = specials.chunks(3).map(DVec3::from_slice).collect();
-    positions.extend((0..200).map(|_| DVec3::new(next(), next(), next())));
+    let mut positions: Vec<[f64; 3]> = specials.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    positions.extend((0..200).map(|_| [next(), next(), next()]));
     let n = positions.len() as u32;
     let triangles = (0..n)
         .map(|i| [i, (i * 7 + 1) % n, (i * 13 + 5) % n])

@@ -1,7 +1,6 @@
 //! The in-memory triangle mesh of the file formats, and reading or writing one by extension.
 
 use super::{read_obj, read_ply, write_obj, write_ply, IoError};
-use crate::math::DVec3;
 use std::path::Path;
 
 /// A triangle mesh as stored in a file: positions and triangles, in the order of the file.
@@ -10,8 +9,8 @@ use std::path::Path;
 /// vertices).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
-    /// Vertex positions; vertex `i` is `positions[i]`.
-    pub positions: Vec<DVec3>,
+    /// Vertex positions `[x, y, z]`; vertex `i` is `positions[i]`.
+    pub positions: Vec<[f64; 3]>,
     /// Triangles as 0-based vertex indices, in the order of the file (face numbering).
     pub triangles: Vec<[u32; 3]>,
 }
@@ -59,9 +58,8 @@ impl MeshFormat {
 ///
 /// ```
 /// use topoccd::io::{read_mesh, write_mesh, Mesh};
-/// use topoccd::math::DVec3;
 /// let mesh = Mesh {
-///     positions: vec![DVec3::ZERO, DVec3::X, DVec3::new(0.0, 1.0, 0.1)],
+///     positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.1]],
 ///     triangles: vec![[0, 1, 2]],
 /// };
 /// let path = std::env::temp_dir().join(format!("topoccd-doc-read-mesh-{}.ply", std::process::id()));
@@ -83,9 +81,8 @@ pub fn read_mesh(path: &Path) -> Result<Mesh, IoError> {
 ///
 /// ```
 /// use topoccd::io::{read_mesh, write_mesh, Mesh};
-/// use topoccd::math::DVec3;
 /// let mesh = Mesh {
-///     positions: vec![DVec3::ZERO, DVec3::X, DVec3::new(0.1, 0.2, 1.0 / 3.0)],
+///     positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.1, 0.2, 1.0 / 3.0]],
 ///     triangles: vec![[2, 1, 0]],
 /// };
 /// let path = std::env::temp_dir().join(format!("topoccd-doc-write-mesh-{}.obj", std::process::id()));

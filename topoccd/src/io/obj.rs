@@ -2,7 +2,6 @@
 //! coordinates round-trip exactly.
 
 use super::{IoError, Location, Mesh};
-use crate::math::DVec3;
 use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Read, Write};
 use std::path::Path;
@@ -121,9 +120,7 @@ impl ObjParser<'_> {
                 "a vertex needs x y z [w] or x y z r g b, found {count} numbers"
             )));
         }
-        self.mesh
-            .positions
-            .push(DVec3::new(values[0], values[1], values[2]));
+        self.mesh.positions.push([values[0], values[1], values[2]]);
         Ok(())
     }
 
@@ -215,9 +212,8 @@ impl ObjParser<'_> {
 ///
 /// ```
 /// use topoccd::io::{read_obj, write_obj, Mesh};
-/// use topoccd::math::DVec3;
 /// let mesh = Mesh {
-///     positions: vec![DVec3::ZERO, DVec3::new(1e-300, -0.0, 2.5), DVec3::splat(0.1)],
+///     positions: vec![[0.0; 3], [1e-300, -0.0, 2.5], [0.1; 3]],
 ///     triangles: vec![[0, 1, 2]],
 /// };
 /// let path = std::env::temp_dir().join(format!("topoccd-doc-write-obj-{}.obj", std::process::id()));
@@ -237,8 +233,10 @@ pub fn write_obj(path: &Path, mesh: &Mesh) -> Result<(), IoError> {
 /// ```
 /// use std::path::Path;
 /// use topoccd::io::{write_obj_to, Mesh};
-/// use topoccd::math::DVec3;
-/// let mesh = Mesh { positions: vec![DVec3::X, DVec3::Y, DVec3::Z], triangles: vec![[0, 1, 2]] };
+/// let mesh = Mesh {
+///     positions: vec![[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+///     triangles: vec![[0, 1, 2]],
+/// };
 /// let mut bytes = Vec::new();
 /// write_obj_to(&mut bytes, &mesh, Path::new("memory.obj"))?;
 /// let text = String::from_utf8(bytes).unwrap();
@@ -257,7 +255,7 @@ pub fn write_obj_to(output: impl Write, mesh: &Mesh, name: &Path) -> Result<(), 
     .map_err(write_error)?;
     for p in &mesh.positions {
         // `{:?}` prints the shortest decimal that parses back to the same f64.
-        writeln!(out, "v {:?} {:?} {:?}", p.x, p.y, p.z).map_err(write_error)?;
+        writeln!(out, "v {:?} {:?} {:?}", p[0], p[1], p[2]).map_err(write_error)?;
     }
     for &[a, b, c] in &mesh.triangles {
         let one_based = |i: u32| u64::from(i) + 1;

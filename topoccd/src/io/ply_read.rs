@@ -4,7 +4,6 @@
 
 use super::ply_elements::{PlyFace, PlyVertex, Skip, INDEX_LISTS};
 use super::{IoError, Location, Mesh};
-use crate::math::DVec3;
 use ply_rs_bw::parser::{ParseError, Parser, Reader};
 use ply_rs_bw::ply::{ElementDef, Encoding, Header, PropertyAccess, PropertyType, ScalarType};
 use std::fs::File;
@@ -58,8 +57,10 @@ pub struct PlyCounts {
 ///
 /// ```
 /// use topoccd::io::{read_ply_header, write_ply, Mesh, PlyCounts};
-/// use topoccd::math::DVec3;
-/// let mesh = Mesh { positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y], triangles: vec![[0, 1, 2]] };
+/// let mesh = Mesh {
+///     positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+///     triangles: vec![[0, 1, 2]],
+/// };
 /// let path = std::env::temp_dir().join(format!("topoccd-doc-header-{}.ply", std::process::id()));
 /// write_ply(&path, &mesh)?;
 /// assert_eq!(read_ply_header(&path)?, PlyCounts { vertices: 3, faces: 1 });
@@ -124,7 +125,7 @@ fn read_ply_sized(reader: impl Read, name: &Path, size: Option<u64>) -> Result<M
             "vertex" => {
                 positions.reserve(def.count.min(MAX_PREALLOCATED));
                 elements.read(&mut input, def, |_, v: PlyVertex| {
-                    positions.push(DVec3::from_array(v.0));
+                    positions.push(v.0);
                     Ok(())
                 })?;
             }

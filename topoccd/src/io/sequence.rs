@@ -243,24 +243,27 @@ pub fn step_from_frames(
         });
     }
     let mut x0: Vec<DVec3> = Vec::with_capacity(n1);
-    x0.extend_from_slice(&start.positions);
-    x0.extend_from_slice(&end.positions[n0..]);
+    x0.extend(start.positions.iter().map(|&p| DVec3::from_array(p)));
+    x0.extend(end.positions[n0..].iter().map(|&p| DVec3::from_array(p)));
     for &(new, parent) in parents {
         if let (Some(slot), Some(&p)) = (
             x0.get_mut(new as usize),
             start.positions.get(parent as usize),
         ) {
             if new as usize >= n0 {
-                *slot = p;
+                *slot = DVec3::from_array(p);
             }
         }
     }
-    Step::new(x0, end.positions.clone(), end.triangles.clone()).map_err(|source| {
-        SequenceError::Step {
-            step: k,
-            path: end_path.to_path_buf(),
-            source,
-        }
+    let x1 = end
+        .positions
+        .iter()
+        .map(|&p| DVec3::from_array(p))
+        .collect();
+    Step::new(x0, x1, end.triangles.clone()).map_err(|source| SequenceError::Step {
+        step: k,
+        path: end_path.to_path_buf(),
+        source,
     })
 }
 
