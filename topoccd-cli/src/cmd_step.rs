@@ -372,7 +372,7 @@ pub fn read_step(t0: &Path, t1: &Path) -> Result<Step> {
 fn header_counts(path: &Path) -> Result<Option<PlyCounts>> {
     match MeshFormat::of_path(path)? {
         MeshFormat::Ply => Ok(Some(read_ply_header(path)?)),
-        MeshFormat::Obj => Ok(None),
+        MeshFormat::Obj | MeshFormat::Stl => Ok(None),
     }
 }
 

@@ -8,7 +8,9 @@ use io_util::{
 };
 use std::path::Path;
 use std::time::Instant;
-use topoccd::io::{read_mesh, read_ply, read_ply_from, scene_frames, write_mesh, write_ply, Mesh};
+use topoccd::io::{
+    read_mesh, read_ply, read_ply_from, scene_frames, write_mesh, write_ply, IoError, Mesh,
+};
 
 /// (scene, vertices, triangles, format line, coordinate type) as in the data README and files.
 const SCENES: [(&str, usize, usize, &str, &str); 2] = [
@@ -152,6 +154,7 @@ fn every_encoding_and_type_of_the_real_funnel_reads_the_same() {
                     .map(|p| p.map(|c| f64::from(c as f32)))
                     .collect(),
                 triangles: original.triangles.clone(),
+                ..Mesh::default()
             }
         };
         assert!(same_bits(&mesh, &expected), "{spec:?}");
@@ -190,11 +193,34 @@ fn small_indices_and_extras_in_every_encoding() {
 }
 
 #[test]
-fn a_mesh_without_faces_is_a_point_set() {
+fn a_file_without_a_face_element_is_refused_unless_empty() {
+    // Issue 12: a point cloud silently read as a mesh with 0 triangles (and no contact).
     let text = "ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\nproperty double y\nproperty double z\nend_header\n1 2 3\n4 5 6\n";
-    let mesh = read_ply_from(text.as_bytes(), Path::new("points.ply")).expect("read");
+    let err = read_ply_from(text.as_bytes(), Path::new("points.ply")).expect_err("no faces");
+    assert!(
+        matches!(&err, IoError::NoFaces { vertices: 2, .. }),
+        "{err:?}"
+    );
+    let message = err.to_string();
+    assert!(
+        message.starts_with("points.ply: 2 vertices but no triangles"),
+        "{message}"
+    );
+    assert!(
+        message.contains("no 'face' or 'tristrips' element"),
+        "{message}"
+    );
+    // An explicit empty face element is a point set; no vertices at all is an empty mesh.
+    let declared = text.replace(
+        "end_header",
+        "element face 0\nproperty list uchar int vertex_indices\nend_header",
+    );
+    let mesh = read_ply_from(declared.as_bytes(), Path::new("points.ply")).expect("read");
     assert_eq!(mesh.positions, vec![[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]]);
     assert!(mesh.triangles.is_empty());
+    let empty = "ply\nformat ascii 1.0\nelement vertex 0\nproperty double x\nproperty double y\nproperty double z\nend_header\n";
+    let mesh = read_ply_from(empty.as_bytes(), Path::new("empty.ply")).expect("empty");
+    assert_eq!(mesh, Mesh::default());
 }
 
 /// Positions that stress the round trip: signed zeros, subnormals, extremes, non-finite values.
@@ -232,10 +258,7 @@ fn tricky_mesh() -> Mesh {
     let triangles = (0..n)
         .map(|i| [i, (i * 7 + 1) % n, (i * 13 + 5) % n])
         .collect();
-    Mesh {
-        positions,
-        triangles,
-    }
+    Mesh::new(positions, triangles)
 }
 
 #[test]

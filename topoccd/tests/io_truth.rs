@@ -218,6 +218,7 @@ fn fake_scene(
     let mesh = Mesh {
         positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0; 3]],
         triangles: vec![[0, 1, 2], [2, 1, 3]],
+        ..Mesh::default()
     };
     std::fs::create_dir_all(tmp.path("frames")).expect("mkdir");
     for name in frame_names {

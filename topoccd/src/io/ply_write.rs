@@ -11,10 +11,10 @@ use std::path::Path;
 ///
 /// ```
 /// use topoccd::io::{read_ply, write_ply, Mesh};
-/// let mesh = Mesh {
-///     positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 0.1, -0.3]],
-///     triangles: vec![[0, 2, 1]],
-/// };
+/// let mesh = Mesh::new(
+///     vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 0.1, -0.3]],
+///     vec![[0, 2, 1]],
+/// );
 /// let path = std::env::temp_dir().join(format!("topoccd-doc-write-ply-{}.ply", std::process::id()));
 /// write_ply(&path, &mesh)?;
 /// assert_eq!(read_ply(&path)?, mesh);
@@ -33,7 +33,7 @@ pub fn write_ply(path: &Path, mesh: &Mesh) -> Result<(), IoError> {
 /// ```
 /// use std::path::Path;
 /// use topoccd::io::{read_ply_from, write_ply_to, Mesh};
-/// let mesh = Mesh { positions: vec![[1.0; 3]; 3], triangles: vec![[0, 1, 2]] };
+/// let mesh = Mesh::new(vec![[1.0; 3]; 3], vec![[0, 1, 2]]);
 /// let mut bytes = Vec::new();
 /// write_ply_to(&mut bytes, &mesh, Path::new("memory.ply"))?;
 /// assert!(bytes.starts_with(b"ply\nformat binary_little_endian 1.0\n"));
