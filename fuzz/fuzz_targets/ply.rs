@@ -26,11 +26,7 @@ fn scratch() -> &'static PathBuf {
 
 fn same(a: &Mesh, b: &Mesh) -> bool {
     let bits = |m: &Mesh| -> Vec<u64> {
-        m.positions
-            .iter()
-            .flat_map(|p| p.to_array())
-            .map(f64::to_bits)
-            .collect()
+        m.positions.iter().flatten().map(|c| c.to_bits()).collect()
     };
     a.triangles == b.triangles && bits(a) == bits(b)
 }

@@ -79,7 +79,14 @@ fn cloth_funnel_candidates(c: &mut Criterion) {
         eprintln!("SKIPPED: cloth-funnel frames unreadable");
         return;
     };
-    let (x0, x1, tris) = (&m0.positions, &m1.positions, &m0.triangles);
+    let vectors = |positions: &[[f64; 3]]| -> Vec<DVec3> {
+        positions.iter().map(|&p| DVec3::from_array(p)).collect()
+    };
+    let (x0, x1, tris) = (
+        vectors(&m0.positions),
+        vectors(&m1.positions),
+        &m0.triangles,
+    );
     let vf: Vec<VertexFace> = truth
         .vf_all
         .iter()

@@ -6,10 +6,11 @@ use std::path::PathBuf;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use topoccd::io::{read_mesh, scene_frames};
-use topoccd::scene::SceneKind;
-use topoccd::step::{Ccd, Method, QueryOptions, Step};
+use topoccd::math::DVec3;
+use topoccd_scenes::SceneKind;
+use topoccd::{Ccd, Method, QueryOptions, Step};
 
-fn real_step(name: &str) -> Option<Step> {
+fn real_step(name: &str) -> Option<Step<'static>> {
     let dir = std::env::var_os("TOPOCCD_DATA")
         .map(PathBuf::from)
         .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data"))
@@ -17,7 +18,10 @@ fn real_step(name: &str) -> Option<Step> {
         .join(name);
     let frames = scene_frames(&dir).ok()?;
     let (m0, m1) = (read_mesh(&frames.t0).ok()?, read_mesh(&frames.t1).ok()?);
-    Step::new(m0.positions, m1.positions, m1.triangles).ok()
+    let vectors = |positions: &[[f64; 3]]| -> Vec<DVec3> {
+        positions.iter().map(|&p| DVec3::from_array(p)).collect()
+    };
+    Step::new(vectors(&m0.positions), vectors(&m1.positions), m1.triangles).ok()
 }
 
 fn methods() -> Vec<Method> {
@@ -37,7 +41,7 @@ fn real_steps(c: &mut Criterion) {
         for method in methods() {
             group.bench_function(method.to_string(), |b| {
                 b.iter(|| {
-                    ccd.query(black_box(&step), method, &options)
+                    ccd.query(black_box(&step), method, &options).unwrap()
                         .contact_count()
                 })
             });
@@ -56,7 +60,7 @@ fn generated(c: &mut Criterion) {
         for method in methods() {
             group.bench_function(format!("{}/{method}", kind.name()), |b| {
                 b.iter(|| {
-                    ccd.query(black_box(&step), method, &options)
+                    ccd.query(black_box(&step), method, &options).unwrap()
                         .contact_count()
                 })
             });

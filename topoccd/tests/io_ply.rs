@@ -8,8 +8,9 @@ use io_util::{
 };
 use std::path::Path;
 use std::time::Instant;
-use topoccd::io::{read_mesh, read_ply, read_ply_from, scene_frames, write_mesh, write_ply, Mesh};
-use topoccd::math::DVec3;
+use topoccd::io::{
+    read_mesh, read_ply, read_ply_from, scene_frames, write_mesh, write_ply, IoError, Mesh,
+};
 
 /// (scene, vertices, triangles, format line, coordinate type) as in the data README and files.
 const SCENES: [(&str, usize, usize, &str, &str); 2] = [
@@ -47,7 +48,7 @@ fn real_frames_have_the_documented_counts_and_encodings() {
                 .iter()
                 .flatten()
                 .all(|&i| (i as usize) < vertices));
-            assert!(mesh.positions.iter().all(|p| p.is_finite()));
+            assert!(mesh.positions.iter().flatten().all(|c| c.is_finite()));
             // The mesh is not degenerate: positions spread out, every vertex used.
             let mut used = vec![false; vertices];
             mesh.triangles
@@ -150,9 +151,10 @@ fn every_encoding_and_type_of_the_real_funnel_reads_the_same() {
                 positions: original
                     .positions
                     .iter()
-                    .map(|p| p.as_vec3().as_dvec3())
+                    .map(|p| p.map(|c| f64::from(c as f32)))
                     .collect(),
                 triangles: original.triangles.clone(),
+                ..Mesh::default()
             }
         };
         assert!(same_bits(&mesh, &expected), "{spec:?}");
@@ -184,21 +186,41 @@ fn small_indices_and_extras_in_every_encoding() {
                 let mesh = read_ply(&path).unwrap_or_else(|e| panic!("{spec:?}: {e}"));
                 assert_eq!(mesh.triangles, vec![[0, 1, 2], [3, 2, 1]], "{spec:?}");
                 let expected = if double { 0.3 } else { f64::from(0.3f32) };
-                assert_eq!(mesh.positions[3].z, expected, "{spec:?}");
+                assert_eq!(mesh.positions[3][2], expected, "{spec:?}");
             }
         }
     }
 }
 
 #[test]
-fn a_mesh_without_faces_is_a_point_set() {
+fn a_file_without_a_face_element_is_refused_unless_empty() {
+    // Issue 12: a point cloud silently read as a mesh with 0 triangles (and no contact).
     let text = "ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\nproperty double y\nproperty double z\nend_header\n1 2 3\n4 5 6\n";
-    let mesh = read_ply_from(text.as_bytes(), Path::new("points.ply")).expect("read");
-    assert_eq!(
-        mesh.positions,
-        vec![DVec3::new(1.0, 2.0, 3.0), DVec3::new(4.0, 5.0, 6.0)]
+    let err = read_ply_from(text.as_bytes(), Path::new("points.ply")).expect_err("no faces");
+    assert!(
+        matches!(&err, IoError::NoFaces { vertices: 2, .. }),
+        "{err:?}"
     );
+    let message = err.to_string();
+    assert!(
+        message.starts_with("points.ply: 2 vertices but no triangles"),
+        "{message}"
+    );
+    assert!(
+        message.contains("no 'face' or 'tristrips' element"),
+        "{message}"
+    );
+    // An explicit empty face element is a point set; no vertices at all is an empty mesh.
+    let declared = text.replace(
+        "end_header",
+        "element face 0\nproperty list uchar int vertex_indices\nend_header",
+    );
+    let mesh = read_ply_from(declared.as_bytes(), Path::new("points.ply")).expect("read");
+    assert_eq!(mesh.positions, vec![[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]]);
     assert!(mesh.triangles.is_empty());
+    let empty = "ply\nformat ascii 1.0\nelement vertex 0\nproperty double x\nproperty double y\nproperty double z\nend_header\n";
+    let mesh = read_ply_from(empty.as_bytes(), Path::new("empty.ply")).expect("empty");
+    assert_eq!(mesh, Mesh::default());
 }
 
 /// Positions that stress the round trip: signed zeros, subnormals, extremes, non-finite values.
@@ -230,16 +252,13 @@ fn tricky_mesh() -> Mesh {
             x
         }
     };
-    let mut positions: Vec<DVec3> = specials.chunks(3).map(DVec3::from_slice).collect();
-    positions.extend((0..200).map(|_| DVec3::new(next(), next(), next())));
+    let mut positions: Vec<[f64; 3]> = specials.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    positions.extend((0..200).map(|_| [next(), next(), next()]));
     let n = positions.len() as u32;
     let triangles = (0..n)
         .map(|i| [i, (i * 7 + 1) % n, (i * 13 + 5) % n])
         .collect();
-    Mesh {
-        positions,
-        triangles,
-    }
+    Mesh::new(positions, triangles)
 }
 
 #[test]

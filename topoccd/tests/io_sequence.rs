@@ -5,7 +5,6 @@ use std::path::PathBuf;
 
 use topoccd::io::sequence::{write_frame, Sequence, SequenceError};
 use topoccd::io::{write_mesh, IoError, Mesh};
-use topoccd::math::DVec3;
 
 fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("topoccd-seq-{name}-{}", std::process::id()));
@@ -16,19 +15,16 @@ fn temp_dir(name: &str) -> PathBuf {
 
 fn tri(z: f64) -> Mesh {
     Mesh {
-        positions: vec![
-            DVec3::new(0.0, 0.0, z),
-            DVec3::new(1.0, 0.0, z),
-            DVec3::new(0.0, 1.0, z),
-        ],
+        positions: vec![[0.0, 0.0, z], [1.0, 0.0, z], [0.0, 1.0, z]],
         triangles: vec![[0, 1, 2]],
+        ..Mesh::default()
     }
 }
 
 /// Frame 1 splits vertex 2 of frame 0: vertex 3 is new, its parent is 2.
 fn split() -> Mesh {
     let mut m = tri(1.0);
-    m.positions.push(DVec3::new(0.0, 2.0, 1.0));
+    m.positions.push([0.0, 2.0, 1.0]);
     m.triangles = vec![[0, 1, 3]];
     m
 }

@@ -143,7 +143,10 @@ fn touching_pairs_are_geometrically_close() {
             read_ply(&frames.t0).expect("t0"),
             read_ply(&frames.t1).expect("t1"),
         );
-        let (x0, x1) = (&m0.positions, &m1.positions);
+        let vectors = |positions: &[[f64; 3]]| -> Vec<DVec3> {
+            positions.iter().map(|&p| DVec3::from_array(p)).collect()
+        };
+        let (x0, x1) = (&vectors(&m0.positions), &vectors(&m1.positions));
         for &(v, f) in &truth.vf {
             let face = m0.triangles[f as usize];
             assert!(
@@ -213,8 +216,9 @@ fn fake_scene(
     ee_bool: &str,
 ) {
     let mesh = Mesh {
-        positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::ONE],
+        positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0; 3]],
         triangles: vec![[0, 1, 2], [2, 1, 3]],
+        ..Mesh::default()
     };
     std::fs::create_dir_all(tmp.path("frames")).expect("mkdir");
     for name in frame_names {

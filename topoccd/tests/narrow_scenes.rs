@@ -28,13 +28,18 @@ struct Loaded {
     truth: SceneTruth,
 }
 
+/// Positions as vectors.
+fn vectors(positions: &[[f64; 3]]) -> Vec<DVec3> {
+    positions.iter().map(|&p| DVec3::from_array(p)).collect()
+}
+
 fn load(dir: &std::path::Path) -> Loaded {
     let frames = scene_frames(dir).expect("frames");
     let m0 = read_mesh(&frames.t0).expect("t0");
     let m1 = read_mesh(&frames.t1).expect("t1");
     Loaded {
-        x0: m0.positions,
-        x1: m1.positions,
+        x0: vectors(&m0.positions),
+        x1: vectors(&m1.positions),
         tris: m0.triangles,
         truth: read_scene_truth(dir).expect("truth"),
     }

@@ -46,15 +46,20 @@ fn options(scene: PaperScene, frames: usize, seed: u64) -> GenOptions {
     }
 }
 
+/// Positions as vectors.
+fn vectors(positions: &[[f64; 3]]) -> Vec<DVec3> {
+    positions.iter().map(|&p| DVec3::from_array(p)).collect()
+}
+
 /// The step from frame `k` to `k + 1` as a reader builds it (new vertices at their parents).
 fn step_of(frames: &[GeneratedFrame], k: usize) -> Step<'static> {
     let (a, b) = (&frames[k], &frames[k + 1]);
-    let mut x0 = a.mesh.positions.clone();
-    x0.extend_from_slice(&b.mesh.positions[a.mesh.positions.len()..]);
+    let mut x0 = vectors(&a.mesh.positions);
+    x0.extend(vectors(&b.mesh.positions[a.mesh.positions.len()..]));
     for &(new, parent) in &b.parents {
-        x0[new as usize] = a.mesh.positions[parent as usize];
+        x0[new as usize] = DVec3::from_array(a.mesh.positions[parent as usize]);
     }
-    Step::new(x0, b.mesh.positions.clone(), b.mesh.triangles.clone()).expect("valid step")
+    Step::new(x0, vectors(&b.mesh.positions), b.mesh.triangles.clone()).expect("valid step")
 }
 
 #[test]
@@ -141,8 +146,8 @@ fn scenes_collide_every_step_from_a_clean_start_and_read_back() {
         let mut ccd = Ccd::new();
         let first = &kept[0].mesh;
         let still = Step::new(
-            first.positions.clone(),
-            first.positions.clone(),
+            vectors(&first.positions),
+            vectors(&first.positions),
             first.triangles.clone(),
         )
         .expect("valid frame");
@@ -250,7 +255,7 @@ fn penetration_does_not_deepen_after_the_response() {
                         alive = false;
                         break;
                     }
-                    let x = &later.mesh.positions;
+                    let x = &vectors(&later.mesh.positions);
                     if let Some((d, _)) = plane_distance(x, face, x[v]) {
                         worst = worst.max(-d * d0.signum());
                     }

@@ -442,7 +442,13 @@ fn read_real_step(dir: &Path) -> Step<'static> {
     let m0 = read_mesh(&frames.t0).expect("t0");
     let m1 = read_mesh(&frames.t1).expect("t1");
     assert_eq!(m0.triangles, m1.triangles, "the frames' faces differ");
-    Step::new(m0.positions, m1.positions, m0.triangles).expect("valid step")
+    let vectors = |positions: &[[f64; 3]]| -> Vec<topoccd::math::DVec3> {
+        positions
+            .iter()
+            .map(|&p| topoccd::math::DVec3::from_array(p))
+            .collect()
+    };
+    Step::new(vectors(&m0.positions), vectors(&m1.positions), m0.triangles).expect("valid step")
 }
 
 /// Every ground-truth touching pair is in the report.

@@ -242,7 +242,7 @@ pub(super) fn run<E>(
     );
     if let Some((t0, x)) = start {
         bag.t0 = t0;
-        world.mesh.positions = x;
+        world.mesh.positions = x.iter().map(DVec3::to_array).collect();
     }
     debug_assert_eq!(
         world.mesh.positions.len(),

@@ -117,7 +117,7 @@ impl Script for Crash {
         let v = self.speed(k);
         let tau = std::f64::consts::TAU;
         for (i, o) in out.iter_mut().enumerate() {
-            let x = world.mesh.positions[i];
+            let x = DVec3::from_array(world.mesh.positions[i]);
             let rest = world.rest[i];
             let mut d = DVec3::new(v, 0.0, 0.0);
             let s = ((x.x - (WALL_X - CRUMPLE)) / CRUMPLE).clamp(0.0, 1.0);
@@ -181,7 +181,7 @@ pub(super) fn run<E>(
         40,
     );
     if let Some((_, x)) = start {
-        world.mesh.positions = x;
+        world.mesh.positions = x.iter().map(DVec3::to_array).collect();
     }
     let mut script = Crash {
         phase: rng.random_range(0.0..std::f64::consts::TAU),

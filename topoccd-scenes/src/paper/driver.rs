@@ -126,7 +126,12 @@ pub(crate) fn run<E>(
         world.propose(&soft, &mut x1);
         drop(soft);
         let step = make_step(
-            world.mesh.positions.clone(),
+            world
+                .mesh
+                .positions
+                .iter()
+                .map(|&p| DVec3::from_array(p))
+                .collect(),
             x1.clone(),
             world.mesh.triangles.clone(),
         );
@@ -135,7 +140,8 @@ pub(crate) fn run<E>(
             .all(|&(n, p)| n as usize >= previous && (p as usize) < previous));
         let report = checked(ccd.query(&step, Method::Bvh, &options));
         summary.contacts.push(report.contact_count());
-        std::mem::swap(&mut world.mesh.positions, &mut x1);
+        world.mesh.positions.clear();
+        world.mesh.positions.extend(x1.iter().map(|p| p.to_array()));
         world.advance_centres();
         let found = hits(world, &step, &report);
         summary.collisions.push(found.len());

@@ -308,7 +308,7 @@ pub(super) fn run_bunny_dragon<E>(
         40,
     );
     if let Some((_, x)) = start {
-        world.mesh.positions = x;
+        world.mesh.positions = x.iter().map(DVec3::to_array).collect();
     }
     let bunny_ids: Vec<u32> = (offset as u32..world.vertex_count() as u32).collect();
     let mut motion = world.rigid_for(&bunny_ids, bunny.triangles.len(), velocity, DVec3::ZERO);

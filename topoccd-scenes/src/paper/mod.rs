@@ -66,7 +66,7 @@ use std::fmt;
 use topoccd::io::Mesh;
 
 /// The six paper scenes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 pub enum PaperScene {
     /// A vascular blob under large deformation (33K triangles).
     Nidus,
@@ -181,6 +181,7 @@ impl GenOptions {
 
 /// What a generation produced.
 #[derive(Clone, Debug, PartialEq)]
+#[derive(serde::Serialize)]
 pub struct GenSummary {
     /// The scene.
     pub scene: PaperScene,

@@ -249,7 +249,7 @@ pub(super) fn run<E>(
     );
     if let Some((t0, x)) = start {
         nidus.t0 = t0;
-        world.mesh.positions = x;
+        world.mesh.positions = x.iter().map(DVec3::to_array).collect();
     }
     if cut {
         let normal = unit(&mut rng);

@@ -233,7 +233,7 @@ pub(crate) fn respond(world: &mut World, hits: &[Hit]) -> Vec<Break> {
                 fragments.dedup();
                 if !fragments.is_empty() {
                     broken[k] = true;
-                    let velocity = world.velocity_at(impactor, world.mesh.positions[at as usize]);
+                    let velocity = world.velocity_at(impactor, world.x(at));
                     breaks.extend(fragments.into_iter().map(|fragment| Break {
                         fragment,
                         velocity,

@@ -85,7 +85,7 @@ impl World {
         self.pieces.push(Piece { motion, breakable });
         let offset = self.mesh.positions.len() as u32;
         for (i, &p) in part.positions.iter().enumerate() {
-            self.mesh.positions.push(p);
+            self.mesh.positions.push(p.to_array());
             self.rest.push(p);
             self.origin.push(offset + i as u32);
             self.piece.push(id);
@@ -101,6 +101,11 @@ impl World {
             self.mesh.triangles.push(t);
         }
         id
+    }
+
+    /// The position of vertex `v` as a vector.
+    pub fn x(&self, v: u32) -> DVec3 {
+        DVec3::from_array(self.mesh.positions[v as usize])
     }
 
     /// Number of vertices.
@@ -246,14 +251,10 @@ impl World {
         spin: DVec3,
     ) -> Motion {
         let n = vertices.len().max(1) as f64;
-        let centre = vertices
-            .iter()
-            .map(|&v| self.mesh.positions[v as usize])
-            .sum::<DVec3>()
-            / n;
+        let centre = vertices.iter().map(|&v| self.x(v)).sum::<DVec3>() / n;
         let r2 = vertices
             .iter()
-            .map(|&v| (self.mesh.positions[v as usize] - centre).length_squared())
+            .map(|&v| (self.x(v) - centre).length_squared())
             .sum::<f64>()
             / n;
         let mass = triangles.max(1) as f64;
@@ -318,6 +319,7 @@ impl World {
             .collect();
         out.clear();
         out.extend(self.mesh.positions.iter().enumerate().map(|(v, &x)| {
+            let x = DVec3::from_array(x);
             let p = self.piece[v] as usize;
             match (&self.pieces[p].motion, turns[p]) {
                 (_, Some((c, vel, q))) => c + vel + q * (x - c),

@@ -60,7 +60,7 @@ pub enum IoError {
         source: std::io::Error,
     },
     /// The file name does not end in a known mesh extension.
-    #[error("{path}: unknown mesh format (expected the extension .ply or .obj)")]
+    #[error("{path}: unknown mesh format (expected the extension .ply, .obj or .stl)")]
     UnknownFormat {
         /// The file.
         path: PathBuf,
@@ -128,9 +128,11 @@ pub enum IoError {
         /// What is wrong.
         message: String,
     },
-    /// A face does not have exactly three vertices. Faces are not triangulated, so that the
-    /// face numbering stays that of the file.
-    #[error("{path}: {location} has {vertices} vertices, but only triangles are supported")]
+    /// A face has fewer than three vertices (larger polygons are split into triangles).
+    #[error(
+        "{path}: {location} has {vertices} vertices, but only triangles and polygons (3 or more \
+         vertices) are supported"
+    )]
     NotTriangle {
         /// The file.
         path: PathBuf,
@@ -138,6 +140,35 @@ pub enum IoError {
         location: Location,
         /// How many vertices it has.
         vertices: usize,
+    },
+    /// A PLY file has vertices but no element that carries triangles (`face` or `tristrips`):
+    /// a point cloud, or faces under another name. Refused rather than read as a mesh without
+    /// triangles, which would find no contact and look like a clean answer.
+    #[error(
+        "{path}: {vertices} vertices but no triangles: the file has no 'face' or 'tristrips' \
+         element (its elements: {}); topoccd needs a triangle mesh",
+        elements.join(", ")
+    )]
+    NoFaces {
+        /// The file.
+        path: PathBuf,
+        /// The vertex count.
+        vertices: usize,
+        /// The elements the header declares.
+        elements: Vec<String>,
+    },
+    /// An STL file is malformed: a syntax error in ASCII, or a binary file shorter than its
+    /// triangle count says.
+    #[error("{path}: triangle {triangle}{}: {message}", line_suffix(*line))]
+    Stl {
+        /// The file.
+        path: PathBuf,
+        /// The triangle (facet) where reading stopped, counted from 0.
+        triangle: usize,
+        /// The line (ASCII), 1-based.
+        line: Option<usize>,
+        /// What is wrong.
+        message: String,
     },
     /// A face refers to a vertex that does not exist. `index` is the value as written in the
     /// file: 0-based in PLY; in OBJ 1-based, or negative (relative to the vertices before it).

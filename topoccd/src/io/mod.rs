@@ -1,8 +1,13 @@
-//! File formats: PLY and OBJ meshes, the query CSV files, the ground truth of the shared data.
+//! File formats: PLY, OBJ and STL meshes, the query CSV files, the ground truth of the shared
+//! data.
 //!
-//! - [`read_mesh`] / [`write_mesh`] choose PLY or OBJ by the file extension; [`read_ply`],
-//!   [`read_obj`], [`write_ply`], [`write_obj`] name the format, and the `*_from` / `*_to`
-//!   variants work on any reader or writer.
+//! - [`read_mesh`] / [`write_mesh`] choose PLY, OBJ (or STL, read only) by the file extension;
+//!   [`read_ply`], [`read_obj`], [`read_stl`], [`write_ply`], [`write_obj`] name the format, and
+//!   the `*_from` / `*_to` variants work on any reader or writer. Polygons and triangle strips
+//!   are split into triangles ([`triangulate_polygon`]), with a map back to the file's faces
+//!   ([`Mesh::face_origin`]) and notes on what was done ([`Mesh::notes`]).
+//! - [`coincident_vertices`] finds duplicate vertices at one position (seams, poles), which
+//!   touch at t=0; [`weld`] merges them.
 //! - [`queries`] reads the narrow-phase query files (exact rationals and ground truth).
 //! - [`sequence`] reads and writes frame sequences (`0000.ply`, `0001.ply`, ... and `.parents`).
 //! - [`scene_frames`] and [`read_scene_truth`] read the whole-step scenes of the shared data.
@@ -12,25 +17,32 @@
 //!   element (binary PLY) where reading stopped.
 
 mod error;
+mod faces;
 mod limits;
 mod mesh;
 mod obj;
 mod ply_elements;
 mod ply_read;
 mod ply_write;
+mod polygon;
 pub mod queries;
 mod scene;
 pub mod sequence;
+mod stl;
+mod weld;
 
 pub use error::{IoError, Location};
 pub use limits::{
     available_memory, Bytes, MemoryEstimate, TooLarge, BASE_BYTES, BYTES_PER_TRIANGLE,
     BYTES_PER_VERTEX,
 };
-pub use mesh::{read_mesh, write_mesh, Mesh, MeshFormat};
+pub use mesh::{read_mesh, write_mesh, FaceOrigin, Mesh, MeshFormat, MeshNote};
 pub use obj::{read_obj, read_obj_from, write_obj, write_obj_to};
 pub use ply_read::{read_ply, read_ply_from, read_ply_header, PlyCounts};
 pub use ply_write::{write_ply, write_ply_to};
+pub use polygon::{triangulate_polygon, PolygonSplit};
 pub use scene::{
     frame_number, libigl_edges, read_scene_truth, scene_frames, EdgePair, SceneFrames, SceneTruth,
 };
+pub use stl::{read_stl, read_stl_from};
+pub use weld::{apply_weld, coincident_vertices, weld};

@@ -1,14 +1,18 @@
-//! Wavefront OBJ meshes: a small hand parser (only `v` and `f` carry data) and a writer whose
-//! coordinates round-trip exactly.
+//! Wavefront OBJ meshes: a small hand parser (only `v` and `f` carry data; polygons are split
+//! into triangles) and a writer whose coordinates round-trip exactly.
 
-use super::{IoError, Location, Mesh};
-use crate::math::DVec3;
+use super::faces::FaceList;
+use super::{IoError, Location, Mesh, MeshNote};
 use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Read, Write};
 use std::path::Path;
 
 /// Statements that are recognised and skipped.
 const IGNORED: [&str; 8] = ["vn", "vt", "vp", "o", "g", "s", "usemtl", "mtllib"];
+
+/// Statements that carry geometry other than faces (polylines, points): skipped, counted and
+/// reported in [`Mesh::notes`].
+const COUNTED: [&str; 2] = ["l", "p"];
 
 /// Reads an OBJ mesh from a file. See [`read_obj_from`] for what is accepted.
 ///
@@ -25,22 +29,31 @@ pub fn read_obj(path: &Path) -> Result<Mesh, IoError> {
 /// Reads an OBJ mesh from any reader; `name` is the file name used in error messages.
 ///
 /// Data statements: `v x y z` (optionally followed by `w`, or by a colour `r g b`) and
-/// `f a b c`, each corner written `a`, `a/t`, `a//n` or `a/t/n`, with 1-based indices or
+/// `f a b c ...`, each corner written `a`, `a/t`, `a//n` or `a/t/n`, with 1-based indices or
 /// negative ones (relative to the vertices defined so far). Texture and normal indices are
-/// checked for syntax only. `vn`, `vt`, `vp`, `o`, `g`, `s`, `usemtl`, `mtllib`, comments
-/// (`#` to the end of the line) and blank lines are skipped; any other statement is an error,
-/// as is a face without exactly three corners (faces are not triangulated, so that the face
-/// numbering stays that of the file). Errors name the line, counted from 1.
+/// checked for syntax only. A face of more than three corners is split into triangles (a fan
+/// if it is convex, ear clipping otherwise: see
+/// [`triangulate_polygon`](super::triangulate_polygon)), and [`Mesh::face_origin`] maps each
+/// triangle back to its `f` statement (counted from 0). `l` (polylines) and `p` (points) are
+/// skipped and counted in [`Mesh::notes`]; `vn`, `vt`, `vp`, `o`, `g`, `s`, `usemtl`, `mtllib`,
+/// comments (`#` to the end of the line) and blank lines are skipped silently; any other
+/// statement is an error, as is a face of fewer than three corners. Errors name the line,
+/// counted from 1.
 ///
 /// ```
 /// use std::path::Path;
-/// use topoccd::io::{read_obj_from, IoError, Location};
+/// use topoccd::io::{read_obj_from, IoError, Location, MeshNote};
 /// let text = "# a triangle\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/2 -1/3\n";
 /// let mesh = read_obj_from(text.as_bytes(), Path::new("tri.obj"))?;
 /// assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
-/// let err = read_obj_from("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 1\n".as_bytes(), Path::new("quad.obj"))
+/// assert_eq!(mesh.face_origin, None);
+/// let quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nl 1 2\n";
+/// let mesh = read_obj_from(quad.as_bytes(), Path::new("quad.obj"))?;
+/// assert_eq!(mesh.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+/// assert!(matches!(&mesh.notes[1], MeshNote::Skipped { count: 1, first_line: 6, .. }));
+/// let err = read_obj_from("v 0 0 0\nv 1 0 0\nf 1 2\n".as_bytes(), Path::new("edge.obj"))
 ///     .unwrap_err();
-/// assert!(matches!(err, IoError::NotTriangle { location: Location::Line(4), vertices: 4, .. }));
+/// assert!(matches!(err, IoError::NotTriangle { location: Location::Line(3), vertices: 2, .. }));
 /// # Ok::<(), IoError>(())
 /// ```
 pub fn read_obj_from(reader: impl Read, name: &Path) -> Result<Mesh, IoError> {
@@ -49,6 +62,10 @@ pub fn read_obj_from(reader: impl Read, name: &Path) -> Result<Mesh, IoError> {
         name,
         line: 0,
         mesh: Mesh::default(),
+        faces: FaceList::default(),
+        corners: Vec::new(),
+        resolved: Vec::new(),
+        skipped: [(0, 0); COUNTED.len()],
         forward: Vec::new(),
     };
     let mut bytes = Vec::new();
@@ -76,6 +93,12 @@ struct ObjParser<'a> {
     /// The current line, 1-based.
     line: usize,
     mesh: Mesh,
+    faces: FaceList,
+    /// Scratch: the current face's corners as written, then resolved.
+    corners: Vec<i64>,
+    resolved: Vec<u32>,
+    /// Per [`COUNTED`] keyword: how many, and the first line.
+    skipped: [(usize, usize); COUNTED.len()],
     /// Positive indices that pointed past the vertices defined so far, as (line, index as
     /// written); checked against the final vertex count.
     forward: Vec<(usize, i64)>,
@@ -97,8 +120,18 @@ impl ObjParser<'_> {
             Some("v") => self.vertex(tokens),
             Some("f") => self.face(tokens),
             Some(keyword) if IGNORED.contains(&keyword) => Ok(()),
+            Some(keyword) if COUNTED.contains(&keyword) => {
+                let k = COUNTED.iter().position(|&c| c == keyword).unwrap_or(0);
+                let (count, first) = &mut self.skipped[k];
+                *count += 1;
+                if *first == 0 {
+                    *first = self.line;
+                }
+                Ok(())
+            }
             Some(other) => Err(self.syntax(format!(
-                "unsupported statement '{other}' (only v and f are read; {} are skipped)",
+                "unsupported statement '{other}' (only v and f are read; {}, {} are skipped)",
+                COUNTED.join(", "),
                 IGNORED.join(", ")
             ))),
         }
@@ -121,42 +154,36 @@ impl ObjParser<'_> {
                 "a vertex needs x y z [w] or x y z r g b, found {count} numbers"
             )));
         }
-        self.mesh
-            .positions
-            .push(DVec3::new(values[0], values[1], values[2]));
+        self.mesh.positions.push([values[0], values[1], values[2]]);
         Ok(())
     }
 
     fn face<'t>(&mut self, tokens: impl Iterator<Item = &'t str>) -> Result<(), IoError> {
-        let mut corners = [0i64; 3];
-        let mut count = 0;
+        let mut corners = std::mem::take(&mut self.corners);
+        corners.clear();
         for token in tokens {
-            let index = self.corner(token)?;
-            if let Some(slot) = corners.get_mut(count) {
-                *slot = index;
-            }
-            count += 1;
+            corners.push(self.corner(token)?);
         }
-        if count != 3 {
+        if corners.len() < 3 {
             return Err(IoError::NotTriangle {
                 path: self.name.to_path_buf(),
                 location: Location::Line(self.line),
-                vertices: count,
+                vertices: corners.len(),
             });
         }
         let defined = self.mesh.positions.len();
-        let mut triangle = [0u32; 3];
-        for (slot, &index) in triangle.iter_mut().zip(&corners) {
+        self.resolved.clear();
+        for &index in &corners {
             let resolved = match index {
                 i if i > 0 => i - 1,
                 i => defined as i64 + i, // negative: relative; 0 stays invalid below
             };
             let fits = u32::try_from(resolved).ok().filter(|_| index != 0);
             match fits {
-                Some(r) if index < 0 || (r as usize) < defined => *slot = r,
+                Some(r) if index < 0 || (r as usize) < defined => self.resolved.push(r),
                 Some(r) if index > 0 => {
                     self.forward.push((self.line, index));
-                    *slot = r;
+                    self.resolved.push(r);
                 }
                 _ => {
                     return Err(IoError::IndexOutOfRange {
@@ -168,7 +195,8 @@ impl ObjParser<'_> {
                 }
             }
         }
-        self.mesh.triangles.push(triangle);
+        self.corners = corners;
+        self.faces.polygon(&self.resolved);
         Ok(())
     }
 
@@ -193,9 +221,11 @@ impl ObjParser<'_> {
         Ok(index)
     }
 
-    /// Checks the forward references against the final vertex count.
+    /// Checks the forward references against the final vertex count, splits the polygons and
+    /// notes what was skipped.
     fn finish(self) -> Result<Mesh, IoError> {
-        let vertices = self.mesh.positions.len();
+        let mut mesh = self.mesh;
+        let vertices = mesh.positions.len();
         if let Some(&(line, index)) = self.forward.iter().find(|(_, i)| *i as usize > vertices) {
             return Err(IoError::IndexOutOfRange {
                 path: self.name.to_path_buf(),
@@ -204,7 +234,19 @@ impl ObjParser<'_> {
                 vertices,
             });
         }
-        Ok(self.mesh)
+        let (triangles, origin) = self.faces.finish(&mesh.positions, &mut mesh.notes);
+        mesh.triangles = triangles;
+        mesh.face_origin = origin;
+        for (keyword, &(count, first_line)) in COUNTED.iter().zip(&self.skipped) {
+            if count > 0 {
+                mesh.notes.push(MeshNote::Skipped {
+                    keyword: (*keyword).to_owned(),
+                    count,
+                    first_line,
+                });
+            }
+        }
+        Ok(mesh)
     }
 }
 
@@ -215,11 +257,10 @@ impl ObjParser<'_> {
 ///
 /// ```
 /// use topoccd::io::{read_obj, write_obj, Mesh};
-/// use topoccd::math::DVec3;
-/// let mesh = Mesh {
-///     positions: vec![DVec3::ZERO, DVec3::new(1e-300, -0.0, 2.5), DVec3::splat(0.1)],
-///     triangles: vec![[0, 1, 2]],
-/// };
+/// let mesh = Mesh::new(
+///     vec![[0.0; 3], [1e-300, -0.0, 2.5], [0.1; 3]],
+///     vec![[0, 1, 2]],
+/// );
 /// let path = std::env::temp_dir().join(format!("topoccd-doc-write-obj-{}.obj", std::process::id()));
 /// write_obj(&path, &mesh)?;
 /// assert_eq!(read_obj(&path)?, mesh);
@@ -237,8 +278,10 @@ pub fn write_obj(path: &Path, mesh: &Mesh) -> Result<(), IoError> {
 /// ```
 /// use std::path::Path;
 /// use topoccd::io::{write_obj_to, Mesh};
-/// use topoccd::math::DVec3;
-/// let mesh = Mesh { positions: vec![DVec3::X, DVec3::Y, DVec3::Z], triangles: vec![[0, 1, 2]] };
+/// let mesh = Mesh::new(
+///     vec![[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+///     vec![[0, 1, 2]],
+/// );
 /// let mut bytes = Vec::new();
 /// write_obj_to(&mut bytes, &mesh, Path::new("memory.obj"))?;
 /// let text = String::from_utf8(bytes).unwrap();
@@ -257,7 +300,7 @@ pub fn write_obj_to(output: impl Write, mesh: &Mesh, name: &Path) -> Result<(), 
     .map_err(write_error)?;
     for p in &mesh.positions {
         // `{:?}` prints the shortest decimal that parses back to the same f64.
-        writeln!(out, "v {:?} {:?} {:?}", p.x, p.y, p.z).map_err(write_error)?;
+        writeln!(out, "v {:?} {:?} {:?}", p[0], p[1], p[2]).map_err(write_error)?;
     }
     for &[a, b, c] in &mesh.triangles {
         let one_based = |i: u32| u64::from(i) + 1;

@@ -1,6 +1,7 @@
-//! The elements of a PLY mesh as `ply-rs-bw` fills them: a vertex's coordinates, a face's
-//! index list, and a sink for elements we skip.
+//! The elements of a PLY mesh as `ply-rs-bw` fills them: a vertex's coordinates, a face's or a
+//! triangle strip's index list, and a sink for elements we skip.
 
+use super::faces::RESTART;
 use super::{IoError, Location};
 use ply_rs_bw::ply::{PropertyAccess, PropertyAccessResult};
 use std::path::Path;
@@ -37,11 +38,14 @@ impl PropertyAccess for PlyVertex {
     }
 }
 
-/// The index list of one `face` element: its length and its first three entries.
+/// The index list of one `face` or `tristrips` element.
 #[derive(Default)]
 pub(super) struct PlyFace {
     len: usize,
+    /// The first three entries, so that a triangle needs no allocation of its own.
     first: [i64; 3],
+    /// All entries when there are more than three.
+    all: Vec<i64>,
 }
 
 impl PlyFace {
@@ -53,37 +57,77 @@ impl PlyFace {
         for (slot, &value) in self.first.iter_mut().zip(list) {
             *slot = value.into();
         }
+        if list.len() > 3 {
+            self.all = list.iter().map(|&v| v.into()).collect();
+        }
         PropertyAccessResult::Set
     }
 
-    /// The face as a triangle of valid vertex indices.
-    pub(super) fn triangle(
+    fn entries(&self) -> &[i64] {
+        if self.len > 3 {
+            &self.all
+        } else {
+            &self.first[..self.len]
+        }
+    }
+
+    /// The face's corners (at least three), checked against the vertex count, into `out`.
+    pub(super) fn corners(
         &self,
         location: &dyn Fn() -> Location,
         vertices: usize,
         name: &Path,
-    ) -> Result<[u32; 3], IoError> {
-        if self.len != 3 {
+        out: &mut Vec<u32>,
+    ) -> Result<(), IoError> {
+        if self.len < 3 {
             return Err(IoError::NotTriangle {
                 path: name.to_path_buf(),
                 location: location(),
                 vertices: self.len,
             });
         }
-        let mut triangle = [0u32; 3];
-        for (slot, &index) in triangle.iter_mut().zip(&self.first) {
-            *slot = u32::try_from(index)
-                .ok()
-                .filter(|&i| (i as usize) < vertices)
-                .ok_or_else(|| IoError::IndexOutOfRange {
-                    path: name.to_path_buf(),
-                    location: location(),
-                    index,
-                    vertices,
-                })?;
+        out.clear();
+        for &index in self.entries() {
+            out.push(check_index(index, location, vertices, name)?);
         }
-        Ok(triangle)
+        Ok(())
     }
+
+    /// The strip's ids checked against the vertex count, a negative id (-1, or the largest
+    /// value of an unsigned list) becoming [`RESTART`], into `out`.
+    pub(super) fn strip(
+        &self,
+        location: &dyn Fn() -> Location,
+        vertices: usize,
+        name: &Path,
+        out: &mut Vec<u32>,
+    ) -> Result<(), IoError> {
+        out.clear();
+        for &index in self.entries() {
+            out.push(match index {
+                -1 | 0xFFFF_FFFF => RESTART,
+                _ => check_index(index, location, vertices, name)?,
+            });
+        }
+        Ok(())
+    }
+}
+
+fn check_index(
+    index: i64,
+    location: &dyn Fn() -> Location,
+    vertices: usize,
+    name: &Path,
+) -> Result<u32, IoError> {
+    u32::try_from(index)
+        .ok()
+        .filter(|&i| (i as usize) < vertices)
+        .ok_or_else(|| IoError::IndexOutOfRange {
+            path: name.to_path_buf(),
+            location: location(),
+            index,
+            vertices,
+        })
 }
 
 impl PropertyAccess for PlyFace {

@@ -1,10 +1,11 @@
 //! Reading PLY meshes through `ply-rs-bw`: ASCII and binary (either byte order), `float` or
-//! `double` coordinates, face index lists of any integer types. The parser's errors are wrapped
+//! `double` coordinates, face index lists of any integer types (polygons split into triangles),
+//! triangle strips. The parser's errors are wrapped
 //! so that they name the file and the element.
 
+use super::faces::FaceList;
 use super::ply_elements::{PlyFace, PlyVertex, Skip, INDEX_LISTS};
 use super::{IoError, Location, Mesh};
-use crate::math::DVec3;
 use ply_rs_bw::parser::{ParseError, Parser, Reader};
 use ply_rs_bw::ply::{ElementDef, Encoding, Header, PropertyAccess, PropertyType, ScalarType};
 use std::fs::File;
@@ -58,8 +59,10 @@ pub struct PlyCounts {
 ///
 /// ```
 /// use topoccd::io::{read_ply_header, write_ply, Mesh, PlyCounts};
-/// use topoccd::math::DVec3;
-/// let mesh = Mesh { positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y], triangles: vec![[0, 1, 2]] };
+/// let mesh = Mesh::new(
+///     vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+///     vec![[0, 1, 2]],
+/// );
 /// let path = std::env::temp_dir().join(format!("topoccd-doc-header-{}.ply", std::process::id()));
 /// write_ply(&path, &mesh)?;
 /// assert_eq!(read_ply_header(&path)?, PlyCounts { vertices: 3, faces: 1 });
@@ -79,11 +82,21 @@ pub fn read_ply_header(path: &Path) -> Result<PlyCounts, IoError> {
 /// Reads a PLY mesh from any reader; `name` is the file name used in error messages.
 ///
 /// Accepts ASCII and binary little- or big-endian files. The `vertex` element must have `x`,
-/// `y`, `z` of type `float` or `double`; the optional `face` element must have an integer list
-/// named `vertex_indices` or `vertex_index`, of exactly three indices per face (faces are not
-/// triangulated, so that the face numbering stays that of the file). Other elements and
-/// properties (normals, colours, ...) are ignored. Never panics; errors name the element where
-/// reading stopped, counted from 0 as in the file ("face 3 of 12").
+/// `y`, `z` of type `float` or `double`. Triangles come from a `face` element, a `tristrips`
+/// element, or both, each with an integer list named `vertex_indices` or `vertex_index`:
+/// - a face of more than three indices is split into triangles (a fan if it is convex, ear
+///   clipping otherwise: see [`triangulate_polygon`](super::triangulate_polygon)); a face of
+///   fewer than three is an error;
+/// - a strip record `a b c d ...` gives the triangles `(a, b, c)`, `(c, b, d)`, ..., with `-1`
+///   restarting the strip; triangles with a repeated vertex (stitches) are dropped.
+///
+/// When anything was split, [`Mesh::face_origin`] maps each triangle to its record (the records
+/// of `face` and `tristrips` counted together from 0, in file order) and [`Mesh::notes`] says
+/// what was done. A file with vertices but neither a `face` nor a `tristrips` element (a point
+/// cloud) is refused ([`IoError::NoFaces`]): it has nothing to collide; an explicit
+/// `element face 0` is read as a mesh without triangles. Other elements and properties
+/// (normals, colours, ...) are ignored. Never panics; errors name the element where reading
+/// stopped, counted from 0 as in the file ("face 3 of 12").
 ///
 /// ```
 /// use std::path::Path;
@@ -118,20 +131,28 @@ fn read_ply_sized(reader: impl Read, name: &Path, size: Option<u64>) -> Result<M
         text: String::new(),
     };
     let mut positions = Vec::new();
-    let mut triangles = Vec::new();
+    let mut faces = FaceList::default();
+    let mut ids = Vec::new();
     for def in header.elements.values().take(needed_elements(&header)) {
         match def.name.as_str() {
             "vertex" => {
                 positions.reserve(def.count.min(MAX_PREALLOCATED));
                 elements.read(&mut input, def, |_, v: PlyVertex| {
-                    positions.push(DVec3::from_array(v.0));
+                    positions.push(v.0);
                     Ok(())
                 })?;
             }
             "face" => {
-                triangles.reserve(def.count.min(MAX_PREALLOCATED));
                 elements.read(&mut input, def, |location, f: PlyFace| {
-                    triangles.push(f.triangle(location, vertex_count, name)?);
+                    f.corners(location, vertex_count, name, &mut ids)?;
+                    faces.polygon(&ids);
+                    Ok(())
+                })?;
+            }
+            "tristrips" => {
+                elements.read(&mut input, def, |location, f: PlyFace| {
+                    f.strip(location, vertex_count, name, &mut ids)?;
+                    faces.strip(&ids);
                     Ok(())
                 })?;
             }
@@ -139,9 +160,13 @@ fn read_ply_sized(reader: impl Read, name: &Path, size: Option<u64>) -> Result<M
         }
     }
     debug_assert_eq!(positions.len(), vertex_count);
+    let mut notes = Vec::new();
+    let (triangles, face_origin) = faces.finish(&positions, &mut notes);
     Ok(Mesh {
         positions,
         triangles,
+        face_origin,
+        notes,
     })
 }
 
@@ -168,13 +193,16 @@ fn read_checked_header(
     Ok((header, vertex_count, header_reader.line()))
 }
 
-/// How many elements of the header (in order) are read: up to the last `vertex` or `face`;
-/// whatever follows is not looked at.
+/// The elements that carry triangles.
+const FACE_ELEMENTS: [&str; 2] = ["face", "tristrips"];
+
+/// How many elements of the header (in order) are read: up to the last `vertex`, `face` or
+/// `tristrips`; whatever follows is not looked at.
 fn needed_elements(header: &Header) -> usize {
     header
         .elements
         .values()
-        .rposition(|def| def.name == "vertex" || def.name == "face")
+        .rposition(|def| def.name == "vertex" || FACE_ELEMENTS.contains(&def.name.as_str()))
         .map_or(0, |last| last + 1)
 }
 
@@ -315,7 +343,10 @@ fn check_layout(header: &Header, name: &Path) -> Result<usize, IoError> {
             None => return Err(layout_error(format!("vertex property '{axis}' is missing"))),
         }
     }
-    if let Some(face) = header.elements.get("face") {
+    for element in FACE_ELEMENTS {
+        let Some(face) = header.elements.get(element) else {
+            continue;
+        };
         let lists: Vec<_> = face
             .properties
             .values()
@@ -324,26 +355,36 @@ fn check_layout(header: &Header, name: &Path) -> Result<usize, IoError> {
         match lists.as_slice() {
             [] if face.count == 0 => {}
             [] => {
-                return Err(layout_error(
-                    "the 'face' element has no 'vertex_indices' or 'vertex_index' list".into(),
-                ))
+                return Err(layout_error(format!(
+                    "the '{element}' element has no 'vertex_indices' or 'vertex_index' list"
+                )))
             }
             [list] => {
                 if !matches!(&list.data_type, PropertyType::List(count, index)
                     if is_integer(count) && is_integer(index))
                 {
                     return Err(layout_error(format!(
-                        "face property '{}' has type {:?}; expected a list of integers",
+                        "{element} property '{}' has type {:?}; expected a list of integers",
                         list.name, list.data_type
                     )));
                 }
             }
             _ => {
-                return Err(layout_error(
-                    "the 'face' element has both 'vertex_indices' and 'vertex_index'".into(),
-                ))
+                return Err(layout_error(format!(
+                    "the '{element}' element has both 'vertex_indices' and 'vertex_index'"
+                )))
             }
         }
+    }
+    let has_faces = FACE_ELEMENTS
+        .iter()
+        .any(|e| header.elements.contains_key(*e));
+    if vertex.count > 0 && !has_faces {
+        return Err(IoError::NoFaces {
+            path: name.to_path_buf(),
+            vertices: vertex.count,
+            elements: header.elements.keys().cloned().collect(),
+        });
     }
     Ok(vertex.count)
 }

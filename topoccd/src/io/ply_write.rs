@@ -11,11 +11,10 @@ use std::path::Path;
 ///
 /// ```
 /// use topoccd::io::{read_ply, write_ply, Mesh};
-/// use topoccd::math::DVec3;
-/// let mesh = Mesh {
-///     positions: vec![DVec3::ZERO, DVec3::X, DVec3::new(0.0, 0.1, -0.3)],
-///     triangles: vec![[0, 2, 1]],
-/// };
+/// let mesh = Mesh::new(
+///     vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 0.1, -0.3]],
+///     vec![[0, 2, 1]],
+/// );
 /// let path = std::env::temp_dir().join(format!("topoccd-doc-write-ply-{}.ply", std::process::id()));
 /// write_ply(&path, &mesh)?;
 /// assert_eq!(read_ply(&path)?, mesh);
@@ -34,8 +33,7 @@ pub fn write_ply(path: &Path, mesh: &Mesh) -> Result<(), IoError> {
 /// ```
 /// use std::path::Path;
 /// use topoccd::io::{read_ply_from, write_ply_to, Mesh};
-/// use topoccd::math::DVec3;
-/// let mesh = Mesh { positions: vec![DVec3::ONE; 3], triangles: vec![[0, 1, 2]] };
+/// let mesh = Mesh::new(vec![[1.0; 3]; 3], vec![[0, 1, 2]]);
 /// let mut bytes = Vec::new();
 /// write_ply_to(&mut bytes, &mesh, Path::new("memory.ply"))?;
 /// assert!(bytes.starts_with(b"ply\nformat binary_little_endian 1.0\n"));
@@ -63,7 +61,7 @@ pub fn write_ply_to(output: impl Write, mesh: &Mesh, name: &Path) -> Result<(), 
     out.write_all(header.as_bytes()).map_err(write_error)?;
     for p in &mesh.positions {
         let mut record = [0u8; 24];
-        for (chunk, c) in record.chunks_exact_mut(8).zip(p.to_array()) {
+        for (chunk, c) in record.chunks_exact_mut(8).zip(p) {
             chunk.copy_from_slice(&c.to_le_bytes());
         }
         out.write_all(&record).map_err(write_error)?;

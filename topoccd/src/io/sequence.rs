@@ -241,14 +241,17 @@ pub fn step_from_frames(
             previous: n0,
         });
     }
-    let points = |m: &Mesh| m.positions.iter().map(|p| p.to_array()).collect::<Vec<_>>();
     let rows: Vec<[u32; 2]> = parents.iter().map(|&(new, parent)| [new, parent]).collect();
-    Step::with_parents(points(start), points(end), end.triangles.clone(), &rows).map_err(|source| {
-        SequenceError::Step {
-            step: k,
-            path: end_path.to_path_buf(),
-            source,
-        }
+    Step::with_parents(
+        start.positions.clone(),
+        end.positions.clone(),
+        end.triangles.clone(),
+        &rows,
+    )
+    .map_err(|source| SequenceError::Step {
+        step: k,
+        path: end_path.to_path_buf(),
+        source,
     })
 }
 

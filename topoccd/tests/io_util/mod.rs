@@ -174,7 +174,7 @@ pub fn encode_ply_faces(positions: &[[f64; 3]], faces: &[Vec<i64>], spec: &PlySp
 
 /// Encodes a mesh (see [`encode_ply_faces`]).
 pub fn encode_ply(mesh: &Mesh, spec: &PlySpec) -> Vec<u8> {
-    let positions: Vec<[f64; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
+    let positions: Vec<[f64; 3]> = mesh.positions.clone();
     let faces: Vec<Vec<i64>> = mesh
         .triangles
         .iter()
@@ -234,12 +234,10 @@ impl Writer<'_> {
 pub fn same_bits(a: &Mesh, b: &Mesh) -> bool {
     a.triangles == b.triangles
         && a.positions.len() == b.positions.len()
-        && a.positions.iter().zip(&b.positions).all(|(p, q)| {
-            p.to_array()
-                .iter()
-                .zip(q.to_array())
-                .all(|(x, y)| x.to_bits() == y.to_bits())
-        })
+        && a.positions
+            .iter()
+            .zip(&b.positions)
+            .all(|(p, q)| p.iter().zip(q).all(|(x, y)| x.to_bits() == y.to_bits()))
 }
 
 /// The header of a PLY file as text (up to and including `end_header`).
