@@ -7,8 +7,8 @@ use std::path::PathBuf;
 use criterion::{criterion_group, criterion_main, Criterion};
 use topoccd::io::{read_mesh, scene_frames};
 use topoccd::math::DVec3;
-use topoccd_scenes::SceneKind;
 use topoccd::{Ccd, Method, QueryOptions, Step};
+use topoccd_scenes::SceneKind;
 
 fn real_step(name: &str) -> Option<Step<'static>> {
     let dir = std::env::var_os("TOPOCCD_DATA")
@@ -41,7 +41,8 @@ fn real_steps(c: &mut Criterion) {
         for method in methods() {
             group.bench_function(method.to_string(), |b| {
                 b.iter(|| {
-                    ccd.query(black_box(&step), method, &options).unwrap()
+                    ccd.query(black_box(&step), method, &options)
+                        .unwrap()
                         .contact_count()
                 })
             });
@@ -60,7 +61,8 @@ fn generated(c: &mut Criterion) {
         for method in methods() {
             group.bench_function(format!("{}/{method}", kind.name()), |b| {
                 b.iter(|| {
-                    ccd.query(black_box(&step), method, &options).unwrap()
+                    ccd.query(black_box(&step), method, &options)
+                        .unwrap()
                         .contact_count()
                 })
             });

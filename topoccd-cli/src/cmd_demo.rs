@@ -6,8 +6,8 @@ use std::path::Path;
 
 use anyhow::Result;
 use topoccd::io::sequence::step_from_frames;
-use topoccd_scenes::paper::{generate, GenOptions, PaperScene};
 use topoccd::Ccd;
+use topoccd_scenes::paper::{generate, GenOptions, PaperScene};
 
 use crate::cmd_bench::{bench_source, print_text, Source};
 use crate::cmd_run::progress;

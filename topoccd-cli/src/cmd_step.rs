@@ -202,7 +202,8 @@ impl<'r> StepOut<'r> {
         let what = if self.mode == "earliest" {
             format!(
                 "earliest toi {}, reached by {} vf and {} ee pairs",
-                self.earliest_toi.map_or("none".to_string(), |t| t.to_string()),
+                self.earliest_toi
+                    .map_or("none".to_string(), |t| t.to_string()),
                 self.vf,
                 self.ee
             )
@@ -211,15 +212,15 @@ impl<'r> StepOut<'r> {
                 "{} vf and {} ee contacts, earliest toi {}",
                 self.vf,
                 self.ee,
-                self.earliest_toi.map_or("none".to_string(), |t| t.to_string())
+                self.earliest_toi
+                    .map_or("none".to_string(), |t| t.to_string())
             )
         };
         let earliest = match self.earliest {
             Some(Contact::Vf(c)) => format!(" (vertex {} - face {})", c.vertex, c.face),
-            Some(Contact::Ee(c)) => format!(
-                " (edge {}-{} - edge {}-{})",
-                c.a[0], c.a[1], c.b[0], c.b[1]
-            ),
+            Some(Contact::Ee(c)) => {
+                format!(" (edge {}-{} - edge {}-{})", c.a[0], c.a[1], c.b[0], c.b[1])
+            }
             None => String::new(),
         };
         let unresolved = if self.unresolved > 0 {

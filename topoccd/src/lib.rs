@@ -62,3 +62,8 @@ pub use query::{
     query, Ccd, Certainty, ClusterFigures, ClusterGrowth, Contact, EeContact, EeGeometry, Method,
     Mode, OptionsError, QueryOptions, Report, Seconds, Stats, VfContact, VfGeometry,
 };
+
+/// The README's examples, run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+struct ReadmeDoctests;

@@ -8,11 +8,11 @@ mod mesh_util;
 use mesh_util::{grid, sphere};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use topoccd::narrow::bernstein::{phi, Verdict};
 use topoccd::broad::cluster::{cluster, ClusterOptions, Clustering};
 use topoccd::math::DVec3;
-use topoccd::narrow::{edge_edge, vertex_face, EdgeEdge, NarrowOptions, VertexFace};
 use topoccd::mesh::Topology;
+use topoccd::narrow::bernstein::{phi, Verdict};
+use topoccd::narrow::{edge_edge, vertex_face, EdgeEdge, NarrowOptions, VertexFace};
 use topoccd::Step;
 
 // ---------------------------------------------------------------- brute force

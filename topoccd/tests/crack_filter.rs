@@ -109,7 +109,10 @@ fn check_scene(scene: PaperScene) {
         frames.len() - 1
     );
     if changes > 0 {
-        assert!(removed > 0, "{scene}: cracks opened but nothing was filtered");
+        assert!(
+            removed > 0,
+            "{scene}: cracks opened but nothing was filtered"
+        );
     }
 }
 
@@ -164,6 +167,10 @@ fn a_fresh_cut_alone_is_no_contact() {
         assert_eq!(filtered.contact_count(), 0, "{method}");
         assert_eq!(filtered.earliest_toi(), None, "{method}");
         let unfiltered = topoccd::query(&step, method, &off).unwrap();
-        assert_eq!(unfiltered.earliest_toi(), Some(0.0), "{method}: the cut touches at t=0");
+        assert_eq!(
+            unfiltered.earliest_toi(),
+            Some(0.0),
+            "{method}: the cut touches at t=0"
+        );
     }
 }

@@ -41,7 +41,10 @@ fn earliest_names_alls_earliest_contact_under_an_iteration_limit() {
         options.narrow.max_iterations = max_iterations;
         options.kdop = topoccd::kdop::DopKind::K6;
         let all = ccd.query(&step, Method::Bvh, &options).unwrap();
-        assert_eq!(all.vf, ccd.query(&step, Method::Brute, &options).unwrap().vf);
+        assert_eq!(
+            all.vf,
+            ccd.query(&step, Method::Brute, &options).unwrap().vf
+        );
         assert_eq!(all.earliest_toi(), Some(0.0), "{max_iterations}");
         options.mode = Mode::Earliest;
         for method in [Method::Bvh, Method::Brute] {

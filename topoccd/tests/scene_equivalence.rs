@@ -54,7 +54,9 @@ fn check_scene(scene: PaperScene) {
                     let oracle = pairs(&ccd.query(&step, Method::Brute, &options).unwrap());
                     for method in [Method::Bvh, Method::Cluster] {
                         let got = pairs(&ccd.query(&step, method, &options).unwrap());
-                        let what = format!("{scene} seed {seed} step {k} {method} crack filter {crack_filter}");
+                        let what = format!(
+                            "{scene} seed {seed} step {k} {method} crack filter {crack_filter}"
+                        );
                         assert_eq!(got.0, oracle.0, "{what}: vertex-face");
                         assert_eq!(got.1, oracle.1, "{what}: edge-edge");
                     }

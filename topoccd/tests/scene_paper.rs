@@ -6,10 +6,10 @@ use std::path::PathBuf;
 use topoccd::io::sequence::{write_frame, Sequence};
 use topoccd::io::Mesh;
 use topoccd::math::DVec3;
+use topoccd::{Ccd, Method, QueryOptions, Step};
 use topoccd_scenes::paper::{
     generate, generate_frames, initial_triangles, GenOptions, GeneratedFrame, PaperScene,
 };
-use topoccd::{Ccd, Method, QueryOptions, Step};
 
 /// A fresh directory under the system temp dir, removed on drop.
 struct TempDir(PathBuf);
@@ -151,7 +151,9 @@ fn scenes_collide_every_step_from_a_clean_start_and_read_back() {
             first.triangles.clone(),
         )
         .expect("valid frame");
-        let report = ccd.query(&still, Method::Bvh, &QueryOptions::default()).unwrap();
+        let report = ccd
+            .query(&still, Method::Bvh, &QueryOptions::default())
+            .unwrap();
         assert_eq!(
             report.contact_count(),
             0,
@@ -232,7 +234,9 @@ fn penetration_does_not_deepen_after_the_response() {
         let (mut checked, mut deeper) = (0, 0);
         for k in 0..frames.len() - 3 {
             let step = step_of(&frames, k);
-            let report = ccd.query(&step, Method::Bvh, &QueryOptions::default()).unwrap();
+            let report = ccd
+                .query(&step, Method::Bvh, &QueryOptions::default())
+                .unwrap();
             for c in &report.vf {
                 let face = step.triangles()[c.face as usize];
                 let v = c.vertex as usize;

@@ -83,7 +83,9 @@ fn a_vertex_passing_beside_the_triangle_does_not_collide() {
     let x1: Vec<DVec3> = fixed.iter().chain(&carrier(-1.0)).copied().collect();
     let step = Step::new(x0, x1, vec![[0, 1, 2], [3, 4, 5]]).unwrap();
     for method in methods() {
-        let report = Ccd::new().query(&step, method, &QueryOptions::default()).unwrap();
+        let report = Ccd::new()
+            .query(&step, method, &QueryOptions::default())
+            .unwrap();
         assert_eq!(report.contact_count(), 0, "{method}: {report:?}");
     }
 }
@@ -140,7 +142,9 @@ fn pairs_sharing_a_vertex_are_never_reported() {
     x1[3] = DVec3::new(0.5, 0.4, -0.5);
     let step = Step::new(x0, x1, vec![[0, 1, 2], [1, 0, 3]]).unwrap();
     for method in methods() {
-        let report = Ccd::new().query(&step, method, &QueryOptions::default()).unwrap();
+        let report = Ccd::new()
+            .query(&step, method, &QueryOptions::default())
+            .unwrap();
         let vf: Vec<(u32, u32)> = report.vf.iter().map(|c| (c.vertex, c.face)).collect();
         assert_eq!(vf, vec![(3, 0)], "{method}");
         for c in &report.ee {

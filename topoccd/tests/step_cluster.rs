@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 use topoccd::io::{read_mesh, read_scene_truth, scene_frames};
 use topoccd::kdop::{DopKind, Kdop};
 use topoccd::narrow::{edge_edge, vertex_face, EdgeEdge, NarrowOptions, VertexFace};
-use topoccd_scenes::SceneKind;
 use topoccd::{Ccd, ClusterGrowth, Method, Mode, QueryOptions, Report, Step};
+use topoccd_scenes::SceneKind;
 
 const GROWTHS: [ClusterGrowth; 2] = [ClusterGrowth::Paper, ClusterGrowth::Certificate];
 
@@ -336,7 +336,8 @@ fn adversarial_meshes_match_the_oracle() {
     for (name, step) in &steps {
         check_step(step, 0.0, &[DopKind::K18], false, &mut ccd, name);
         // The clusters must be big somewhere, or nothing was tested.
-        ccd.query(step, Method::Cluster, &QueryOptions::default()).unwrap();
+        ccd.query(step, Method::Cluster, &QueryOptions::default())
+            .unwrap();
         let c = ccd.clustering();
         let biggest = (0..c.intermediates.len())
             .map(|i| c.intermediates[i].triangle_count)
@@ -570,10 +571,16 @@ fn cloth_ball_matches_the_bvh_method_and_the_ground_truth() {
 /// `Mode::Earliest` reports exactly the pairs of `Mode::All` whose time of impact is within the
 /// tolerance of the earliest, with the same times.
 fn assert_earliest_pairs(all: &Report, earliest: &Report, tolerance: f64, what: &str) {
-    let cut = all.earliest_toi().map_or(f64::NEG_INFINITY, |t| t + tolerance);
+    let cut = all
+        .earliest_toi()
+        .map_or(f64::NEG_INFINITY, |t| t + tolerance);
     let vf: Vec<_> = all.vf.iter().filter(|c| c.toi <= cut).copied().collect();
     let ee: Vec<_> = all.ee.iter().filter(|c| c.toi <= cut).copied().collect();
     assert_eq!(earliest.vf, vf, "{what}: the earliest vertex-face pairs");
     assert_eq!(earliest.ee, ee, "{what}: the earliest edge-edge pairs");
-    assert_eq!(earliest.contact_count() > 0, all.earliest.is_some(), "{what}");
+    assert_eq!(
+        earliest.contact_count() > 0,
+        all.earliest.is_some(),
+        "{what}"
+    );
 }

@@ -6,8 +6,8 @@
 use std::collections::HashSet;
 
 use topoccd::kdop::DopKind;
-use topoccd_scenes::SceneKind;
 use topoccd::{Ccd, Contact, Method, Mode, QueryOptions, Report, Step};
+use topoccd_scenes::SceneKind;
 
 /// Sizes small enough for the whole file to run in seconds in release mode.
 fn size(kind: SceneKind) -> usize {
@@ -155,10 +155,16 @@ fn torn_sheets_match_the_oracle() {
 /// `Mode::Earliest` reports exactly the pairs of `Mode::All` whose time of impact is within the
 /// tolerance of the earliest, with the same times.
 fn assert_earliest_pairs(all: &Report, earliest: &Report, tolerance: f64, what: &str) {
-    let cut = all.earliest_toi().map_or(f64::NEG_INFINITY, |t| t + tolerance);
+    let cut = all
+        .earliest_toi()
+        .map_or(f64::NEG_INFINITY, |t| t + tolerance);
     let vf: Vec<_> = all.vf.iter().filter(|c| c.toi <= cut).copied().collect();
     let ee: Vec<_> = all.ee.iter().filter(|c| c.toi <= cut).copied().collect();
     assert_eq!(earliest.vf, vf, "{what}: the earliest vertex-face pairs");
     assert_eq!(earliest.ee, ee, "{what}: the earliest edge-edge pairs");
-    assert_eq!(earliest.contact_count() > 0, all.earliest.is_some(), "{what}");
+    assert_eq!(
+        earliest.contact_count() > 0,
+        all.earliest.is_some(),
+        "{what}"
+    );
 }

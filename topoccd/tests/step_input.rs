@@ -73,7 +73,10 @@ fn empty_and_single_triangle_meshes_have_no_contacts() {
     let empty = Step::new(&none, &none, &[] as &[[u32; 3]]).unwrap();
     let lonely = Step::new(
         three(),
-        three().iter().map(|p| *p + DVec3::Z).collect::<Vec<DVec3>>(),
+        three()
+            .iter()
+            .map(|p| *p + DVec3::Z)
+            .collect::<Vec<DVec3>>(),
         vec![[0, 1, 2]],
     )
     .unwrap();
@@ -99,7 +102,8 @@ fn empty_and_single_triangle_meshes_have_no_contacts() {
         }
     }
     assert_eq!(
-        query(&empty, Method::Bvh, &QueryOptions::default()).unwrap()
+        query(&empty, Method::Bvh, &QueryOptions::default())
+            .unwrap()
             .stats
             .bv_tests,
         0

@@ -1,7 +1,7 @@
 //! The whole-step report does not depend on the number of threads.
 
-use topoccd_scenes::SceneKind;
 use topoccd::{query, Method, Mode, QueryOptions, Report};
+use topoccd_scenes::SceneKind;
 
 fn run_with(threads: usize, f: impl FnOnce() -> Report + Send) -> Report {
     rayon::ThreadPoolBuilder::new()

@@ -4,8 +4,8 @@
 use super::response::{hits, respond, Break, Hit};
 use super::world::World;
 use super::{GenSummary, PaperScene};
-use topoccd::io::Mesh;
 use glam::DVec3;
+use topoccd::io::Mesh;
 use topoccd::{Ccd, Method, Mode, QueryOptions, Report, Step};
 
 /// Where the frames go: `sink(k, mesh, parents)` for frame `k`.

@@ -180,8 +180,7 @@ impl GenOptions {
 }
 
 /// What a generation produced.
-#[derive(Clone, Debug, PartialEq)]
-#[derive(serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct GenSummary {
     /// The scene.
     pub scene: PaperScene,

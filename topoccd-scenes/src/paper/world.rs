@@ -4,8 +4,8 @@
 use glam::DQuat;
 
 use super::shapes::Part;
-use topoccd::io::Mesh;
 use glam::DVec3;
+use topoccd::io::Mesh;
 
 /// How the vertices of a piece move during a step. Velocities are per step (the time unit is
 /// one step), angles in radians per step.
