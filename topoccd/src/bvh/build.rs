@@ -1,6 +1,15 @@
-//! Top-down construction: median split along the longest axis of the leaves' centres.
+//! Top-down construction: median split along the longest axis of the leaves' centres, the two
+//! halves built in parallel (rayon) above a size threshold, into a node layout fixed by the
+//! subtree sizes alone, so the tree is the same for any thread count.
 
 use super::{BoundingVolume, Bvh, BvhWorkspace, Leaf, Node, LEAF};
+
+/// Ranges of at least this many leaves have their two halves built as two rayon tasks. Below
+/// it, a task costs more than it saves. (The output does not depend on it.)
+const PARALLEL_LEAVES: usize = 4096;
+
+/// One leaf to place: its volume's centre and its index in the input.
+pub(super) type Item = ([f64; 3], u32);
 
 impl<V: BoundingVolume> Bvh<V> {
     /// Rebuilds the hierarchy over `leaves`, reusing this tree's node array and the workspace.
@@ -8,7 +17,13 @@ impl<V: BoundingVolume> Bvh<V> {
     /// Top-down: a range of leaves is split at its median along the axis where the leaves'
     /// centres ([`BoundingVolume::center`]) spread most, ties broken by the leaves' positions in
     /// `leaves`, so the tree depends only on the input. The depth is `ceil(log2 n)`, and the
-    /// two children of a node are adjacent in [`Bvh::nodes`] and come after it.
+    /// two children of a node are adjacent in [`Bvh::nodes`] and come after it: an internal
+    /// node over `m` leaves with children at `c, c + 1` has the descendants of its first child
+    /// (`2 m_1 - 2` nodes) at `c + 2..`, then those of its second child.
+    ///
+    /// The two halves of a big range are built as two tasks on the current rayon thread pool
+    /// (on one thread when called from a pool of one); the node array is the same, bit for bit,
+    /// for any number of threads.
     ///
     /// ```
     /// use topoccd::bvh::{Bvh, BvhWorkspace, Leaf};
@@ -28,8 +43,10 @@ impl<V: BoundingVolume> Bvh<V> {
         if leaves.is_empty() {
             return;
         }
-        debug_assert!(leaves.len() < (u32::MAX / 2) as usize);
-        self.nodes.reserve(2 * leaves.len() - 1);
+        assert!(
+            leaves.len() < (u32::MAX / 2) as usize,
+            "too many leaves for u32 node indices"
+        );
         let items = &mut ws.items;
         items.clear();
         items.extend(
@@ -38,59 +55,68 @@ impl<V: BoundingVolume> Bvh<V> {
                 .enumerate()
                 .map(|(i, l)| (l.volume.center().to_array(), i as u32)),
         );
-        let placeholder = leaves[0].volume;
-        self.nodes.push(Node {
-            volume: placeholder,
+        let placeholder = Node {
+            volume: leaves[0].volume,
             a: 0,
-            b: 0,
-        });
-        ws.ranges.clear();
-        ws.ranges.push((0, 0, leaves.len() as u32));
-        while let Some((node, begin, end)) = ws.ranges.pop() {
-            let range = &mut items[begin as usize..end as usize];
-            if range.len() == 1 {
-                let leaf = &leaves[range[0].1 as usize];
-                self.nodes[node as usize] = Node {
-                    volume: leaf.volume,
-                    a: leaf.id,
-                    b: LEAF,
-                };
-                continue;
-            }
-            let axis = longest_axis(range);
-            let mid = range.len() / 2;
-            range.select_nth_unstable_by(mid, |x, y| {
-                x.0[axis].total_cmp(&y.0[axis]).then(x.1.cmp(&y.1))
-            });
-            let first = self.nodes.len() as u32;
-            for _ in 0..2 {
-                self.nodes.push(Node {
-                    volume: placeholder,
-                    a: 0,
-                    b: 0,
-                });
-            }
-            self.nodes[node as usize].a = first;
-            self.nodes[node as usize].b = first + 1;
-            let split = begin + mid as u32;
-            ws.ranges.push((first + 1, split, end));
-            ws.ranges.push((first, begin, split));
-        }
-        // Children come after their parent: fill the volumes from the back.
-        for i in (0..self.nodes.len()).rev() {
-            if let Some([l, r]) = self.nodes[i].children() {
-                debug_assert!(l as usize > i && r as usize > i);
-                let v = self.nodes[l as usize]
-                    .volume
-                    .merge(&self.nodes[r as usize].volume);
-                self.nodes[i].volume = v;
-            }
-        }
+            b: LEAF,
+        };
+        self.nodes.resize(2 * leaves.len() - 1, placeholder);
+        let (root, rest) = self.nodes.split_at_mut(1);
+        root[0] = build(leaves, items, rest, 1);
+    }
+}
+
+/// Builds the subtree over `items` (not empty) and returns its root node; writes its other
+/// `2 m - 2` nodes into `block`, whose first node has index `base` in the whole array.
+fn build<V: BoundingVolume>(
+    leaves: &[Leaf<V>],
+    items: &mut [Item],
+    block: &mut [Node<V>],
+    base: u32,
+) -> Node<V> {
+    debug_assert_eq!(block.len() + 2, 2 * items.len());
+    let len = items.len();
+    if len == 1 {
+        let leaf = &leaves[items[0].1 as usize];
+        return Node {
+            volume: leaf.volume,
+            a: leaf.id,
+            b: LEAF,
+        };
+    }
+    let axis = longest_axis(items);
+    let mid = len / 2;
+    items.select_nth_unstable_by(mid, |x, y| {
+        x.0[axis].total_cmp(&y.0[axis]).then(x.1.cmp(&y.1))
+    });
+    let (first, second) = items.split_at_mut(mid);
+    let (pair, rest) = block.split_at_mut(2);
+    let (block1, block2) = rest.split_at_mut(2 * first.len() - 2);
+    let base1 = base + 2;
+    let base2 = base1 + block1.len() as u32;
+    let (n1, n2) = if len >= PARALLEL_LEAVES {
+        rayon::join(
+            || build(leaves, first, block1, base1),
+            || build(leaves, second, block2, base2),
+        )
+    } else {
+        (
+            build(leaves, first, block1, base1),
+            build(leaves, second, block2, base2),
+        )
+    };
+    let volume = n1.volume.merge(&n2.volume);
+    pair[0] = n1;
+    pair[1] = n2;
+    Node {
+        volume,
+        a: base,
+        b: base + 1,
     }
 }
 
 /// The axis along which the centres spread most.
-fn longest_axis(range: &[([f64; 3], u32)]) -> usize {
+fn longest_axis(range: &[Item]) -> usize {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for (c, _) in range {

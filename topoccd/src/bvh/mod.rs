@@ -43,8 +43,9 @@ pub use validation::BvhError;
 
 use crate::math::DVec3;
 
-/// What the hierarchy needs of a bounding volume.
-pub trait BoundingVolume: Copy {
+/// What the hierarchy needs of a bounding volume. `Send + Sync`, so that the hierarchy can be
+/// built and traversed on several threads.
+pub trait BoundingVolume: Copy + Send + Sync {
     /// The smallest volume (of this type) containing both.
     fn merge(&self, other: &Self) -> Self;
     /// Whether the two volumes may share a point; `false` proves them disjoint.
@@ -108,9 +109,7 @@ impl<V> Default for Bvh<V> {
 #[derive(Clone, Debug, Default)]
 pub struct BvhWorkspace {
     /// Build: the leaves' centres and their indices in the input.
-    items: Vec<([f64; 3], u32)>,
-    /// Build: pending ranges `(node, begin, end)` of `items`.
-    ranges: Vec<(u32, u32, u32)>,
+    items: Vec<build::Item>,
     /// Traversal: pending node pairs.
     pairs: Vec<(u32, u32)>,
 }
