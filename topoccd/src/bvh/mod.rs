@@ -12,6 +12,7 @@
 //! - [`Bvh::par_self_pairs`] and [`Bvh::par_tree_pairs`] do the same on the current rayon
 //!   pool: the traversal is split into tasks in a fixed order, each with an accumulator of the
 //!   caller's, returned in task order, so the output is the same for any thread count.
+//! - [`Bvh::refit`] gives the leaves new volumes in the same tree, in linear time.
 //! - [`Bvh::validate`] checks the tree against its leaves; the tests run it after every build.
 //!
 //! Scratch memory lives in a [`BvhWorkspace`] that a caller keeps across steps, and
@@ -42,6 +43,7 @@
 
 mod build;
 mod parallel;
+mod refit;
 mod traverse;
 mod validation;
 
