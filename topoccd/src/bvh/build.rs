@@ -8,8 +8,27 @@ use super::{BoundingVolume, Bvh, BvhWorkspace, Leaf, Node, LEAF};
 /// it, a task costs more than it saves. (The output does not depend on it.)
 const PARALLEL_LEAVES: usize = 4096;
 
-/// One leaf to place: its volume's centre and its index in the input.
-pub(super) type Item = ([f64; 3], u32);
+/// One leaf to place: its volume's centre, each coordinate as an integer ordered as
+/// `f64::total_cmp` orders the coordinate (see [`key`]), and its index in the input.
+pub(super) type Item = ([u64; 3], u32);
+
+/// The integer whose unsigned order is `f64::total_cmp`'s order of `x`. Comparing these is
+/// cheaper than comparing the floats, and [`unkey`] gives `x` back.
+#[inline]
+fn key(x: f64) -> u64 {
+    let bits = x.to_bits();
+    if bits >> 63 == 1 {
+        !bits
+    } else {
+        bits | (1 << 63)
+    }
+}
+
+/// The inverse of [`key`].
+#[inline]
+fn unkey(k: u64) -> f64 {
+    f64::from_bits(if k >> 63 == 1 { k & !(1 << 63) } else { !k })
+}
 
 impl<V: BoundingVolume> Bvh<V> {
     /// Rebuilds the hierarchy over `leaves`, reusing this tree's node array and the workspace.
@@ -39,8 +58,8 @@ impl<V: BoundingVolume> Bvh<V> {
     /// assert!(bvh.validate(&leaves).is_ok());
     /// ```
     pub fn rebuild(&mut self, leaves: &[Leaf<V>], ws: &mut BvhWorkspace) {
-        self.nodes.clear();
         if leaves.is_empty() {
+            self.nodes.clear();
             return;
         }
         assert!(
@@ -53,13 +72,15 @@ impl<V: BoundingVolume> Bvh<V> {
             leaves
                 .iter()
                 .enumerate()
-                .map(|(i, l)| (l.volume.center().to_array(), i as u32)),
+                .map(|(i, l)| (l.volume.center().to_array().map(key), i as u32)),
         );
         let placeholder = Node {
             volume: leaves[0].volume,
             a: 0,
             b: LEAF,
         };
+        // Every node is written by the build: only grow (or shrink) the array, so that a tree
+        // rebuilt over as many leaves as last time is written once, not twice.
         self.nodes.resize(2 * leaves.len() - 1, placeholder);
         let (root, rest) = self.nodes.split_at_mut(1);
         root[0] = build(leaves, items, rest, 1);
@@ -86,9 +107,7 @@ fn build<V: BoundingVolume>(
     }
     let axis = longest_axis(items);
     let mid = len / 2;
-    items.select_nth_unstable_by(mid, |x, y| {
-        x.0[axis].total_cmp(&y.0[axis]).then(x.1.cmp(&y.1))
-    });
+    items.select_nth_unstable_by(mid, |x, y| (x.0[axis], x.1).cmp(&(y.0[axis], y.1)));
     let (first, second) = items.split_at_mut(mid);
     let (pair, rest) = block.split_at_mut(2);
     let (block1, block2) = rest.split_at_mut(2 * first.len() - 2);
@@ -117,20 +136,52 @@ fn build<V: BoundingVolume>(
 
 /// The axis along which the centres spread most.
 fn longest_axis(range: &[Item]) -> usize {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
+    let mut lo = [u64::MAX; 3];
+    let mut hi = [0u64; 3];
     for (c, _) in range {
         for k in 0..3 {
             lo[k] = lo[k].min(c[k]);
             hi[k] = hi[k].max(c[k]);
         }
     }
-    let ext = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
+    let ext: [f64; 3] = std::array::from_fn(|k| unkey(hi[k]) - unkey(lo[k]));
     if ext[0] >= ext[1] && ext[0] >= ext[2] {
         0
     } else if ext[1] >= ext[2] {
         1
     } else {
         2
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{key, unkey};
+
+    #[test]
+    fn keys_order_as_total_cmp_and_invert() {
+        let xs = [
+            f64::NEG_INFINITY,
+            -1e300,
+            -1.5,
+            -f64::MIN_POSITIVE,
+            -0.0,
+            0.0,
+            5e-324,
+            1.0,
+            2.5,
+            1e300,
+            f64::INFINITY,
+        ];
+        for (i, &x) in xs.iter().enumerate() {
+            assert_eq!(unkey(key(x)).to_bits(), x.to_bits());
+            for &y in &xs[i + 1..] {
+                assert!(key(x) < key(y), "{x} {y}");
+            }
+        }
+        let nan = f64::NAN;
+        assert_eq!(unkey(key(nan)).to_bits(), nan.to_bits());
+        assert_eq!(key(nan).cmp(&key(1.0)), nan.total_cmp(&1.0));
+        assert_eq!(key(-nan).cmp(&key(-1.0)), (-nan).total_cmp(&-1.0));
     }
 }
