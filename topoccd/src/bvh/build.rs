@@ -2,6 +2,8 @@
 //! halves built in parallel (rayon) above a size threshold, into a node layout fixed by the
 //! subtree sizes alone, so the tree is the same for any thread count.
 
+use rayon::prelude::*;
+
 use super::{BoundingVolume, Bvh, BvhWorkspace, Leaf, Node, LEAF};
 
 /// Ranges of at least this many leaves have their two halves built as two rayon tasks. Below
@@ -67,13 +69,17 @@ impl<V: BoundingVolume> Bvh<V> {
             "too many leaves for u32 node indices"
         );
         let items = &mut ws.items;
-        items.clear();
-        items.extend(
+        let item = |(i, l): (usize, &Leaf<V>)| (l.volume.center().to_array().map(key), i as u32);
+        if leaves.len() >= PARALLEL_LEAVES {
             leaves
-                .iter()
+                .par_iter()
                 .enumerate()
-                .map(|(i, l)| (l.volume.center().to_array().map(key), i as u32)),
-        );
+                .map(item)
+                .collect_into_vec(items);
+        } else {
+            items.clear();
+            items.extend(leaves.iter().enumerate().map(item));
+        }
         let placeholder = Node {
             volume: leaves[0].volume,
             a: 0,
