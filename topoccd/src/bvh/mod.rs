@@ -47,7 +47,7 @@ mod refit;
 mod traverse;
 mod validation;
 
-pub use parallel::ParPairs;
+pub use parallel::{ParOptions, ParPairs};
 pub use validation::BvhError;
 
 use crate::math::DVec3;

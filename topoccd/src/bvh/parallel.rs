@@ -7,13 +7,32 @@ use rayon::prelude::*;
 use super::traverse::{run, step, Sink, OTHER};
 use super::{BoundingVolume, Bvh, BvhWorkspace, Node};
 
-/// The traversal is split into at least this many tasks when the trees are big enough (fewer
-/// when it runs out of node pairs to split). A fixed number, not one per thread: the tasks, and
-/// so the results, must not depend on the thread count.
-const TASKS: usize = 512;
+/// How a parallel traversal splits and hands over its work. The tasks depend on these and on
+/// the trees only, never on the thread count, so neither does the output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ParOptions {
+    /// Split the traversal into at least this many tasks, when the trees have that many node
+    /// pairs to split. Default 512: enough for rayon to balance a few threads over tasks of
+    /// very unequal sizes.
+    pub min_tasks: usize,
+    /// Trees with fewer nodes than this (both of them, for two trees) are traversed as one
+    /// task. Default 2048.
+    pub min_nodes: usize,
+    /// Run the tasks this many at a time, and hand over a batch's results before starting the
+    /// next, so that at most one batch of results is alive at once. Default `usize::MAX` (one
+    /// batch). `0` counts as 1.
+    pub batch: usize,
+}
 
-/// Trees with fewer nodes than this (both, for two trees) are traversed as one task.
-const SMALL: usize = 2048;
+impl Default for ParOptions {
+    fn default() -> Self {
+        Self {
+            min_tasks: 512,
+            min_nodes: 2048,
+            batch: usize::MAX,
+        }
+    }
+}
 
 /// The output of a parallel traversal.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -88,14 +107,55 @@ impl<V: BoundingVolume> Bvh<V> {
         make: impl Fn() -> T + Sync + Send,
         leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
     ) -> ParPairs<T> {
+        let mut results = Vec::new();
+        let options = ParOptions::default();
+        let bv_tests = self.par_self_pairs_with(ws, &options, make, leaf_pair, |r| results.push(r));
+        ParPairs { results, bv_tests }
+    }
+
+    /// [`Bvh::par_self_pairs`] with options, handing each task's accumulator to `consume`, in
+    /// task order, batch by batch ([`ParOptions::batch`]): the caller can use (and drop) a
+    /// batch's results before the next batch runs, e.g. to bound the memory of candidate pairs.
+    /// Returns the number of bounding-volume overlap tests.
+    ///
+    /// ```
+    /// use topoccd::bvh::{Bvh, Leaf, ParOptions};
+    /// use topoccd::kdop::Kdop;
+    /// use topoccd::math::DVec3;
+    /// let leaves: Vec<_> = (0..5000)
+    ///     .map(|i| {
+    ///         let mut volume = Kdop::<9>::from_point(DVec3::new(i as f64, 0.0, 0.0));
+    ///         volume.inflate(0.6);
+    ///         Leaf { id: i, volume }
+    ///     })
+    ///     .collect();
+    /// let bvh = Bvh::from_leaves(&leaves);
+    /// let options = ParOptions { batch: 16, ..ParOptions::default() };
+    /// let (mut pairs, mut largest) = (0, 0);
+    /// bvh.par_self_pairs_with(&mut Default::default(), &options, Vec::new, |v, a, b| v.push((a, b)), |v| {
+    ///     pairs += v.len();
+    ///     largest = largest.max(v.len());
+    /// });
+    /// assert_eq!(pairs, 4999);
+    /// assert!(largest < 100);
+    /// ```
+    pub fn par_self_pairs_with<T: Send>(
+        &self,
+        ws: &mut BvhWorkspace,
+        options: &ParOptions,
+        make: impl Fn() -> T + Sync + Send,
+        leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+        consume: impl FnMut(T),
+    ) -> u64 {
         let t = &mut ws.tasks;
         t.entries.clear();
         t.found.clear();
         if self.nodes.len() > 1 {
             t.entries.push((0, 0));
         }
-        let small = self.nodes.len() < SMALL;
-        par_run(&self.nodes, &self.nodes, t, 0, small, make, leaf_pair)
+        let small = self.nodes.len() < options.min_nodes;
+        let nodes = &self.nodes[..];
+        par_run(nodes, nodes, t, 0, small, options, make, leaf_pair, consume)
     }
 
     /// [`Bvh::tree_pairs`] on the current rayon thread pool, with per-task accumulators
@@ -123,15 +183,32 @@ impl<V: BoundingVolume> Bvh<V> {
         make: impl Fn() -> T + Sync + Send,
         leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
     ) -> ParPairs<T> {
+        let mut results = Vec::new();
+        let options = ParOptions::default();
+        let bv_tests =
+            self.par_tree_pairs_with(other, ws, &options, make, leaf_pair, |r| results.push(r));
+        ParPairs { results, bv_tests }
+    }
+
+    /// [`Bvh::par_tree_pairs`] with options, handing each task's accumulator to `consume` in
+    /// task order, batch by batch, as [`Bvh::par_self_pairs_with`]. Returns the number of
+    /// bounding-volume overlap tests.
+    pub fn par_tree_pairs_with<T: Send>(
+        &self,
+        other: &Bvh<V>,
+        ws: &mut BvhWorkspace,
+        options: &ParOptions,
+        make: impl Fn() -> T + Sync + Send,
+        leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+        mut consume: impl FnMut(T),
+    ) -> u64 {
         let (na, nb) = (&self.nodes[..], &other.nodes[..]);
         let t = &mut ws.tasks;
         t.entries.clear();
         t.found.clear();
         if na.is_empty() || nb.is_empty() {
-            return ParPairs {
-                results: vec![make()],
-                bv_tests: 0,
-            };
+            consume(make());
+            return 0;
         }
         if na[0].volume.overlaps(&nb[0].volume) {
             match (na[0].leaf(), nb[0].leaf()) {
@@ -139,24 +216,28 @@ impl<V: BoundingVolume> Bvh<V> {
                 _ => t.entries.push((0, OTHER)),
             }
         }
-        let small = na.len() < SMALL && nb.len() < SMALL;
-        par_run(na, nb, t, 1, small, make, leaf_pair)
+        let small = na.len() < options.min_nodes && nb.len() < options.min_nodes;
+        par_run(na, nb, t, 1, small, options, make, leaf_pair, consume)
     }
 }
 
 /// Splits the entries of `t` level by level (every entry processed once per round, in order)
-/// until there are at least [`TASKS`] or none left (unless `small`), then runs them in
-/// parallel. The first result holds the leaf pairs found while splitting.
+/// until there are at least `options.min_tasks` or none left (unless `small`), then runs them
+/// on the rayon pool, batch by batch, handing the results to `consume` in task order. The
+/// first result holds the leaf pairs found while splitting. Returns the overlap tests.
+#[allow(clippy::too_many_arguments)]
 fn par_run<V: BoundingVolume, T: Send>(
     na: &[Node<V>],
     nb: &[Node<V>],
     t: &mut Tasks,
     mut bv_tests: u64,
     small: bool,
+    options: &ParOptions,
     make: impl Fn() -> T + Sync + Send,
     leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
-) -> ParPairs<T> {
-    while !small && !t.entries.is_empty() && t.entries.len() < TASKS {
+    mut consume: impl FnMut(T),
+) -> u64 {
+    while !small && !t.entries.is_empty() && t.entries.len() < options.min_tasks {
         t.next.clear();
         let mut round = Round {
             next: &mut t.next,
@@ -171,22 +252,22 @@ fn par_run<V: BoundingVolume, T: Send>(
     for &(x, y) in &t.found {
         leaf_pair(&mut first, x, y);
     }
-    let done: Vec<(T, u64)> = t
-        .entries
-        .par_iter()
-        .map_init(Vec::new, |stack, &(a, b)| {
-            let mut acc = make();
-            stack.clear();
-            stack.push((a, b));
-            let tests = run(na, nb, stack, &mut |x, y| leaf_pair(&mut acc, x, y));
-            (acc, tests)
-        })
-        .collect();
-    let mut results = Vec::with_capacity(done.len() + 1);
-    results.push(first);
-    for (acc, tests) in done {
-        results.push(acc);
-        bv_tests += tests;
+    consume(first);
+    for batch in t.entries.chunks(options.batch.max(1)) {
+        let done: Vec<(T, u64)> = batch
+            .par_iter()
+            .map_init(Vec::new, |stack, &(a, b)| {
+                let mut acc = make();
+                stack.clear();
+                stack.push((a, b));
+                let tests = run(na, nb, stack, &mut |x, y| leaf_pair(&mut acc, x, y));
+                (acc, tests)
+            })
+            .collect();
+        for (acc, tests) in done {
+            consume(acc);
+            bv_tests += tests;
+        }
     }
-    ParPairs { results, bv_tests }
+    bv_tests
 }

@@ -4,7 +4,7 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::{Bvh, BvhWorkspace, Leaf, ParPairs};
+use super::{Bvh, BvhWorkspace, Leaf, ParOptions, ParPairs};
 use crate::kdop::Kdop;
 use crate::math::DVec3;
 
@@ -158,5 +158,59 @@ fn refit_matches_brute_force_after_moving_the_leaves() {
             pairs.push((x.min(y), x.max(y)))
         });
         assert_eq!(sorted(pairs), brute_self(&moved), "n {n}");
+    }
+}
+
+#[test]
+fn batches_and_task_counts_give_the_same_pairs_in_the_same_order() {
+    let mut rng = ChaCha8Rng::seed_from_u64(14);
+    let a = leaves(&mut rng, 12000);
+    let b = leaves(&mut rng, 3000);
+    let (x, y) = (Bvh::from_leaves(&a), Bvh::from_leaves(&b));
+    let mut ws = BvhWorkspace::default();
+    let all = x.par_self_pairs(&mut ws, Vec::new, |v, p, q| v.push((p, q)));
+    let cross = x.par_tree_pairs(&y, &mut ws, Vec::new, |v, p, q| v.push((p, q)));
+    for threads in [1, 2] {
+        for batch in [1, 7, 100_000] {
+            let options = ParOptions {
+                batch,
+                ..ParOptions::default()
+            };
+            let (own, two) = pool(threads).install(|| {
+                let mut ws = BvhWorkspace::default();
+                let (mut own, mut two) = (Vec::new(), Vec::new());
+                let push = |v: &mut Vec<(u32, u32)>, p, q| v.push((p, q));
+                let t1 = x.par_self_pairs_with(&mut ws, &options, Vec::new, push, |r| own.push(r));
+                let t2 =
+                    x.par_tree_pairs_with(&y, &mut ws, &options, Vec::new, push, |r| two.push(r));
+                assert_eq!((t1, t2), (all.bv_tests, cross.bv_tests));
+                (own, two)
+            });
+            assert_eq!(own, all.results, "{threads} threads, batch {batch}");
+            assert_eq!(two, cross.results, "{threads} threads, batch {batch}");
+        }
+    }
+    // Other task counts: other tasks, the same pairs.
+    for min_tasks in [1, 3, 5000] {
+        let options = ParOptions {
+            min_tasks,
+            min_nodes: 0,
+            ..ParOptions::default()
+        };
+        let mut own = Vec::new();
+        x.par_self_pairs_with(
+            &mut ws,
+            &options,
+            Vec::new,
+            |v, p, q| v.push((p.min(q), p.max(q))),
+            |r| own.extend(r),
+        );
+        let expected: Vec<(u32, u32)> = all
+            .results
+            .concat()
+            .into_iter()
+            .map(|(p, q)| (p.min(q), p.max(q)))
+            .collect();
+        assert_eq!(sorted(own), sorted(expected), "min_tasks {min_tasks}");
     }
 }
