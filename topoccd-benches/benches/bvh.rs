@@ -5,6 +5,7 @@
 
 use std::hint::black_box;
 use std::path::PathBuf;
+use topoccd::math::DVec3;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use topoccd::bvh::{Bvh, BvhWorkspace, Leaf};
@@ -20,7 +21,8 @@ fn swept_leaves(name: &str) -> Option<Vec<Leaf<Kdop<9>>>> {
         .join(name);
     let frames = scene_frames(&dir).ok()?;
     let (m0, m1) = (read_mesh(&frames.t0).ok()?, read_mesh(&frames.t1).ok()?);
-    let (x0, x1) = (&m0.positions, &m1.positions);
+    let vectors = |p: &[[f64; 3]]| p.iter().map(|&q| DVec3::from(q)).collect::<Vec<_>>();
+    let (x0, x1) = (vectors(&m0.positions), vectors(&m1.positions));
     Some(
         m1.triangles
             .iter()

@@ -6,6 +6,7 @@
 
 use std::path::Path;
 use std::time::Instant;
+use topoccd::math::DVec3;
 
 use topoccd::bvh::{Bvh, BvhWorkspace, Leaf};
 use topoccd::io::read_mesh;
@@ -25,7 +26,8 @@ fn main() {
         "vertex counts differ"
     );
     let reps: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(5);
-    let (x0, x1, tris) = (&m0.positions, &m1.positions, &m1.triangles);
+    let vectors = |p: &[[f64; 3]]| p.iter().map(|&q| DVec3::from(q)).collect::<Vec<_>>();
+    let (x0, x1, tris) = (vectors(&m0.positions), vectors(&m1.positions), &m1.triangles);
     let mut leaves: Vec<Leaf<Kdop<9>>> = Vec::new();
     let mut ws = BvhWorkspace::default();
     let mut bvh = Bvh::new();
