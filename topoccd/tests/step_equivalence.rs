@@ -123,6 +123,7 @@ fn check_scene(kind: SceneKind, seed: u64, min_separation: f64, ccd: &mut Ccd) -
 
 fn check_kind(kind: SceneKind) {
     let mut ccd = Ccd::new();
+    ccd.record_candidates(true);
     let mut contacts = 0;
     for seed in 0..6 {
         for sep in [0.0, 1e-3] {

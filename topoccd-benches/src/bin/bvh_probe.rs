@@ -27,7 +27,11 @@ fn main() {
     );
     let reps: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(5);
     let vectors = |p: &[[f64; 3]]| p.iter().map(|&q| DVec3::from(q)).collect::<Vec<_>>();
-    let (x0, x1, tris) = (vectors(&m0.positions), vectors(&m1.positions), &m1.triangles);
+    let (x0, x1, tris) = (
+        vectors(&m0.positions),
+        vectors(&m1.positions),
+        &m1.triangles,
+    );
     let mut leaves: Vec<Leaf<Kdop<9>>> = Vec::new();
     let mut ws = BvhWorkspace::default();
     let mut bvh = Bvh::new();

@@ -5,7 +5,7 @@
 
 use std::time::Instant;
 
-use super::{triangle_volumes, BroadInput, BroadStats, Candidates};
+use super::{triangle_volumes, BroadInput, BroadStats, Sink};
 use crate::kdop::Kdop;
 use crate::mesh::features::SweptBox;
 
@@ -35,7 +35,7 @@ fn sort(items: &mut [Item]) {
 pub(crate) fn candidates<const H: usize>(
     input: &BroadInput<'_, '_>,
     volumes: &mut Vec<Kdop<H>>,
-    out: &mut Candidates,
+    out: &mut Sink<'_>,
 ) -> BroadStats {
     let start = Instant::now();
     let (features, filter, sep) = (input.features, input.filter, input.filter.sep);
@@ -54,7 +54,6 @@ pub(crate) fn candidates<const H: usize>(
     }
     let build = start.elapsed().as_secs_f64();
     let start = Instant::now();
-    let Candidates { vf, ee } = out;
     let mut tests = 0u64;
     let item = |b: &SweptBox, kind, index: usize| Item {
         lo_x: b.lo.x,
@@ -108,7 +107,8 @@ pub(crate) fn candidates<const H: usize>(
                 && filter.vertex_face(v, tris[f as usize])
                 && volumes[owner_of_vertex(v) as usize].overlaps(&volumes[f as usize])
             {
-                vf.push([v, f]);
+                out.buf.vf.push([v, f]);
+                out.check();
             }
         }
     }
@@ -139,7 +139,8 @@ pub(crate) fn candidates<const H: usize>(
                 && volumes[edge_owner[a.index as usize] as usize]
                     .overlaps(&volumes[edge_owner[b.index as usize] as usize])
             {
-                ee.push([a.index.min(b.index), a.index.max(b.index)]);
+                out.buf.ee.push([a.index.min(b.index), a.index.max(b.index)]);
+                out.check();
             }
         }
     }

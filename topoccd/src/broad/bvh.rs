@@ -1,11 +1,15 @@
 //! The per-step hierarchy (the paper's baseline, as in Self-CCD): a k-DOP tree over the
 //! triangles' swept volumes, built anew every step, traversed against itself; every
 //! overlapping triangle pair gives the feature pairs its two triangles own.
+//!
+//! The traversal runs on the rayon pool as a fixed list of tasks (see
+//! [`Bvh::par_self_pairs_with`]); each task gets its own accumulator, so the caller can run the
+//! narrow phase inside the tasks on bounded buffers.
 
 use std::time::Instant;
 
-use super::{triangle_volumes, BroadInput, BroadStats, Candidates};
-use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf};
+use super::{triangle_volumes, BroadInput};
+use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf, ParOptions};
 use crate::kdop::Kdop;
 
 /// The leaves and hierarchy of one k-DOP type, kept for reuse across steps.
@@ -17,13 +21,9 @@ pub(crate) struct PerStepBvh<const H: usize> {
 }
 
 impl<const H: usize> PerStepBvh<H> {
-    /// Builds the hierarchy of the step and appends its candidates to `out`.
-    pub fn candidates(
-        &mut self,
-        input: &BroadInput<'_, '_>,
-        ws: &mut BvhWorkspace,
-        out: &mut Candidates,
-    ) -> BroadStats {
+    /// Computes the swept volumes of the step's triangles and builds the hierarchy over them.
+    /// Returns the seconds spent.
+    pub fn build(&mut self, input: &BroadInput<'_, '_>, ws: &mut BvhWorkspace) -> f64 {
         let start = Instant::now();
         triangle_volumes(input.step, input.filter.sep, &mut self.volumes);
         self.leaves.clear();
@@ -33,19 +33,21 @@ impl<const H: usize> PerStepBvh<H> {
                 volume,
             }));
         self.bvh.rebuild(&self.leaves, ws);
-        let build = start.elapsed().as_secs_f64();
-        let t = Instant::now();
-        let tris = input.step.triangles();
-        let (features, filter) = (input.features, input.filter);
-        let Candidates { vf, ee } = out;
-        let bv_tests = self.bvh.self_pairs(ws, |a, b| {
-            features.triangle_pair(tris, a, b, filter, vf, ee);
-        });
-        BroadStats {
-            bv_tests,
-            build,
-            traverse: t.elapsed().as_secs_f64(),
-        }
+        start.elapsed().as_secs_f64()
+    }
+
+    /// Every overlapping pair of triangles, each once, to `pair(acc, a, b)` with one
+    /// accumulator per task (made by `make`), handed to `consume` in a fixed task order, batch
+    /// by batch. Returns the number of bounding-volume tests.
+    pub fn pairs<T: Send>(
+        &self,
+        ws: &mut BvhWorkspace,
+        par: &ParOptions,
+        make: impl Fn() -> T + Sync + Send,
+        pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+        consume: impl FnMut(T),
+    ) -> u64 {
+        self.bvh.par_self_pairs_with(ws, par, make, pair, consume)
     }
 
     /// Checks the hierarchy of the last step against its leaves.

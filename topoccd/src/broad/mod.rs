@@ -47,6 +47,60 @@ impl Candidates {
         self.vf.clear();
         self.ee.clear();
     }
+
+    pub fn len(&self) -> usize {
+        self.vf.len() + self.ee.len()
+    }
+}
+
+/// Most candidate pairs a buffer holds before it is handed to the narrow phase: memory stays
+/// bounded by this, not by the number of candidates of the step (8 bytes a pair: 4 MiB).
+pub(crate) const CHUNK: usize = 1 << 19;
+
+/// A bounded buffer of candidates: a sequential broad phase pushes into `buf` and calls
+/// [`Sink::check`] after each triangle pair; a full buffer goes to `flush` (the narrow phase)
+/// and is emptied.
+pub(crate) struct Sink<'f> {
+    pub buf: Candidates,
+    /// Candidates handed over so far.
+    pub vf_total: u64,
+    pub ee_total: u64,
+    /// The largest number of candidates held at once.
+    pub peak: usize,
+    limit: usize,
+    flush: &'f mut dyn FnMut(&Candidates),
+}
+
+impl<'f> Sink<'f> {
+    pub fn new(limit: usize, flush: &'f mut dyn FnMut(&Candidates)) -> Self {
+        Self {
+            buf: Candidates::default(),
+            vf_total: 0,
+            ee_total: 0,
+            peak: 0,
+            limit: limit.max(1),
+            flush,
+        }
+    }
+
+    /// Flushes the buffer if it is full.
+    #[inline]
+    pub fn check(&mut self) {
+        if self.buf.len() >= self.limit {
+            self.flush_now();
+        }
+    }
+
+    /// Hands whatever is buffered to the narrow phase.
+    pub fn flush_now(&mut self) {
+        self.peak = self.peak.max(self.buf.len());
+        self.vf_total += self.buf.vf.len() as u64;
+        self.ee_total += self.buf.ee.len() as u64;
+        if self.buf.len() > 0 {
+            (self.flush)(&self.buf);
+        }
+        self.buf.clear();
+    }
 }
 
 /// What a broad phase did.

@@ -4,12 +4,14 @@
 
 use std::time::Instant;
 
-use super::narrow_phase::{self, Found};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use super::narrow_phase::{self, lower, Context, Found};
 use super::report::{Report, Seconds, Stats};
 use super::{ClusterGrowth, Method, OptionsError, QueryOptions};
 use crate::broad::cluster::phase::ClusterPhase;
-use crate::broad::{self, brute, bvh::PerStepBvh, BroadInput, BroadStats};
-use crate::bvh::BvhWorkspace;
+use crate::broad::{brute, bvh::PerStepBvh, BroadInput, BroadStats, Candidates, Sink, CHUNK};
+use crate::bvh::{BvhWorkspace, ParOptions};
 use crate::kdop::DopKind;
 use crate::mesh::features::Features;
 use crate::mesh::filter::PairFilter;
@@ -29,9 +31,69 @@ pub struct Ccd {
     k18: PerStepBvh<9>,
     k26: PerStepBvh<13>,
     cluster: ClusterPhase,
-    candidates: broad::Candidates,
+    /// With `record`, every candidate of the last query (for the crate's tests).
+    recorded: Candidates,
+    record: bool,
+    /// Buffer limits (candidate pairs) of a traversal task and of a sequential broad phase;
+    /// `0` means the default ([`TASK_CHUNK`], [`CHUNK`]).
+    limits: (usize, usize),
     /// The method and k-DOP type of the last hierarchy built, if the last query built one.
     last_tree: Option<(Method, DopKind)>,
+}
+
+/// Candidates a task of the parallel traversal buffers before solving them: with
+/// [`TASK_BATCH`] tasks alive at once, what is buffered stays below a few tens of MiB
+/// whatever the number of candidates.
+const TASK_CHUNK: usize = 1 << 15;
+/// Tasks of the parallel traversal run, and are handed over, this many at a time; in
+/// [`Mode::Earliest`](super::Mode::Earliest) each batch is pruned with the best time of the
+/// batches before.
+const TASK_BATCH: usize = 64;
+
+/// The state of one task of the parallel traversal: its buffer and what it found.
+struct Task {
+    buf: Candidates,
+    found: Found,
+    limit: f64,
+    vf_tests: u64,
+    ee_tests: u64,
+    peak: usize,
+    recorded: Option<Candidates>,
+}
+
+impl Task {
+    fn new(limit: f64, record: bool) -> Self {
+        Self {
+            buf: Candidates::default(),
+            found: Found::default(),
+            limit,
+            vf_tests: 0,
+            ee_tests: 0,
+            peak: 0,
+            recorded: record.then(Candidates::default),
+        }
+    }
+
+    /// Solves what is buffered, on this thread.
+    fn flush(&mut self, ctx: &Context<'_, '_>) {
+        self.peak = self.peak.max(self.buf.len());
+        self.vf_tests += self.buf.vf.len() as u64;
+        self.ee_tests += self.buf.ee.len() as u64;
+        ctx.solve(&self.buf, &mut self.limit, &mut self.found);
+        if let Some(r) = &mut self.recorded {
+            r.vf.extend_from_slice(&self.buf.vf);
+            r.ee.extend_from_slice(&self.buf.ee);
+        }
+        self.buf.clear();
+    }
+}
+
+/// What the candidates of a query amounted to.
+#[derive(Default)]
+struct Totals {
+    vf_tests: u64,
+    ee_tests: u64,
+    peak: usize,
 }
 
 impl Ccd {
@@ -81,7 +143,6 @@ impl Ccd {
         let start = Instant::now();
         let sep = options.narrow.min_separation;
         self.features.update(step);
-        self.candidates.clear();
         self.last_tree = None;
         let filter = PairFilter::new(step, sep, options.crack_filter, &mut self.canon);
         let input = BroadInput {
@@ -90,32 +151,75 @@ impl Ccd {
             filter: &filter,
         };
         let prepared = start.elapsed().as_secs_f64();
-        let out = &mut self.candidates;
+        let edges = &self.features.topo.edges;
+        let ctx = Context {
+            step,
+            edges,
+            options,
+        };
+        let mut found = Found::default();
+        let mut totals = Totals::default();
+        let mut narrow = 0.0;
         let mut cluster = None;
+        let record = self.record;
+        let task_chunk = if self.limits.0 == 0 { TASK_CHUNK } else { self.limits.0 };
+        let chunk = if self.limits.1 == 0 { CHUNK } else { self.limits.1 };
+        let recorded = &mut self.recorded;
+        recorded.clear();
         let broad = match method {
-            Method::Brute => match options.kdop {
-                DopKind::K6 => brute::candidates::<3>(&input, &mut Vec::new(), out),
-                DopKind::K14 => brute::candidates::<7>(&input, &mut Vec::new(), out),
-                DopKind::K18 => brute::candidates::<9>(&input, &mut Vec::new(), out),
-                DopKind::K26 => brute::candidates::<13>(&input, &mut Vec::new(), out),
-            },
             Method::Bvh => {
                 self.last_tree = Some((Method::Bvh, options.kdop));
                 let ws = &mut self.ws;
+                let args = (&input, &ctx, record, task_chunk, ws);
+                let out = (&mut found, &mut totals, recorded);
                 match options.kdop {
-                    DopKind::K6 => self.k6.candidates(&input, ws, out),
-                    DopKind::K14 => self.k14.candidates(&input, ws, out),
-                    DopKind::K18 => self.k18.candidates(&input, ws, out),
-                    DopKind::K26 => self.k26.candidates(&input, ws, out),
+                    DopKind::K6 => bvh_query(&mut self.k6, args, out),
+                    DopKind::K14 => bvh_query(&mut self.k14, args, out),
+                    DopKind::K18 => bvh_query(&mut self.k18, args, out),
+                    DopKind::K26 => bvh_query(&mut self.k26, args, out),
                 }
             }
-            Method::Cluster => {
-                self.last_tree = Some((Method::Cluster, options.kdop));
-                let paper = options.growth == ClusterGrowth::Paper;
-                let (stats, figures) =
-                    self.cluster
-                        .candidates(&input, options.kdop, paper, &mut self.ws, out);
-                cluster = Some(figures);
+            Method::Brute | Method::Cluster => {
+                // A sequential broad phase, its buffer solved in parallel whenever it is full.
+                let mut best = None;
+                let mut flush = |c: &Candidates| {
+                    let t = Instant::now();
+                    ctx.solve_parallel(c, &mut best, &mut found);
+                    if record {
+                        recorded.vf.extend_from_slice(&c.vf);
+                        recorded.ee.extend_from_slice(&c.ee);
+                    }
+                    narrow += t.elapsed().as_secs_f64();
+                };
+                let mut sink = Sink::new(chunk, &mut flush);
+                let mut stats = if method == Method::Brute {
+                    let sink = &mut sink;
+                    match options.kdop {
+                        DopKind::K6 => brute::candidates::<3>(&input, &mut Vec::new(), sink),
+                        DopKind::K14 => brute::candidates::<7>(&input, &mut Vec::new(), sink),
+                        DopKind::K18 => brute::candidates::<9>(&input, &mut Vec::new(), sink),
+                        DopKind::K26 => brute::candidates::<13>(&input, &mut Vec::new(), sink),
+                    }
+                } else {
+                    self.last_tree = Some((Method::Cluster, options.kdop));
+                    let paper = options.growth == ClusterGrowth::Paper;
+                    let (stats, figures) =
+                        self.cluster
+                            .candidates(&input, options.kdop, paper, &mut self.ws, &mut sink);
+                    cluster = Some(figures);
+                    stats
+                };
+                let t = Instant::now();
+                sink.flush_now();
+                stats.traverse += t.elapsed().as_secs_f64();
+                totals = Totals {
+                    vf_tests: sink.vf_total,
+                    ee_tests: sink.ee_total,
+                    peak: sink.peak,
+                };
+                drop(sink);
+                // The narrow phase ran inside the traversal: take it out of the traversal time.
+                stats.traverse = (stats.traverse - narrow).max(0.0);
                 stats
             }
         };
@@ -125,11 +229,8 @@ impl Ccd {
             traverse,
         } = broad;
         let t = Instant::now();
-        let mut found = Found::default();
-        let edges = &self.features.topo.edges;
-        narrow_phase::run(step, edges, out, options, &mut None, &mut found);
         let earliest = narrow_phase::finish(&mut found, options);
-        let narrow = t.elapsed().as_secs_f64();
+        narrow += t.elapsed().as_secs_f64();
         let unresolved = found
             .vf
             .iter()
@@ -147,8 +248,9 @@ impl Ccd {
             unresolved,
             stats: Stats {
                 bv_tests,
-                vf_tests: self.candidates.vf.len() as u64,
-                ee_tests: self.candidates.ee.len() as u64,
+                vf_tests: totals.vf_tests,
+                ee_tests: totals.ee_tests,
+                peak_candidates: totals.peak as u64,
                 seconds: Seconds {
                     build: prepared + build,
                     traverse,
@@ -166,14 +268,27 @@ impl Ccd {
 /// Diagnostics for the crate's own tests (feature `internals`).
 #[cfg(feature = "internals")]
 impl Ccd {
-    /// The candidate feature pairs of the last query: exactly the pairs given to the narrow
-    /// phase ([`Stats::vf_tests`], [`Stats::ee_tests`]), each once.
-    pub fn candidates(&self) -> Candidates<'_> {
-        Candidates {
-            vf: &self.candidates.vf,
-            ee: &self.candidates.ee,
+    /// The candidate feature pairs of the last query, recorded with
+    /// [`Ccd::record_candidates`]: exactly the pairs given to the narrow phase
+    /// ([`Stats::vf_tests`], [`Stats::ee_tests`]), each once.
+    pub fn candidates(&self) -> CandidatePairs<'_> {
+        CandidatePairs {
+            vf: &self.recorded.vf,
+            ee: &self.recorded.ee,
             edges: &self.features.topo.edges,
         }
+    }
+
+    /// Sets the most candidate pairs a buffer holds before the narrow phase takes it: per task
+    /// of the parallel traversal, and for the sequential broad phases (`0`: the default).
+    pub fn set_buffer_limits(&mut self, task: usize, sequential: usize) {
+        self.limits = (task, sequential);
+    }
+
+    /// With `true`, later queries keep every candidate pair for [`Ccd::candidates`] (memory
+    /// then grows with the candidates).
+    pub fn record_candidates(&mut self, record: bool) {
+        self.record = record;
     }
 
     /// The topology of the last step queried.
@@ -210,10 +325,10 @@ impl Ccd {
 /// The candidate feature pairs of the last query (feature `internals`).
 #[cfg(feature = "internals")]
 #[derive(Clone, Copy, Debug)]
-pub struct Candidates<'a> {
+pub struct CandidatePairs<'a> {
     /// `[vertex, face]` pairs.
     pub vf: &'a [[u32; 2]],
-    /// `[e, f]` pairs of indices into [`Candidates::edges`], `e < f`.
+    /// `[e, f]` pairs of indices into [`CandidatePairs::edges`], `e < f`.
     pub ee: &'a [[u32; 2]],
     /// The step's edges, `[i, j]` with `i < j`, sorted lexicographically.
     pub edges: &'a [[u32; 2]],
@@ -240,4 +355,64 @@ pub fn query(
     options: &QueryOptions,
 ) -> Result<Report, OptionsError> {
     Ccd::new().query(step, method, options)
+}
+
+/// The per-step hierarchy's query: build, then the parallel traversal whose tasks solve their
+/// own candidates in bounded buffers. Returns the broad phase's figures; the narrow phase's
+/// time is inside the traversal's (the two run interleaved on every thread).
+fn bvh_query<const H: usize>(
+    tree: &mut PerStepBvh<H>,
+    (input, ctx, record, task_chunk, ws): (
+        &BroadInput<'_, '_>,
+        &Context<'_, '_>,
+        bool,
+        usize,
+        &mut BvhWorkspace,
+    ),
+    (found, totals, recorded): (&mut Found, &mut Totals, &mut Candidates),
+) -> BroadStats {
+    let build = tree.build(input, ws);
+    let t = Instant::now();
+    let tris = input.step.triangles();
+    let (features, filter) = (input.features, input.filter);
+    // The best time of the batches handed over so far (f64 bits; only lowered between batches).
+    let best = AtomicU64::new(f64::INFINITY.to_bits());
+    let par = ParOptions {
+        batch: TASK_BATCH,
+        ..ParOptions::default()
+    };
+    let make = || {
+        let b = f64::from_bits(best.load(Ordering::Acquire));
+        Task::new(ctx.limit(b.is_finite().then_some(b)), record)
+    };
+    let pair = |task: &mut Task, a: u32, b: u32| {
+        features.triangle_pair(tris, a, b, filter, &mut task.buf.vf, &mut task.buf.ee);
+        if task.buf.len() >= task_chunk {
+            task.flush(ctx);
+        }
+    };
+    let consume = |mut task: Task| {
+        task.flush(ctx);
+        let mut b = Some(f64::from_bits(best.load(Ordering::Acquire))).filter(|b| b.is_finite());
+        lower(&mut b, task.found.vf.iter().map(|c| c.toi));
+        lower(&mut b, task.found.ee.iter().map(|c| c.toi));
+        if let Some(b) = b {
+            best.store(b.to_bits(), Ordering::Release);
+        }
+        found.vf.append(&mut task.found.vf);
+        found.ee.append(&mut task.found.ee);
+        totals.vf_tests += task.vf_tests;
+        totals.ee_tests += task.ee_tests;
+        totals.peak = totals.peak.max(task.peak);
+        if let Some(r) = &mut task.recorded {
+            recorded.vf.append(&mut r.vf);
+            recorded.ee.append(&mut r.ee);
+        }
+    };
+    let bv_tests = tree.pairs(ws, &par, make, pair, consume);
+    BroadStats {
+        bv_tests,
+        build,
+        traverse: t.elapsed().as_secs_f64(),
+    }
 }

@@ -18,7 +18,7 @@ mod options;
 mod report;
 
 #[cfg(feature = "internals")]
-pub use ccd::Candidates;
+pub use ccd::CandidatePairs;
 pub use ccd::{query, Ccd};
 pub use options::{ClusterGrowth, Method, Mode, OptionsError, QueryOptions};
 pub use report::{

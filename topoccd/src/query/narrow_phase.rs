@@ -98,73 +98,104 @@ fn ee_contact(
     })
 }
 
-/// Runs the elementary tests on `candidates` (pairs of indices into `edges`, the step's edges
-/// sorted lexicographically, for edge-edge) and appends the contacts to `found`.
-///
-/// In [`Mode::All`] every candidate is solved over `[0, t_max]`. In [`Mode::Earliest`]
-/// candidates go in fixed chunks; a candidate is first solved over `[0, min(t_max, best + 2
-/// tolerance)]`, where `best` is the earliest time found in the chunks before: a contact there
-/// is then solved again over `[0, t_max]` exactly as in [`Mode::All`], so the times compared
-/// are the same numbers in both modes. A pair skipped this way has no contact before
-/// `best + 2 tolerance` (the solver is conservative on its interval), so the earliest time is
-/// still no later than the first contact, and every pair whose first contact lies within the
-/// tolerance of it is found. `best` is updated by the caller between calls through `best`.
-pub(crate) fn run(
-    step: &Step,
-    edges: &[[u32; 2]],
-    candidates: &Candidates,
-    options: &QueryOptions,
-    best: &mut Option<f64>,
-    found: &mut Found,
-) {
-    match options.mode {
-        Mode::All => {
-            let limit = f64::INFINITY;
-            found.vf.par_extend(
-                candidates
-                    .vf
-                    .par_iter()
-                    .with_min_len(256)
-                    .filter_map(|&pair| vf_contact(step, pair, options, limit)),
-            );
-            found.ee.par_extend(
-                candidates
-                    .ee
-                    .par_iter()
-                    .with_min_len(256)
-                    .filter_map(|&pair| ee_contact(step, edges, pair, options, limit)),
-            );
+/// What the narrow phase reads besides the candidates.
+pub(crate) struct Context<'a, 's> {
+    pub step: &'a Step<'s>,
+    /// The step's edges, sorted lexicographically (edge-edge candidates index them).
+    pub edges: &'a [[u32; 2]],
+    pub options: &'a QueryOptions,
+}
+
+impl Context<'_, '_> {
+    /// The end of the interval that still matters once a contact at `best` is known: in
+    /// [`Mode::Earliest`], `best + 2 tolerance` (a pair skipped with it has no contact before
+    /// that, the solver being conservative on its interval, so every pair whose time is within
+    /// the tolerance of the earliest is still found); unbounded in [`Mode::All`].
+    pub fn limit(&self, best: Option<f64>) -> f64 {
+        match (self.options.mode, best) {
+            (Mode::Earliest, Some(b)) => b + 2.0 * self.options.narrow.tolerance,
+            _ => f64::INFINITY,
         }
-        Mode::Earliest => {
-            let tol2 = 2.0 * options.narrow.tolerance;
-            for chunk in candidates.vf.chunks(EARLIEST_CHUNK) {
-                let limit = best.map_or(f64::INFINITY, |b| b + tol2);
-                let start = found.vf.len();
+    }
+
+    /// Solves the candidates in order on this thread, appending the contacts to `found`.
+    /// `limit` (see [`Context::limit`]) is lowered as contacts are found.
+    pub fn solve(&self, candidates: &Candidates, limit: &mut f64, found: &mut Found) {
+        let earliest = self.options.mode == Mode::Earliest;
+        for &pair in &candidates.vf {
+            if let Some(c) = vf_contact(self.step, pair, self.options, *limit) {
+                if earliest {
+                    *limit = limit.min(self.limit(Some(c.toi)));
+                }
+                found.vf.push(c);
+            }
+        }
+        for &pair in &candidates.ee {
+            if let Some(c) = ee_contact(self.step, self.edges, pair, self.options, *limit) {
+                if earliest {
+                    *limit = limit.min(self.limit(Some(c.toi)));
+                }
+                found.ee.push(c);
+            }
+        }
+    }
+
+    /// Solves a buffer of candidates on the current rayon pool, appending the contacts to
+    /// `found`. In [`Mode::Earliest`] the buffer goes in fixed chunks, each pruned with the
+    /// best time of the chunks before (`best`, updated), so what is pruned does not depend on
+    /// the thread count.
+    pub fn solve_parallel(&self, candidates: &Candidates, best: &mut Option<f64>, found: &mut Found) {
+        let step = self.step;
+        let options = self.options;
+        let edges = self.edges;
+        match options.mode {
+            Mode::All => {
+                let limit = f64::INFINITY;
                 found.vf.par_extend(
-                    chunk
+                    candidates
+                        .vf
                         .par_iter()
-                        .with_min_len(64)
+                        .with_min_len(256)
                         .filter_map(|&pair| vf_contact(step, pair, options, limit)),
                 );
-                lower(best, found.vf[start..].iter().map(|c| c.toi));
-            }
-            for chunk in candidates.ee.chunks(EARLIEST_CHUNK) {
-                let limit = best.map_or(f64::INFINITY, |b| b + tol2);
-                let start = found.ee.len();
                 found.ee.par_extend(
-                    chunk
+                    candidates
+                        .ee
                         .par_iter()
-                        .with_min_len(64)
+                        .with_min_len(256)
                         .filter_map(|&pair| ee_contact(step, edges, pair, options, limit)),
                 );
-                lower(best, found.ee[start..].iter().map(|c| c.toi));
+            }
+            Mode::Earliest => {
+                for chunk in candidates.vf.chunks(EARLIEST_CHUNK) {
+                    let limit = self.limit(*best);
+                    let start = found.vf.len();
+                    found.vf.par_extend(
+                        chunk
+                            .par_iter()
+                            .with_min_len(64)
+                            .filter_map(|&pair| vf_contact(step, pair, options, limit)),
+                    );
+                    lower(best, found.vf[start..].iter().map(|c| c.toi));
+                }
+                for chunk in candidates.ee.chunks(EARLIEST_CHUNK) {
+                    let limit = self.limit(*best);
+                    let start = found.ee.len();
+                    found.ee.par_extend(
+                        chunk
+                            .par_iter()
+                            .with_min_len(64)
+                            .filter_map(|&pair| ee_contact(step, edges, pair, options, limit)),
+                    );
+                    lower(best, found.ee[start..].iter().map(|c| c.toi));
+                }
             }
         }
     }
 }
 
 /// Lowers `best` to the smallest of `tois`.
-fn lower(best: &mut Option<f64>, tois: impl Iterator<Item = f64>) {
+pub(crate) fn lower(best: &mut Option<f64>, tois: impl Iterator<Item = f64>) {
     for t in tois {
         if best.is_none_or(|b| t < b) {
             *best = Some(t);

@@ -150,6 +150,10 @@ pub struct Stats {
     pub vf_tests: u64,
     /// Edge-edge pairs given to the narrow phase, as for `vf_tests`; each pair at most once.
     pub ee_tests: u64,
+    /// The most candidate pairs held in one buffer at once: candidates stream from the broad
+    /// phase to the narrow phase in bounded buffers, so this stays bounded however many
+    /// candidates a step has.
+    pub peak_candidates: u64,
     /// Time of each phase.
     pub seconds: Seconds,
     /// [`Method::Cluster`](crate::Method::Cluster) only: the clusters and lazy hierarchies.

@@ -6,7 +6,7 @@ use std::time::Instant;
 use super::traverse::{self, Inputs, PairScratch};
 use super::tree::ClusterTree;
 use super::{cluster_into, ClusterOptions, ClusterWorkspace, Clustering};
-use crate::broad::{BroadInput, BroadStats, Candidates};
+use crate::broad::{BroadInput, BroadStats, Sink};
 use crate::bvh::{BvhError, BvhWorkspace};
 use crate::kdop::DopKind;
 
@@ -55,7 +55,7 @@ pub(crate) struct ClusterPhase {
 }
 
 impl ClusterPhase {
-    /// Clusters the step, builds the hierarchy of `kind` over the clusters and appends the
+    /// Clusters the step, builds the hierarchy of `kind` over the clusters and hands the
     /// candidates to `out`.
     pub fn candidates(
         &mut self,
@@ -63,7 +63,7 @@ impl ClusterPhase {
         kind: DopKind,
         paper_growth: bool,
         ws: &mut BvhWorkspace,
-        out: &mut Candidates,
+        out: &mut Sink<'_>,
     ) -> (BroadStats, ClusterFigures) {
         let options = ClusterOptions {
             min_separation: input.filter.sep,
@@ -114,24 +114,24 @@ impl ClusterPhase {
     }
 }
 
-type Args<'a, 'b> = (
+type Args<'a, 'b, 'c> = (
     &'a Inputs<'b>,
     &'a mut PairScratch,
     &'a mut BvhWorkspace,
-    &'a mut Candidates,
+    &'a mut Sink<'c>,
 );
 
 /// Builds the cluster hierarchy and collects the candidates; lazy hierarchies count as build.
 fn run<const H: usize>(
     tree: &mut ClusterTree<H>,
     input: &BroadInput<'_, '_>,
-    (traversal, pairs, ws, out): Args<'_, '_>,
+    (traversal, pairs, ws, out): Args<'_, '_, '_>,
 ) -> (BroadStats, traverse::Counts) {
     let t = Instant::now();
     tree.build(input.step, traversal.clustering, input.filter.sep, ws);
     let built = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let counts = traverse::candidates(tree, traversal, pairs, ws, &mut out.vf, &mut out.ee);
+    let counts = traverse::candidates(tree, traversal, pairs, ws, out);
     let traversed = t.elapsed().as_secs_f64();
     let stats = BroadStats {
         bv_tests: counts.bv_tests,

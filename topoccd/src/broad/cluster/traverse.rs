@@ -75,6 +75,7 @@ use super::{Clustering, LeafCertificate};
 
 use super::tree::{ClusterTree, NONE};
 use crate::mesh::features::Features;
+use crate::broad::Sink;
 use crate::mesh::filter::PairFilter;
 
 /// Leaf clusters of at most this many triangles get no lazy hierarchy: their triangles'
@@ -130,22 +131,23 @@ pub(crate) struct Inputs<'a> {
     pub trust: bool,
 }
 
-/// Appends the candidate feature pairs of the step to `vf` and `ee` (see the module
+/// Hands the candidate feature pairs of the step to `sink` (see the module
 /// documentation); `tree` must have been built for this step and clustering.
 pub(crate) fn candidates<const H: usize>(
     tree: &mut ClusterTree<H>,
     input: &Inputs<'_>,
     scratch: &mut PairScratch,
     ws: &mut BvhWorkspace,
-    vf: &mut Vec<[u32; 2]>,
-    ee: &mut Vec<[u32; 2]>,
+    sink: &mut Sink<'_>,
 ) -> Counts {
     let c = input.clustering;
     let mut counts = Counts::default();
     let mut emit = |a: u32, b: u32| {
+        let buf = &mut sink.buf;
         input
             .features
-            .triangle_pair(input.triangles, a, b, input.filter, vf, ee)
+            .triangle_pair(input.triangles, a, b, input.filter, &mut buf.vf, &mut buf.ee);
+        sink.check();
     };
 
     // Certificates: an intermediate cluster is certified when all its leaves are.
