@@ -17,8 +17,8 @@ fn key(p: &[f64; 3]) -> [u64; 3] {
 /// The groups of vertices used by `triangles` that have bit-identical positions (`-0.0` and
 /// `0.0` count as identical): each group holds two or more vertex ids in increasing order, the
 /// groups are ordered by their first id. Vertices no triangle uses are not looked at. Runs in
-/// linear expected time (hashing the coordinates' bits). Every index of `triangles` must be in
-/// range of `positions`.
+/// linear expected time (hashing the coordinates' bits). Indices out of range of `positions`
+/// are ignored.
 ///
 /// ```
 /// use topoccd::io::coincident_vertices;
@@ -30,7 +30,9 @@ fn key(p: &[f64; 3]) -> [u64; 3] {
 pub fn coincident_vertices(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<Vec<u32>> {
     let mut used = vec![false; positions.len()];
     for &v in triangles.iter().flatten() {
-        used[v as usize] = true;
+        if let Some(u) = used.get_mut(v as usize) {
+            *u = true;
+        }
     }
     let mut first: HashMap<[u64; 3], u32> = HashMap::new();
     let mut group_of: HashMap<u32, usize> = HashMap::new();
@@ -62,7 +64,8 @@ pub fn coincident_vertices(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> Ve
 /// (it is `Some` whenever a triangle was dropped), and a [`MeshNote::Merged`] note lists the
 /// dropped triangles by their index in `mesh`.
 ///
-/// To weld the other frame of a step the same way, use [`apply_weld`] with the map.
+/// Every index of `mesh.triangles` must be in range of `mesh.positions` (as the readers
+/// guarantee). To weld the other frame of a step the same way, use [`apply_weld`] with the map.
 ///
 /// ```
 /// use topoccd::io::{weld, Mesh};
