@@ -7,10 +7,10 @@ use std::path::PathBuf;
 use criterion::{criterion_group, criterion_main, Criterion};
 use topoccd::io::{read_mesh, scene_frames};
 use topoccd::math::DVec3;
-use topoccd::scene::SceneKind;
-use topoccd::step::{Ccd, Method, QueryOptions, Step};
+use topoccd::{Ccd, Method, QueryOptions, Step};
+use topoccd_scenes::SceneKind;
 
-fn real_step(name: &str) -> Option<Step> {
+fn real_step(name: &str) -> Option<Step<'static>> {
     let dir = std::env::var_os("TOPOCCD_DATA")
         .map(PathBuf::from)
         .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data"))
@@ -42,6 +42,7 @@ fn real_steps(c: &mut Criterion) {
             group.bench_function(method.to_string(), |b| {
                 b.iter(|| {
                     ccd.query(black_box(&step), method, &options)
+                        .unwrap()
                         .contact_count()
                 })
             });
@@ -61,6 +62,7 @@ fn generated(c: &mut Criterion) {
             group.bench_function(format!("{}/{method}", kind.name()), |b| {
                 b.iter(|| {
                     ccd.query(black_box(&step), method, &options)
+                        .unwrap()
                         .contact_count()
                 })
             });

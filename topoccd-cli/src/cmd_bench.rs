@@ -8,11 +8,10 @@ use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use topoccd::io::scene_frames;
 use topoccd::io::sequence::Sequence;
-use topoccd::narrow::NarrowOptions;
-use topoccd::step::{Ccd, Method, QueryOptions, Report, Step};
+use topoccd::{Ccd, Method, QueryOptions, Report, Step};
 
 use crate::cmd_run::progress;
-use crate::cmd_step::{GrowthArg, MethodArg, QueryArgs};
+use crate::query_args::{MethodArg, QueryArgs};
 
 /// Arguments of `topoccd bench`.
 #[derive(clap::Args, Debug)]
@@ -24,15 +23,8 @@ pub struct Args {
     /// Methods to compare, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = [MethodArg::Bvh, MethodArg::Cluster])]
     methods: Vec<MethodArg>,
-    /// k of the k-DOP bounding volumes: 6, 14, 18 or 26.
-    #[arg(long, default_value_t = 18)]
-    k: usize,
-    /// Time resolution of the elementary tests, in (0, 1).
-    #[arg(long, default_value_t = NarrowOptions::default().tolerance)]
-    tolerance: f64,
-    /// How the cluster method grows its leaf clusters.
-    #[arg(long, value_enum, default_value_t = GrowthArg::default_growth())]
-    growth: GrowthArg,
+    #[command(flatten)]
+    query: QueryArgs,
     /// Print the tables as one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -48,7 +40,7 @@ pub enum Source {
     /// Two frames of a scene folder.
     Pair(PathBuf, PathBuf),
     /// Steps already in memory (a generated scene).
-    Memory(Vec<Step>),
+    Memory(Vec<Step<'static>>),
 }
 
 impl Source {
@@ -76,7 +68,7 @@ impl Source {
     }
 
     /// Calls `f(k, step)` for every step, in order.
-    pub fn for_each(&self, mut f: impl FnMut(usize, Step) -> Result<()>) -> Result<()> {
+    pub fn for_each(&self, mut f: impl FnMut(usize, Step<'_>) -> Result<()>) -> Result<()> {
         match self {
             Source::Sequence(s) => {
                 for item in s.iter() {
@@ -217,7 +209,7 @@ pub fn bench_source(
         }
         let mut reports: Vec<Option<Report>> = (0..methods.len()).map(|_| None).collect();
         for i in order {
-            let report = ccd.query(&step, methods[i].into(), options);
+            let report = ccd.query(&step, methods[i].into(), options)?;
             samples[i].push(Sample::of(&report));
             reports[i] = Some(report);
         }
@@ -396,15 +388,7 @@ pub fn print_text(t: &InputTables) {
 
 /// Runs the command. Exit status 1 if the methods disagree on any step.
 pub fn run(args: &Args) -> Result<std::process::ExitCode> {
-    let query = QueryArgs {
-        method: MethodArg::Bvh,
-        earliest: false,
-        k: args.k,
-        min_separation: 0.0,
-        tolerance: args.tolerance,
-        growth: args.growth,
-    };
-    let options = query.options()?;
+    let options = args.query.options()?;
     if let Some(plot) = &args.plot {
         let inputs: Vec<&Path> = args.inputs.iter().map(PathBuf::as_path).collect();
         crate::cmd_step::refuse_overwrite(plot, &inputs)?;

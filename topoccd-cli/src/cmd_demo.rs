@@ -6,12 +6,12 @@ use std::path::Path;
 
 use anyhow::Result;
 use topoccd::io::sequence::step_from_frames;
-use topoccd::scene::paper::{generate, GenOptions, PaperScene};
-use topoccd::step::Ccd;
+use topoccd::Ccd;
+use topoccd_scenes::paper::{generate, GenOptions, PaperScene};
 
 use crate::cmd_bench::{bench_source, print_text, Source};
 use crate::cmd_run::progress;
-use crate::cmd_step::{GrowthArg, MethodArg, QueryArgs};
+use crate::query_args::{MethodArg, QueryArgs};
 
 /// Arguments of `topoccd demo` (all optional).
 #[derive(clap::Args, Debug)]
@@ -71,14 +71,7 @@ pub fn run(args: &Args) -> Result<()> {
         summary.topology_changes,
         summary.seconds
     );
-    let query = QueryArgs {
-        method: MethodArg::Bvh,
-        earliest: false,
-        k: 18,
-        min_separation: 0.0,
-        tolerance: topoccd::narrow::NarrowOptions::default().tolerance,
-        growth: GrowthArg::default_growth(),
-    };
+    let query = QueryArgs::default();
     let methods = [MethodArg::Bvh, MethodArg::Cluster, MethodArg::Brute];
     let name = format!("{} (scale {}, seed {})", args.scene, args.scale, args.seed);
     let (tables, _) = bench_source(

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use topoccd::io::sequence::write_frame;
-use topoccd::scene::paper::{generate, GenOptions, GenSummary, PaperScene};
+use topoccd_scenes::paper::{generate, GenOptions, GenSummary, PaperScene};
 
 /// Arguments of `topoccd gen`.
 #[derive(clap::Args, Debug)]

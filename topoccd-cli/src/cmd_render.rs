@@ -13,12 +13,13 @@ use std::process::ExitCode;
 use std::str::FromStr;
 
 use anyhow::{anyhow, bail, Context, Result};
-use topoccd::cluster::{cluster, ClusterOptions};
+use topoccd::broad::cluster::{cluster, ClusterOptions};
 
-use crate::cmd_step::GrowthArg;
+use crate::query_args::GrowthArg;
 use topoccd::io::{frame_number, read_mesh, sequence::step_between};
 use topoccd::math::DVec3;
-use topoccd::step::{Step, Topology};
+use topoccd::mesh::Topology;
+use topoccd::Step;
 
 use crate::render::camera::{UpAxis, View};
 use crate::render::contacts::{contact_triangles, read_pairs, Contact};
@@ -216,11 +217,11 @@ pub fn run(args: &Args) -> Result<ExitCode> {
                 Some(path) => read_pairs(path, step.vertex_count(), faces)?,
                 // Without --pairs: the step's own contacts, from the whole-step query.
                 None => {
-                    let report = topoccd::step::query(
+                    let report = topoccd::query(
                         &step,
-                        topoccd::step::Method::default(),
-                        &topoccd::step::QueryOptions::default(),
-                    );
+                        topoccd::Method::default(),
+                        &topoccd::QueryOptions::default(),
+                    )?;
                     eprintln!(
                         "{} vf and {} ee contacts in the step",
                         report.vf.len(),
@@ -263,7 +264,7 @@ pub fn run(args: &Args) -> Result<ExitCode> {
         focus: focus.as_deref(),
         show_through: show_through.as_deref(),
     };
-    let picture = draw(step.x0(), step.triangles(), &styles, &options);
+    let picture = draw(step.pos0(), step.triangles(), &styles, &options);
     let colors = if args.indexed {
         PngColors::Indexed
     } else {

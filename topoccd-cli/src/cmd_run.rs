@@ -7,9 +7,10 @@ use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use topoccd::io::sequence::Sequence;
-use topoccd::step::Ccd;
+use topoccd::Ccd;
 
-use crate::cmd_step::{write_pairs, QueryArgs, StepOut};
+use crate::cmd_step::{write_pairs, StepOut};
+use crate::query_args::{MethodArgs, QueryArgs};
 
 /// Arguments of `topoccd run`.
 #[derive(clap::Args, Debug)]
@@ -17,7 +18,13 @@ pub struct Args {
     /// Folder of frames `0000.ply`, `0001.ply`, ... (and optional `NNNN.parents` files).
     seq_dir: PathBuf,
     #[command(flatten)]
+    method: MethodArgs,
+    #[command(flatten)]
     query: QueryArgs,
+    /// With --json, include each step's contacts (in --earliest mode the earliest pairs are
+    /// always included).
+    #[arg(long)]
+    with_pairs: bool,
     /// Print one JSON object per step (the keys of `topoccd step --json` plus `step`), then a
     /// summary object.
     #[arg(long)]
@@ -33,7 +40,7 @@ pub struct Args {
 struct StepLine<'a> {
     step: usize,
     #[serde(flatten)]
-    out: &'a StepOut,
+    out: &'a StepOut<'a>,
 }
 
 /// The summary at the end of a run.
@@ -80,12 +87,13 @@ pub fn run(args: &Args) -> Result<()> {
     let mut summary = Summary::default();
     for item in sequence.iter() {
         let (k, step) = item?;
-        let report = ccd.query(&step, args.query.method.into(), &options);
+        let method = args.method.method.into();
+        let report = ccd.query(&step, method, &options)?;
         if let Some(dir) = &args.pairs_dir {
             let inputs: Vec<&Path> = sequence.frames.iter().map(PathBuf::as_path).collect();
             write_pairs(&dir.join(format!("{k:04}.csv")), &report, &inputs)?;
         }
-        let out = StepOut::new(&step, &report);
+        let out = StepOut::new(&step, method, options.mode, &report, args.with_pairs);
         summary.steps += 1;
         summary.vf += report.vf.len();
         summary.ee += report.ee.len();

@@ -10,120 +10,9 @@ use serde::Serialize;
 use topoccd::io::{
     available_memory, read_mesh, read_ply_header, MemoryEstimate, MeshFormat, PlyCounts,
 };
-use topoccd::kdop::DopKind;
-use topoccd::math::DVec3;
-use topoccd::narrow::NarrowOptions;
-use topoccd::step::{Ccd, ClusterGrowth, Method, Mode, QueryOptions, Report, Step};
+use topoccd::{Ccd, Contact, EeContact, Method, Mode, Report, Seconds, Stats, Step, VfContact};
 
-/// The whole-step query's method, as named on the command line.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum MethodArg {
-    /// A k-DOP bounding volume hierarchy built anew for the step (the paper's baseline).
-    Bvh,
-    /// Every feature pair whose swept boxes overlap (the oracle).
-    Brute,
-    /// The paper's method: clusters proved free of self-contact, a hierarchy over them, lazy
-    /// hierarchies over the leaf clusters' triangles.
-    Cluster,
-}
-
-impl From<MethodArg> for Method {
-    fn from(m: MethodArg) -> Self {
-        match m {
-            MethodArg::Bvh => Method::Bvh,
-            MethodArg::Brute => Method::Brute,
-            MethodArg::Cluster => Method::Cluster,
-        }
-    }
-}
-
-/// How `--method cluster` grows its leaf clusters, as named on the command line.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum GrowthArg {
-    /// The paper's criterion (every ring faces away from the observation point) and the disk
-    /// certificate.
-    Paper,
-    /// The disk certificate alone: bigger clusters, equally sound.
-    Certificate,
-}
-
-impl From<GrowthArg> for ClusterGrowth {
-    fn from(g: GrowthArg) -> Self {
-        match g {
-            GrowthArg::Paper => ClusterGrowth::Paper,
-            GrowthArg::Certificate => ClusterGrowth::Certificate,
-        }
-    }
-}
-
-impl GrowthArg {
-    /// The library's default.
-    pub fn default_growth() -> Self {
-        match ClusterGrowth::default() {
-            ClusterGrowth::Paper => GrowthArg::Paper,
-            ClusterGrowth::Certificate => GrowthArg::Certificate,
-        }
-    }
-}
-
-/// Options of the query shared by the commands that run steps.
-#[derive(clap::Args, Debug, Clone)]
-pub struct QueryArgs {
-    /// Method of the broad phase.
-    #[arg(long, value_enum, default_value_t = MethodArg::Bvh)]
-    pub method: MethodArg,
-    /// Report only the earliest time of impact and one pair attaining it.
-    #[arg(long)]
-    pub earliest: bool,
-    /// k of the k-DOP bounding volumes: 6, 14, 18 or 26.
-    #[arg(long, default_value_t = 18, value_parser = parse_k)]
-    pub k: usize,
-    /// Distance at or below which features count as touching (coordinate units, >= 0).
-    #[arg(long, default_value_t = 0.0)]
-    pub min_separation: f64,
-    /// Time resolution of the elementary tests, in (0, 1).
-    #[arg(long, default_value_t = NarrowOptions::default().tolerance)]
-    pub tolerance: f64,
-    /// How `--method cluster` grows its leaf clusters (ignored by the other methods).
-    #[arg(long, value_enum, default_value_t = GrowthArg::default_growth())]
-    pub growth: GrowthArg,
-}
-
-fn parse_k(s: &str) -> Result<usize, String> {
-    let k: usize = s.parse().map_err(|_| format!("{s:?} is not a number"))?;
-    DopKind::from_k(k)
-        .map(|_| k)
-        .ok_or_else(|| format!("k must be 6, 14, 18 or 26, got {k}"))
-}
-
-impl QueryArgs {
-    /// The library's options, after checking the ranges.
-    pub fn options(&self) -> Result<QueryOptions> {
-        if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
-            bail!("--tolerance must be in (0, 1), got {}", self.tolerance);
-        }
-        if !(self.min_separation >= 0.0 && self.min_separation.is_finite()) {
-            bail!(
-                "--min-separation must be finite and >= 0, got {}",
-                self.min_separation
-            );
-        }
-        Ok(QueryOptions {
-            narrow: NarrowOptions {
-                tolerance: self.tolerance,
-                min_separation: self.min_separation,
-                ..NarrowOptions::default()
-            },
-            kdop: DopKind::from_k(self.k).unwrap_or_default(),
-            mode: if self.earliest {
-                Mode::Earliest
-            } else {
-                Mode::All
-            },
-            growth: self.growth.into(),
-        })
-    }
-}
+use crate::query_args::{MethodArgs, QueryArgs};
 
 /// Arguments of `topoccd step`.
 #[derive(clap::Args, Debug)]
@@ -133,6 +22,8 @@ pub struct Args {
     /// Positions at t=1 and the step's triangles (.ply or .obj), same vertex count as T0.
     t1: PathBuf,
     #[command(flatten)]
+    method: MethodArgs,
+    #[command(flatten)]
     query: QueryArgs,
     /// Write one line per colliding pair: `vf,VERTEX,FACE,TOI` or `ee,A0,A1,B0,B1,TOI`.
     #[arg(long, value_name = "FILE")]
@@ -140,6 +31,10 @@ pub struct Args {
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
+    /// With --json, include every contact (in --earliest mode the earliest pairs are always
+    /// included).
+    #[arg(long)]
+    with_pairs: bool,
     /// Refuse a step whose estimated memory exceeds SIZE: bytes, or a number with K, M, G or
     /// T (powers of 1024), or `off` to skip the check. Default: $TOPOCCD_MAX_MEMORY, else the
     /// memory available (MemAvailable of /proc/meminfo; no check where that is unknown).
@@ -242,117 +137,123 @@ impl MemoryLimit {
     }
 }
 
-/// Time of each phase, in seconds.
+/// The JSON summary of one step: the library's own report types.
 #[derive(Serialize, Debug)]
-pub struct SecondsOut {
-    build: f64,
-    traverse: f64,
-    narrow: f64,
-    total: f64,
-    /// `--method cluster` only: growing the leaf clusters.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    clustering: Option<f64>,
-    /// `--method cluster` only: merging them into intermediate clusters.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    merging: Option<f64>,
-}
-
-/// The clusters of `--method cluster` (the paper's table 2) and its lazy hierarchies.
-#[derive(Serialize, Debug)]
-pub struct ClustersOut {
-    leaf: usize,
-    intermediate: usize,
-    triangles_per_leaf: f64,
-    triangles_per_intermediate: f64,
-    lazy_bvhs: usize,
-    leaf_pairs: u64,
-}
-
-/// Work counters.
-#[derive(Serialize, Debug)]
-pub struct StatsOut {
-    bv_tests: u64,
-    vf_tests: u64,
-    ee_tests: u64,
-}
-
-/// The JSON summary of one step.
-#[derive(Serialize, Debug)]
-pub struct StepOut {
+pub struct StepOut<'r> {
     vertices: usize,
     triangles: usize,
+    method: String,
+    mode: &'static str,
+    /// Vertex-face contacts reported (in `--earliest` mode, the earliest pairs).
     vf: usize,
+    /// Edge-edge contacts reported (in `--earliest` mode, the earliest pairs).
     ee: usize,
+    /// Contacts whose certainty is not `Resolved` (the search gave up conservatively).
+    unresolved: usize,
     earliest_toi: Option<f64>,
-    seconds: SecondsOut,
-    stats: StatsOut,
-    /// `--method cluster` only.
+    /// The earliest contact, with its pair, time and certainty.
+    earliest: Option<&'r Contact>,
+    seconds: &'r Seconds,
+    stats: &'r Stats,
+    /// The contacts themselves: always in `--earliest` mode, else with `--with-pairs`.
     #[serde(skip_serializing_if = "Option::is_none")]
-    clusters: Option<ClustersOut>,
+    pairs: Option<PairsOut<'r>>,
 }
 
-impl StepOut {
-    /// Summarises a report of `step`.
-    pub fn new(step: &Step, report: &Report) -> Self {
-        let s = &report.stats;
+/// The contacts of a report.
+#[derive(Serialize, Debug)]
+pub struct PairsOut<'r> {
+    vf: &'r [VfContact],
+    ee: &'r [EeContact],
+}
+
+impl<'r> StepOut<'r> {
+    /// Summarises a report of `step`; `with_pairs` includes the contacts.
+    pub fn new(
+        step: &Step,
+        method: Method,
+        mode: Mode,
+        report: &'r Report,
+        with_pairs: bool,
+    ) -> Self {
+        let earliest_mode = mode == Mode::Earliest;
         Self {
             vertices: step.vertex_count(),
             triangles: step.triangles().len(),
+            method: method.to_string(),
+            mode: if earliest_mode { "earliest" } else { "all" },
             vf: report.vf.len(),
             ee: report.ee.len(),
+            unresolved: report.unresolved,
             earliest_toi: report.earliest_toi(),
-            seconds: SecondsOut {
-                build: s.seconds.build,
-                traverse: s.seconds.traverse,
-                narrow: s.seconds.narrow,
-                total: s.seconds.total,
-                clustering: s.seconds.clustering,
-                merging: s.seconds.merging,
-            },
-            stats: StatsOut {
-                bv_tests: s.bv_tests,
-                vf_tests: s.vf_tests,
-                ee_tests: s.ee_tests,
-            },
-            clusters: s.cluster.map(|c| ClustersOut {
-                leaf: c.leaf,
-                intermediate: c.intermediate,
-                triangles_per_leaf: c.triangles_per_leaf,
-                triangles_per_intermediate: c.triangles_per_intermediate,
-                lazy_bvhs: c.lazy_bvhs,
-                leaf_pairs: c.leaf_pairs,
+            earliest: report.earliest.as_ref(),
+            seconds: &report.stats.seconds,
+            stats: &report.stats,
+            pairs: (with_pairs || earliest_mode).then_some(PairsOut {
+                vf: &report.vf,
+                ee: &report.ee,
             }),
         }
     }
 
     /// One line of text.
     pub fn text(&self) -> String {
+        let s = &self.stats;
+        let what = if self.mode == "earliest" {
+            format!(
+                "earliest toi {}, reached by {} vf and {} ee pairs",
+                self.earliest_toi
+                    .map_or("none".to_string(), |t| t.to_string()),
+                self.vf,
+                self.ee
+            )
+        } else {
+            format!(
+                "{} vf and {} ee contacts, earliest toi {}",
+                self.vf,
+                self.ee,
+                self.earliest_toi
+                    .map_or("none".to_string(), |t| t.to_string())
+            )
+        };
+        let earliest = match self.earliest {
+            Some(Contact::Vf(c)) => format!(" (vertex {} - face {})", c.vertex, c.face),
+            Some(Contact::Ee(c)) => {
+                format!(" (edge {}-{} - edge {}-{})", c.a[0], c.a[1], c.b[0], c.b[1])
+            }
+            None => String::new(),
+        };
+        let unresolved = if self.unresolved > 0 {
+            format!(
+                "; {} contacts UNRESOLVED (the search gave up; their times are only lower bounds)",
+                self.unresolved
+            )
+        } else {
+            String::new()
+        };
         format!(
-            "{} vertices, {} triangles: {} vf and {} ee contacts, earliest toi {}; {:.4} s (build {:.4}, traverse {:.4}, narrow {:.4}); {} bv, {} vf, {} ee tests",
+            "{} vertices, {} triangles: {what}{earliest}{unresolved}; {:.4} s (build {:.4}, traverse {:.4}, narrow {:.4}); {} bv, {} vf, {} ee tests",
             self.vertices,
             self.triangles,
-            self.vf,
-            self.ee,
-            self.earliest_toi.map_or("none".to_string(), |t| t.to_string()),
             self.seconds.total,
             self.seconds.build,
             self.seconds.traverse,
             self.seconds.narrow,
-            self.stats.bv_tests,
-            self.stats.vf_tests,
-            self.stats.ee_tests,
+            s.bv_tests,
+            s.vf_tests,
+            s.ee_tests,
         ) + &self.clusters_text()
     }
 
     /// The cluster figures as text, empty for the other methods.
     fn clusters_text(&self) -> String {
-        let Some(c) = &self.clusters else {
+        let Some(c) = &self.stats.cluster else {
             return String::new();
         };
         format!(
             "; clustering {:.4} s, merging {:.4} s; {} leaf clusters ({:.1} triangles each), {} intermediate, {} lazy BVHs, {} leaf pairs",
-            self.seconds.clustering.unwrap_or(0.0),
-            self.seconds.merging.unwrap_or(0.0),
+            c.clustering_seconds,
+            c.merging_seconds,
             c.leaf,
             c.triangles_per_leaf,
             c.intermediate,
@@ -364,7 +265,7 @@ impl StepOut {
 
 /// Reads the two frames of a step: positions of both, triangles of the second. Refuses a step
 /// whose estimated memory exceeds the default [`MemoryLimit::from_env`].
-pub fn read_step(t0: &Path, t1: &Path) -> Result<Step> {
+pub fn read_step(t0: &Path, t1: &Path) -> Result<Step<'static>> {
     read_step_within(t0, t1, MemoryLimit::from_env()?)
 }
 
@@ -386,7 +287,7 @@ fn vertex_mismatch(t0: &Path, n0: usize, t1: &Path, n1: usize) -> anyhow::Error 
 
 /// [`read_step`] with the given memory limit, checked from the PLY headers before reading
 /// the data, and from the meshes read before building the step.
-pub fn read_step_within(t0: &Path, t1: &Path, limit: MemoryLimit) -> Result<Step> {
+pub fn read_step_within(t0: &Path, t1: &Path, limit: MemoryLimit) -> Result<Step<'static>> {
     if let (Some(c0), Some(c1)) = (header_counts(t0)?, header_counts(t1)?) {
         if c0.vertices != c1.vertices {
             return Err(vertex_mismatch(t0, c0.vertices, t1, c1.vertices));
@@ -404,10 +305,7 @@ pub fn read_step_within(t0: &Path, t1: &Path, limit: MemoryLimit) -> Result<Step
         ));
     }
     limit.check(m1.positions.len(), m1.triangles.len(), t0, t1)?;
-    let vectors = |positions: &[[f64; 3]]| -> Vec<DVec3> {
-        positions.iter().map(|&p| DVec3::from_array(p)).collect()
-    };
-    Step::new(vectors(&m0.positions), vectors(&m1.positions), m1.triangles)
+    Step::new(m0.positions, m1.positions, m1.triangles)
         .with_context(|| format!("step from {} to {}", t0.display(), t1.display()))
 }
 
@@ -460,11 +358,12 @@ pub fn run(args: &Args) -> Result<()> {
     let step = read_step_within(&args.t0, &args.t1, limit)?;
     let read_seconds = started.elapsed().as_secs_f64();
     let mut ccd = Ccd::new();
-    let report = ccd.query(&step, args.query.method.into(), &options);
+    let method = args.method.method.into();
+    let report = ccd.query(&step, method, &options)?;
     if let Some(p) = &args.pairs {
         write_pairs(p, &report, &[&args.t0, &args.t1])?;
     }
-    let out = StepOut::new(&step, &report);
+    let out = StepOut::new(&step, method, options.mode, &report, args.with_pairs);
     if args.json {
         println!("{}", serde_json::to_string(&out)?);
     } else {

@@ -8,6 +8,7 @@ mod cmd_render;
 mod cmd_run;
 mod cmd_step;
 mod plot;
+mod query_args;
 mod render;
 
 use std::process::ExitCode;

@@ -2,43 +2,68 @@
 //!
 //! Continuous collision detection (CCD) for deforming triangle meshes whose topology may change
 //! from one step to the next (cutting, tearing, fracture). Give it the vertex positions at t=0
-//! and t=1 of one step and the triangles; it returns every vertex-face and edge-edge contact with
-//! its time of impact, or only the earliest one.
+//! and t=1 of one step and the triangles; it returns every vertex-face and edge-edge contact
+//! with its time of impact, or only the earliest ones, and never misses a contact.
 //!
-//! The crate is organised by pipeline stage:
-//! - [`narrow`]: the elementary tests (vertex-face, edge-edge) under linear motion; conservative.
-//! - [`kdop`], [`bvh`]: discrete oriented polytopes and a bounding volume hierarchy that knows
-//!   only volumes and leaf ids.
-//! - [`step`]: one simulation step (mesh, topology, the whole-step query, the brute-force oracle).
-//! - [`cluster`]: the dynamic clustering of the paper (leaf and intermediate clusters).
-//! - [`scene`]: seeded scene generators used by tests, benchmarks and the command line.
-//! - [`io`]: file formats (PLY, OBJ, the query CSV files, ground truth).
+//! The API is a handful of types: a [`Step`] (the input, borrowed, with an optional parent
+//! list across a topology change and a pair filter), a reusable [`Ccd`] with [`QueryOptions`],
+//! and a [`Report`] of [`VfContact`]s and [`EeContact`]s, each with a [`Certainty`] and, on
+//! request, its geometry. [`io`] reads and writes meshes and frame sequences.
 //!
-//! A whole CCD step: a vertex falls through a fixed triangle, checked by the per-step k-DOP
-//! hierarchy and by the brute-force oracle.
+//! A step across a cut: vertex 4 is split from vertex 1 and starts at its position, then a
+//! vertex of the cut-off piece falls through the other piece.
 //!
 //! ```
-//! use topoccd::math::DVec3;
-//! use topoccd::step::{Ccd, Method, QueryOptions, Step};
-//! let fixed = [DVec3::ZERO, DVec3::X, DVec3::Y];
-//! let carrier = |z: f64| [0.0, 0.1, 0.1].map(|dz| DVec3::new(0.2 + dz, 0.2, z + 5.0 * dz));
-//! let x0: Vec<DVec3> = fixed.iter().chain(&carrier(1.0)).copied().collect();
-//! let x1: Vec<DVec3> = fixed.iter().chain(&carrier(-1.0)).copied().collect();
-//! let step = Step::new(x0, x1, vec![[0, 1, 2], [3, 4, 5]])?;
+//! use topoccd::{Ccd, Method, Mode, QueryOptions, Step};
+//! let x0 = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 1.0], [0.2, 0.2, 1.0]];
+//! let x1 = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 1.0], [0.2, 0.2, -1.0],
+//!           [1.0, 0.0, 1.0]];
+//! let triangles = [[0u32, 1, 2], [3, 4, 5]];
+//! let step = Step::with_parents(&x0, &x1, &triangles, &[[5, 1]])?;
 //! let mut ccd = Ccd::new(); // keep it across steps: its buffers are reused
-//! let report = ccd.query(&step, Method::Bvh, &QueryOptions::default());
-//! assert_eq!((report.vf[0].vertex, report.vf[0].face), (3, 0));
-//! assert!((report.earliest_toi().unwrap() - 0.5).abs() < 1e-6);
-//! assert_eq!(report.vf, ccd.query(&step, Method::Brute, &QueryOptions::default()).vf);
-//! # Ok::<(), topoccd::step::StepError>(())
+//! let options = QueryOptions { mode: Mode::Earliest, geometry: true, ..QueryOptions::default() };
+//! let report = ccd.query(&step, Method::Bvh, &options)?;
+//! let hit = report.vf[0]; // the earliest pair(s)
+//! assert_eq!((hit.vertex, hit.face), (4, 0));
+//! assert!((hit.toi - 0.5).abs() < 1e-6); // not 0: vertex 5 and its parent 1 are one vertex
+//! assert_eq!(hit.geometry.unwrap().normal, [0.0, 0.0, 1.0]);
+//! assert_eq!(report.unresolved, 0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! Inside, the folders follow the data: `mesh` (input model, topology, features, pair
+//! filter) → `narrow` (elementary tests, prefilter, Bernstein bounds) → `kdop` and `bvh`
+//! (bounding volumes) → `broad` (brute force, per-step hierarchy, clusters) → `query` →
+//! [`io`]. Only the types re-exported here are public; the crate feature `internals` exposes the
+//! rest, hidden and unstable, to the crate's own tests and the workspace's generators.
 #![warn(missing_docs)]
 
-pub mod bvh;
-pub mod cluster;
+/// Declares an internal module: private, or public and hidden with the feature `internals`
+/// (for the crate's own tests and the workspace's generators and benchmarks).
+macro_rules! internal {
+    ($($name:ident),* $(,)?) => {$(
+        #[cfg(feature = "internals")]
+        #[doc(hidden)]
+        pub mod $name;
+        #[cfg(not(feature = "internals"))]
+        #[allow(dead_code, unused_imports)]
+        mod $name;
+    )*};
+}
+
+internal!(broad, bvh, kdop, math, mesh, narrow, query);
+
 pub mod io;
-pub mod kdop;
-pub mod math;
-pub mod narrow;
-pub mod scene;
-pub mod step;
+
+pub use kdop::DopKind;
+pub use mesh::{CanCollide, Frame, Positions, Step, StepError, Triangles};
+pub use narrow::NarrowOptions;
+pub use query::{
+    query, Ccd, Certainty, ClusterFigures, ClusterGrowth, Contact, EeContact, EeGeometry, Method,
+    Mode, OptionsError, QueryOptions, Report, Seconds, Stats, VfContact, VfGeometry,
+};
+
+/// The README's examples, run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+struct ReadmeDoctests;

@@ -16,3 +16,7 @@ pub fn lerp(p_t0: DVec3, p_t1: DVec3, t: f64) -> DVec3 {
 pub fn max_abs(p: DVec3) -> f64 {
     p.abs().max_element()
 }
+
+/// Absolute allowance for products in the subnormal range, added to every rounding bound:
+/// results there are not relatively accurate.
+pub const UNDERFLOW_ERROR: f64 = 1e-290;

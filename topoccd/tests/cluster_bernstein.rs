@@ -1,10 +1,10 @@
 //! Sign certificates of the clustering: quadratics and cubics with known signs, roots just
 //! inside or outside `[0, 1]`, scale and translation invariance.
 
-use topoccd::cluster::bernstein::{
+use topoccd::math::DVec3;
+use topoccd::narrow::bernstein::{
     normal_along, phi, star_around, triple_product, Bernstein, Verdict,
 };
-use topoccd::math::DVec3;
 
 /// Bernstein coefficients of a quadratic given by its power-basis coefficients `c0 + c1 t + c2 t^2`.
 fn quad(c0: f64, c1: f64, c2: f64, error: f64) -> Bernstein<3> {

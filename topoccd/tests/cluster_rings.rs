@@ -5,10 +5,11 @@
 
 mod mesh_util;
 
-use topoccd::cluster::{
+use topoccd::broad::cluster::{
     cluster, ClusterOptions, Clustering, DiskBuilder, LeafCertificate, LeafDirection, RingGrowth,
 };
-use topoccd::step::{Step, Topology};
+use topoccd::mesh::Topology;
+use topoccd::Step;
 
 fn recertify(name: &str, step: &Step, options: &ClusterOptions) -> Clustering {
     let topo = Topology::new(step.triangles(), step.vertex_count());

@@ -3,12 +3,13 @@
 //! bound, so that a shared machine does not make it flaky.
 
 use std::time::Instant;
-use topoccd::cluster::{cluster_with, ClusterOptions, ClusterWorkspace};
+use topoccd::broad::cluster::{cluster_with, ClusterOptions, ClusterWorkspace};
 use topoccd::math::DVec3;
-use topoccd::step::{Step, Topology};
+use topoccd::mesh::Topology;
+use topoccd::Step;
 
 /// An `n x n` quad grid (2 n^2 triangles) on `[0, 1]^2`, draped by `f0` at t=0 and `f1` at t=1.
-fn sheet(n: u32, f0: impl Fn(f64, f64) -> DVec3, f1: impl Fn(f64, f64) -> DVec3) -> Step {
+fn sheet(n: u32, f0: impl Fn(f64, f64) -> DVec3, f1: impl Fn(f64, f64) -> DVec3) -> Step<'static> {
     let (mut x0, mut x1) = (Vec::new(), Vec::new());
     for j in 0..=n {
         for i in 0..=n {

@@ -8,11 +8,12 @@ mod mesh_util;
 use mesh_util::{grid, sphere};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use topoccd::cluster::bernstein::{phi, Verdict};
-use topoccd::cluster::{cluster, ClusterOptions, Clustering};
+use topoccd::broad::cluster::{cluster, ClusterOptions, Clustering};
 use topoccd::math::DVec3;
+use topoccd::mesh::Topology;
+use topoccd::narrow::bernstein::{phi, Verdict};
 use topoccd::narrow::{edge_edge, vertex_face, EdgeEdge, NarrowOptions, VertexFace};
-use topoccd::step::{Step, Topology};
+use topoccd::Step;
 
 // ---------------------------------------------------------------- brute force
 
@@ -20,7 +21,7 @@ use topoccd::step::{Step, Topology};
 fn feature_box(step: &Step, vs: &[u32]) -> (DVec3, DVec3) {
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for &v in vs {
-        for p in [step.x0()[v as usize], step.x1()[v as usize]] {
+        for p in [step.pos0()[v as usize], step.pos1()[v as usize]] {
             lo = lo.min(p);
             hi = hi.max(p);
         }
@@ -36,7 +37,7 @@ fn boxes_meet(a: (DVec3, DVec3), b: (DVec3, DVec3)) -> bool {
 /// `limit` of them. A swept box test filters the pairs first (exactly: features whose boxes of
 /// end positions are disjoint cannot meet).
 fn contacts_among(step: &Step, tris: &[u32], limit: usize) -> Vec<String> {
-    let (x0, x1, t) = (step.x0(), step.x1(), step.triangles());
+    let (x0, x1, t) = (step.pos0(), step.pos1(), step.triangles());
     let mut verts: Vec<u32> = tris.iter().flat_map(|&f| t[f as usize]).collect();
     verts.sort_unstable();
     verts.dedup();
@@ -326,8 +327,8 @@ fn phi_only_leaves(step: &Step, topo: &Topology) -> Vec<Vec<u32>> {
     let corners = |t: u32| {
         let tri = step.triangles()[t as usize];
         (
-            tri.map(|v| step.x0()[v as usize]),
-            tri.map(|v| step.x1()[v as usize]),
+            tri.map(|v| step.pos0()[v as usize]),
+            tri.map(|v| step.pos1()[v as usize]),
         )
     };
     for seed in 0..n as u32 {
@@ -437,5 +438,5 @@ fn positive_min_separation_turns_clustering_off() {
     assert!(c
         .leaves
         .iter()
-        .all(|l| l.certificate == topoccd::cluster::LeafCertificate::SingleTriangle));
+        .all(|l| l.certificate == topoccd::broad::cluster::LeafCertificate::SingleTriangle));
 }

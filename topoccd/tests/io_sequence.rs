@@ -5,7 +5,6 @@ use std::path::PathBuf;
 
 use topoccd::io::sequence::{write_frame, Sequence, SequenceError};
 use topoccd::io::{write_mesh, IoError, Mesh};
-use topoccd::math::DVec3;
 
 fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("topoccd-seq-{name}-{}", std::process::id()));
@@ -43,10 +42,10 @@ fn steps_use_the_next_frames_triangles_and_parent_positions() {
     assert_eq!(*k, 0);
     assert_eq!(s0.triangles(), &[[0, 1, 3]]);
     // Vertex 3 starts at its parent's position in frame 0.
-    assert_eq!(s0.x0()[3], DVec3::new(0.0, 1.0, 0.0));
-    assert_eq!(s0.x1()[3], DVec3::new(0.0, 2.0, 1.0));
+    assert_eq!(s0.x0()[3], [0.0, 1.0, 0.0]);
+    assert_eq!(s0.x1()[3], [0.0, 2.0, 1.0]);
     // Without a parents file a vertex that exists in both frames just moves.
-    assert_eq!(steps[1].1.x0()[3], DVec3::new(0.0, 2.0, 1.0));
+    assert_eq!(steps[1].1.x0()[3], [0.0, 2.0, 1.0]);
     let _ = fs::remove_dir_all(&dir);
 }
 
@@ -61,7 +60,7 @@ fn new_vertex_without_parent_starts_where_it_ends() {
         .next()
         .expect("one")
         .expect("ok");
-    assert_eq!(step.x0()[3], step.x1()[3]);
+    assert_eq!(step.pos0()[3], step.pos1()[3]);
     let _ = fs::remove_dir_all(&dir);
 }
 
@@ -180,7 +179,7 @@ fn prefixed_frames_numbered_from_one_form_a_sequence() {
     assert!(seq.frames[0].ends_with("frame_0001.obj"));
     // The parents file beside frame_0002 works as 0001.parents does beside 0001.ply.
     let steps: Vec<_> = seq.iter().collect::<Result<_, _>>().expect("steps");
-    assert_eq!(steps[0].1.x0()[3], DVec3::new(0.0, 1.0, 0.0));
+    assert_eq!(steps[0].1.x0()[3], [0.0, 1.0, 0.0]);
     let frames = seq.load(0).expect("load");
     assert_eq!(frames.index, 0);
     assert_eq!(frames.x0.len(), 3);

@@ -10,7 +10,7 @@ use topoccd::io::{
     libigl_edges, read_ply, read_scene_truth, scene_frames, write_ply, IoError, Mesh,
 };
 use topoccd::math::DVec3;
-use topoccd::step::Topology;
+use topoccd::mesh::Topology;
 
 /// What the data README and the files say about a scene.
 struct Case {

@@ -1,7 +1,7 @@
 //! Tiny scenes with known answers: the exact pairs and times of impact.
 
 use topoccd::math::DVec3;
-use topoccd::step::{Ccd, Contact, EeContact, Method, Mode, QueryOptions, Step, VfContact};
+use topoccd::{Ccd, Certainty, Contact, EeContact, Method, Mode, QueryOptions, Step, VfContact};
 
 const TOLERANCE: f64 = 1e-6;
 
@@ -11,7 +11,7 @@ fn methods() -> [Method; 3] {
 
 /// Triangle 0 fixed in z = 0; triangle 1 is a small triangle whose corner 3 falls from z = h0
 /// to z = h1 above (0.2, 0.2), the others staying higher.
-fn falling_vertex(h0: f64, h1: f64) -> Step {
+fn falling_vertex(h0: f64, h1: f64) -> Step<'static> {
     let fixed = [DVec3::ZERO, DVec3::X, DVec3::Y];
     let carrier = |h: f64| {
         [
@@ -20,8 +20,8 @@ fn falling_vertex(h0: f64, h1: f64) -> Step {
             DVec3::new(0.2, 0.3, h + 5.0),
         ]
     };
-    let x0 = fixed.iter().chain(&carrier(h0)).copied().collect();
-    let x1 = fixed.iter().chain(&carrier(h1)).copied().collect();
+    let x0: Vec<DVec3> = fixed.iter().chain(&carrier(h0)).copied().collect();
+    let x1: Vec<DVec3> = fixed.iter().chain(&carrier(h1)).copied().collect();
     Step::new(x0, x1, vec![[0, 1, 2], [3, 4, 5]]).unwrap()
 }
 
@@ -32,14 +32,17 @@ fn a_vertex_falling_through_a_triangle() {
     for (h0, h1, toi) in [(1.0, -3.0, 0.25), (1.0, -1.0, 0.5), (3.0, -1.0, 0.75)] {
         let step = falling_vertex(h0, h1);
         for method in methods() {
-            let report = ccd.query(&step, method, &QueryOptions::default());
+            let report = ccd.query(&step, method, &QueryOptions::default()).unwrap();
             assert!(report.ee.is_empty(), "{method}: {:?}", report.ee);
             assert_eq!(report.vf.len(), 1, "{method}");
             let VfContact {
                 vertex,
                 face,
                 toi: found,
+                certainty,
+                ..
             } = report.vf[0];
+            assert_eq!(certainty, Certainty::Resolved);
             assert_eq!((vertex, face), (3, 0));
             assert!(
                 found <= toi && found > toi - TOLERANCE,
@@ -57,7 +60,7 @@ fn min_separation_brings_the_contact_forward() {
     let mut options = QueryOptions::default();
     options.narrow.min_separation = 0.1;
     for method in methods() {
-        let report = Ccd::new().query(&step, method, &options);
+        let report = Ccd::new().query(&step, method, &options).unwrap();
         let toi = report.earliest_toi().unwrap();
         assert!(
             toi <= 0.45 && toi > 0.45 - 2.0 * TOLERANCE,
@@ -76,11 +79,13 @@ fn a_vertex_passing_beside_the_triangle_does_not_collide() {
             DVec3::new(0.6, 0.7, h + 5.0),
         ]
     };
-    let x0 = fixed.iter().chain(&carrier(1.0)).copied().collect();
-    let x1 = fixed.iter().chain(&carrier(-1.0)).copied().collect();
+    let x0: Vec<DVec3> = fixed.iter().chain(&carrier(1.0)).copied().collect();
+    let x1: Vec<DVec3> = fixed.iter().chain(&carrier(-1.0)).copied().collect();
     let step = Step::new(x0, x1, vec![[0, 1, 2], [3, 4, 5]]).unwrap();
     for method in methods() {
-        let report = Ccd::new().query(&step, method, &QueryOptions::default());
+        let report = Ccd::new()
+            .query(&step, method, &QueryOptions::default())
+            .unwrap();
         assert_eq!(report.contact_count(), 0, "{method}: {report:?}");
     }
 }
@@ -108,8 +113,8 @@ fn two_crossing_edges() {
                 mode,
                 ..QueryOptions::default()
             };
-            let report = Ccd::new().query(&step, method, &options);
-            let Some(Contact::Ee(EeContact { a, b, toi })) = report.earliest else {
+            let report = Ccd::new().query(&step, method, &options).unwrap();
+            let Some(Contact::Ee(EeContact { a, b, toi, .. })) = report.earliest else {
                 panic!("{method} {mode:?}: {report:?}");
             };
             assert_eq!((a, b), ([0, 1], [3, 4]));
@@ -137,7 +142,9 @@ fn pairs_sharing_a_vertex_are_never_reported() {
     x1[3] = DVec3::new(0.5, 0.4, -0.5);
     let step = Step::new(x0, x1, vec![[0, 1, 2], [1, 0, 3]]).unwrap();
     for method in methods() {
-        let report = Ccd::new().query(&step, method, &QueryOptions::default());
+        let report = Ccd::new()
+            .query(&step, method, &QueryOptions::default())
+            .unwrap();
         let vf: Vec<(u32, u32)> = report.vf.iter().map(|c| (c.vertex, c.face)).collect();
         assert_eq!(vf, vec![(3, 0)], "{method}");
         for c in &report.ee {

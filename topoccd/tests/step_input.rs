@@ -1,7 +1,7 @@
 //! Validation of a step's input, and degenerate meshes.
 
 use topoccd::math::DVec3;
-use topoccd::step::{query, Ccd, Frame, Method, Mode, QueryOptions, Step, StepError};
+use topoccd::{query, Ccd, Frame, Method, Mode, QueryOptions, Step, StepError};
 
 fn three() -> Vec<DVec3> {
     vec![DVec3::ZERO, DVec3::X, DVec3::Y]
@@ -69,10 +69,14 @@ fn repeated_vertices_are_refused() {
 #[test]
 fn empty_and_single_triangle_meshes_have_no_contacts() {
     let mut ccd = Ccd::new();
-    let empty = Step::new(vec![], vec![], vec![]).unwrap();
+    let none: [[f64; 3]; 0] = [];
+    let empty = Step::new(&none, &none, &[] as &[[u32; 3]]).unwrap();
     let lonely = Step::new(
         three(),
-        three().iter().map(|p| *p + DVec3::Z).collect(),
+        three()
+            .iter()
+            .map(|p| *p + DVec3::Z)
+            .collect::<Vec<DVec3>>(),
         vec![[0, 1, 2]],
     )
     .unwrap();
@@ -89,7 +93,7 @@ fn empty_and_single_triangle_meshes_have_no_contacts() {
                     mode,
                     ..QueryOptions::default()
                 };
-                let report = ccd.query(step, method, &options);
+                let report = ccd.query(step, method, &options).unwrap();
                 assert_eq!(ccd.validate_tree(), Ok(()));
                 assert_eq!(report.contact_count(), 0);
                 assert_eq!(report.earliest, None);
@@ -99,6 +103,7 @@ fn empty_and_single_triangle_meshes_have_no_contacts() {
     }
     assert_eq!(
         query(&empty, Method::Bvh, &QueryOptions::default())
+            .unwrap()
             .stats
             .bv_tests,
         0

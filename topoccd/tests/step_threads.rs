@@ -1,7 +1,7 @@
 //! The whole-step report does not depend on the number of threads.
 
-use topoccd::scene::SceneKind;
-use topoccd::step::{query, Method, Mode, QueryOptions, Report};
+use topoccd::{query, Method, Mode, QueryOptions, Report};
+use topoccd_scenes::SceneKind;
 
 fn run_with(threads: usize, f: impl FnOnce() -> Report + Send) -> Report {
     rayon::ThreadPoolBuilder::new()
@@ -38,8 +38,8 @@ fn same_report_on_one_and_several_threads() {
                     mode,
                     ..QueryOptions::default()
                 };
-                let one = run_with(1, || query(&step, Method::Bvh, &options));
-                let four = run_with(4, || query(&step, Method::Bvh, &options));
+                let one = run_with(1, || query(&step, Method::Bvh, &options).unwrap());
+                let four = run_with(4, || query(&step, Method::Bvh, &options).unwrap());
                 assert_eq!(
                     key(&one),
                     key(&four),

@@ -13,7 +13,7 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use topoccd::step::Topology;
+use topoccd::mesh::Topology;
 
 /// One contact of a step.
 #[derive(Clone, Copy, Debug, PartialEq)]

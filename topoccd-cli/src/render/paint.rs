@@ -2,8 +2,8 @@
 //! or by contact.
 
 use super::palette::{categorical, CONTACT, NEUTRAL};
-use topoccd::cluster::Clustering;
-use topoccd::step::Topology;
+use topoccd::broad::cluster::Clustering;
+use topoccd::mesh::Topology;
 
 /// How one triangle is drawn (before shading).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -122,9 +122,9 @@ pub fn paint_contacts(involved: &[bool]) -> Vec<TriangleStyle> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use topoccd::cluster::{cluster, ClusterOptions};
+    use topoccd::broad::cluster::{cluster, ClusterOptions};
     use topoccd::math::DVec3;
-    use topoccd::step::Step;
+    use topoccd::Step;
 
     #[test]
     fn components_through_shared_vertices_only() {

@@ -51,7 +51,7 @@ impl MemoryEstimate {
     /// The estimate for a step of `vertices` vertices and `triangles` triangles: reading both
     /// frames, building the step and running one query with [`Method::Bvh`].
     ///
-    /// [`Method::Bvh`]: crate::step::Method::Bvh
+    /// [`Method::Bvh`]: crate::Method::Bvh
     pub fn of_step(vertices: usize, triangles: usize) -> Self {
         let bytes = BASE_BYTES
             .saturating_add((vertices as u64).saturating_mul(BYTES_PER_VERTEX))

@@ -6,7 +6,7 @@ use std::path::Path;
 
 /// A triangle mesh as read from a file: positions and triangles, in the order of the file.
 /// Nothing is validated beyond what the format needs (indices in range, at least three vertices
-/// per face); [`Step::new`](crate::step::Step::new) checks the rest (finite coordinates,
+/// per face); [`Step::new`](crate::Step::new) checks the rest (finite coordinates,
 /// repeated vertices).
 ///
 /// Polygons of more than three vertices (OBJ and PLY faces) and PLY triangle strips are split

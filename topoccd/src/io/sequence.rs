@@ -27,8 +27,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 use super::{read_mesh, write_mesh, FaceOrigin, IoError, Mesh, MeshNote};
-use crate::math::DVec3;
-use crate::step::{Step, StepError};
+use crate::mesh::{Step, StepError};
 
 /// Why a sequence could not be read.
 #[derive(Debug, Error)]
@@ -336,7 +335,7 @@ pub struct StepIter<'a> {
 }
 
 impl Iterator for StepIter<'_> {
-    type Item = Result<(usize, Step), SequenceError>;
+    type Item = Result<(usize, Step<'static>), SequenceError>;
 
     fn next(&mut self) -> Option<Self::Item> {
         let k = self.next;
@@ -447,7 +446,7 @@ pub fn step_between(
     end: &Mesh,
     end_path: &Path,
     k: usize,
-) -> Result<Step, SequenceError> {
+) -> Result<Step<'static>, SequenceError> {
     let (n0, n1) = (start.positions.len(), end.positions.len());
     let parents_file = parents_path(end_path);
     // (A shrinking vertex count is reported by `step_from_frames`.)
@@ -468,7 +467,7 @@ pub fn step_from_frames(
     parents: &[(u32, u32)],
     end_path: &Path,
     k: usize,
-) -> Result<Step, SequenceError> {
+) -> Result<Step<'static>, SequenceError> {
     let (n0, n1) = (start.positions.len(), end.positions.len());
     if n1 < n0 {
         return Err(SequenceError::Shrinks {
@@ -477,25 +476,14 @@ pub fn step_from_frames(
             previous: n0,
         });
     }
-    let mut x0: Vec<DVec3> = Vec::with_capacity(n1);
-    x0.extend(start.positions.iter().map(|&p| DVec3::from_array(p)));
-    x0.extend(end.positions[n0..].iter().map(|&p| DVec3::from_array(p)));
-    for &(new, parent) in parents {
-        if let (Some(slot), Some(&p)) = (
-            x0.get_mut(new as usize),
-            start.positions.get(parent as usize),
-        ) {
-            if new as usize >= n0 {
-                *slot = DVec3::from_array(p);
-            }
-        }
-    }
-    let x1 = end
-        .positions
-        .iter()
-        .map(|&p| DVec3::from_array(p))
-        .collect();
-    Step::new(x0, x1, end.triangles.clone()).map_err(|source| SequenceError::Step {
+    let rows: Vec<[u32; 2]> = parents.iter().map(|&(new, parent)| [new, parent]).collect();
+    Step::with_parents(
+        start.positions.clone(),
+        end.positions.clone(),
+        end.triangles.clone(),
+        &rows,
+    )
+    .map_err(|source| SequenceError::Step {
         step: k,
         path: end_path.to_path_buf(),
         source,

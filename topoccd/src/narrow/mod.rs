@@ -5,9 +5,11 @@
 //! `[0, t_max]`, the answer is [`Outcome::Contact`], with a time of impact no later than the true
 //! first contact. See [`solver`] for the method and its guarantees.
 
+pub mod bernstein;
 pub mod closest;
 mod edge_edge;
 mod options;
+pub mod prefilter;
 pub mod solver;
 mod vertex_face;
 

@@ -92,8 +92,9 @@
 //! When `max_iterations` boxes have been examined, the answer is a contact at the start time of
 //! the next box in the queue, the earliest time not yet ruled out ([`Certainty::IterationLimit`]).
 
+use super::bernstein::coplanarity;
 use super::{closest, Certainty, EdgeEdge, NarrowOptions, Outcome, VertexFace};
-use crate::math::{max_abs, DVec3, UNIT_ROUNDOFF};
+use crate::math::{max_abs, DVec3, UNDERFLOW_ERROR, UNIT_ROUNDOFF};
 
 /// Bound on the rounding error of a computed corner coordinate, in units of `u M` (see the
 /// module documentation: the analysis gives 33; this keeps a factor of about two in reserve).
@@ -101,8 +102,6 @@ const CORNER_ERROR: f64 = 64.0;
 /// Largest coordinate difference accepted; larger ones count as invalid input (the answer is
 /// then a conservative contact at t=0).
 pub const MAX_DIFFERENCE: f64 = 1e300;
-/// Absolute error allowance for results in the subnormal range, where rounding is not relative.
-const UNDERFLOW_ERROR: f64 = 1e-290;
 
 /// Which multilinear form `F = P + u A + w B` takes: `w = u v` or `w = v`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -452,13 +451,7 @@ impl Search<'_> {
         };
         let (p0, a0, b0) = at(t[0]);
         let (p1, a1, b1) = at(t[1]);
-        let det = |p: DVec3, a: DVec3, b: DVec3| p.dot(a.cross(b));
-        let coeffs = [
-            det(p0, a0, b0),
-            (det(p1, a0, b0) + det(p0, a1, b0) + det(p0, a0, b1)) / 3.0,
-            (det(p1, a1, b0) + det(p1, a0, b1) + det(p0, a1, b1)) / 3.0,
-            det(p1, a1, b1),
-        ];
+        let coeffs = coplanarity([p0, p1], [a0, a1], [b0, b1]);
         let e = 16.0 * UNIT_ROUNDOFF * self.m;
         let mp = max_abs(p0).max(max_abs(p1)) + e;
         let ma = max_abs(a0).max(max_abs(a1)) + e;

@@ -8,7 +8,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::{PI, TAU};
 use topoccd::math::DVec3;
-use topoccd::step::Step;
+use topoccd::Step;
 
 /// A grid of `nu x nv` quads, two triangles each, mapped by `f0` at t=0 and `f1` at t=1 from
 /// `(u, v)` in `[0, 1]^2`. Triangles face `+(d/du x d/dv)`.
@@ -17,7 +17,7 @@ pub fn grid(
     nv: u32,
     f0: impl Fn(f64, f64) -> DVec3,
     f1: impl Fn(f64, f64) -> DVec3,
-) -> Step {
+) -> Step<'static> {
     let (mut x0, mut x1) = (Vec::new(), Vec::new());
     for j in 0..=nv {
         for i in 0..=nu {
@@ -44,7 +44,7 @@ pub fn sphere(
     segments: u32,
     f0: impl Fn(DVec3) -> DVec3,
     f1: impl Fn(DVec3) -> DVec3,
-) -> Step {
+) -> Step<'static> {
     let mut unit = vec![DVec3::Z];
     for r in 1..rings {
         let th = PI * r as f64 / rings as f64;
@@ -69,8 +69,8 @@ pub fn sphere(
         }
         tris.push([at(rings - 1, s), south, at(rings - 1, s + 1)]);
     }
-    let x0 = unit.iter().map(|&p| f0(p)).collect();
-    let x1 = unit.iter().map(|&p| f1(p)).collect();
+    let x0: Vec<DVec3> = unit.iter().map(|&p| f0(p)).collect();
+    let x1: Vec<DVec3> = unit.iter().map(|&p| f1(p)).collect();
     Step::new(x0, x1, tris).expect("valid sphere")
 }
 
@@ -82,7 +82,7 @@ pub fn ribbon(
     turns: f64,
     z0: impl Fn(f64) -> f64,
     z1: impl Fn(f64) -> f64,
-) -> Step {
+) -> Step<'static> {
     let at = |z: &dyn Fn(f64) -> f64, u: f64, v: f64| {
         let th = u * turns * TAU;
         let r = 1.0 + 0.5 * v;
@@ -94,14 +94,14 @@ pub fn ribbon(
 
 /// Two turns of a helicoid, pitch 0.4; during the step the upper turn (angle > 2 pi + 1) sinks
 /// by 0.6 through the turn below.
-pub fn sinking_helicoid() -> Step {
+pub fn sinking_helicoid() -> Step<'static> {
     sinking_helicoid_with(160)
 }
 
 /// [`sinking_helicoid`] with `n_theta` segments along the two turns. With an even count, every
 /// vertex of the upper turn sinks exactly (up to rounding) through a vertex of the lower one: a
 /// degenerate near-miss at distance ~1e-15 that the narrow phase reports conservatively, slowly.
-pub fn sinking_helicoid_with(n_theta: u32) -> Step {
+pub fn sinking_helicoid_with(n_theta: u32) -> Step<'static> {
     let pitch = 0.4;
     ribbon(
         n_theta,
@@ -115,7 +115,7 @@ pub fn sinking_helicoid_with(n_theta: u32) -> Step {
 /// A ribbon built so that every triangle faces away from the seed's centroid during the whole
 /// step (flat landing, a rising turn), whose end dives through the landing at t=1: the paper's
 /// criterion alone puts touching features in one cluster.
-pub fn phi_adversarial_helicoid() -> Step {
+pub fn phi_adversarial_helicoid() -> Step<'static> {
     let landing = 1.2 * PI;
     let peak = TAU + 0.05;
     let h = 0.15;
@@ -133,7 +133,7 @@ pub fn phi_adversarial_helicoid() -> Step {
 
 /// Flat at t=0; at t=1 the part x > 0 wraps over a hinge of radius 0.05 and dives back through
 /// the part x < 0.
-pub fn tight_fold() -> Step {
+pub fn tight_fold() -> Step<'static> {
     let rho = 0.05;
     let fold = move |u: f64, v: f64| {
         let x = 2.0 * u - 1.0;
@@ -153,7 +153,7 @@ pub fn tight_fold() -> Step {
 
 /// A flat `n x n` sheet crumpled at t=1 by per-vertex noise of the order of the cell size on
 /// top of a smooth wave (seeded).
-pub fn crumpled(n: usize, seed: u64) -> Step {
+pub fn crumpled(n: usize, seed: u64) -> Step<'static> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let noise: Vec<DVec3> = (0..(n + 1) * (n + 1))
         .map(|_| {
@@ -185,7 +185,7 @@ pub fn crumpled(n: usize, seed: u64) -> Step {
 
 /// Two pieces of a sheet cut along x = 0 (vertices duplicated): during the step the right piece
 /// slides left over the cut and tilts down through the left piece.
-pub fn torn_pieces() -> Step {
+pub fn torn_pieces() -> Step<'static> {
     let left = grid(
         12,
         16,
@@ -199,9 +199,9 @@ pub fn torn_pieces() -> Step {
         |u, v| DVec3::new(u - 0.4, v, 0.12 * (u - 0.2)),
     );
     let off = left.vertex_count() as u32;
-    let x0 = [left.x0(), right.x0()].concat();
-    let x1 = [left.x1(), right.x1()].concat();
-    let tris = left
+    let x0 = [left.pos0(), right.pos0()].concat();
+    let x1 = [left.pos1(), right.pos1()].concat();
+    let tris: Vec<[u32; 3]> = left
         .triangles()
         .iter()
         .copied()
@@ -213,7 +213,7 @@ pub fn torn_pieces() -> Step {
 /// A 24 x 16 sheet torn along x = 1/2 from the bottom up to 5/8 of its height: the column of
 /// vertices on the tear is duplicated, the right flap uses the copies. During the step the right
 /// flap swings left over the tear and down through the left flap.
-pub fn partial_tear() -> Step {
+pub fn partial_tear() -> Step<'static> {
     let (nu, nv) = (24u32, 16u32);
     let tear_top = 10u32;
     let sheet = grid(
@@ -222,8 +222,8 @@ pub fn partial_tear() -> Step {
         |u, v| DVec3::new(u, v, 0.0),
         |u, v| DVec3::new(u, v, 0.0),
     );
-    let mut x0 = sheet.x0().to_vec();
-    let mut x1 = sheet.x1().to_vec();
+    let mut x0 = sheet.pos0().to_vec();
+    let mut x1 = sheet.pos1().to_vec();
     let id = |i: u32, j: u32| j * (nu + 1) + i;
     let mut copy = std::collections::HashMap::new();
     for j in 0..tear_top {
@@ -261,7 +261,7 @@ pub fn partial_tear() -> Step {
 
 /// A sheet or blob under a random smooth deformation large enough to fold it through itself
 /// (seeded): a sphere when `seed % 3 == 2`, else a grid.
-pub fn random_smooth(seed: u64) -> Step {
+pub fn random_smooth(seed: u64) -> Step<'static> {
     let mut rng = ChaCha8Rng::seed_from_u64(1000 + seed);
     let amp: [f64; 3] = [0.0, 1.0, 2.0].map(|_| rng.random_range(0.05..0.6));
     let freq: [f64; 3] = [0.0, 1.0, 2.0].map(|_| rng.random_range(2.0..9.0));

@@ -1,0 +1,150 @@
+//! The query options every command that runs steps takes, declared once and checked by the
+//! library ([`QueryOptions::validate`]), so every command refuses the same values with the same
+//! message.
+
+use anyhow::Result;
+use topoccd::{ClusterGrowth, DopKind, Method, Mode, NarrowOptions, QueryOptions};
+
+/// The whole-step query's method, as named on the command line.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MethodArg {
+    /// A k-DOP bounding volume hierarchy built anew for the step (the paper's baseline).
+    Bvh,
+    /// Every feature pair whose swept boxes overlap (the oracle).
+    Brute,
+    /// The paper's method: clusters proved free of self-contact, a hierarchy over them, lazy
+    /// hierarchies over the leaf clusters' triangles.
+    Cluster,
+}
+
+impl From<MethodArg> for Method {
+    fn from(m: MethodArg) -> Self {
+        match m {
+            MethodArg::Bvh => Method::Bvh,
+            MethodArg::Brute => Method::Brute,
+            MethodArg::Cluster => Method::Cluster,
+        }
+    }
+}
+
+/// How `--method cluster` grows its leaf clusters, as named on the command line.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GrowthArg {
+    /// The paper's criterion (every ring faces away from the observation point) and the disk
+    /// certificate.
+    Paper,
+    /// The disk certificate alone: bigger clusters, equally sound.
+    Certificate,
+}
+
+impl From<GrowthArg> for ClusterGrowth {
+    fn from(g: GrowthArg) -> Self {
+        match g {
+            GrowthArg::Paper => ClusterGrowth::Paper,
+            GrowthArg::Certificate => ClusterGrowth::Certificate,
+        }
+    }
+}
+
+impl GrowthArg {
+    /// The library's default.
+    pub fn default_growth() -> Self {
+        match ClusterGrowth::default() {
+            ClusterGrowth::Paper => GrowthArg::Paper,
+            ClusterGrowth::Certificate => GrowthArg::Certificate,
+        }
+    }
+}
+
+/// The broad phase's method of `step` and `run`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct MethodArgs {
+    /// Method of the broad phase (every method reports the same pairs).
+    #[arg(long, value_enum, default_value_t = MethodArg::Bvh)]
+    pub method: MethodArg,
+}
+
+/// Options of the query shared by every command that runs steps.
+#[derive(clap::Args, Debug, Clone)]
+pub struct QueryArgs {
+    /// Report only the earliest time of impact and the pairs attaining it (within the
+    /// tolerance).
+    #[arg(long)]
+    pub earliest: bool,
+    /// k of the k-DOP bounding volumes: 6, 14, 18 or 26.
+    #[arg(long, default_value_t = 18, value_parser = parse_k)]
+    pub k: usize,
+    /// Distance at or below which features count as touching (coordinate units, >= 0).
+    #[arg(long, default_value_t = 0.0)]
+    pub min_separation: f64,
+    /// Time resolution of the elementary tests, in (0, 1).
+    #[arg(long, default_value_t = NarrowOptions::default().tolerance)]
+    pub tolerance: f64,
+    /// End of the time interval searched, in (0, 1].
+    #[arg(long, default_value_t = NarrowOptions::default().t_max)]
+    pub t_max: f64,
+    /// Most parameter boxes an elementary test may examine (>= 1) before it gives up
+    /// conservatively (the contact is then reported as unresolved).
+    #[arg(long, default_value_t = NarrowOptions::default().max_iterations)]
+    pub max_iterations: u32,
+    /// How `--method cluster` grows its leaf clusters (ignored by the other methods).
+    #[arg(long, value_enum, default_value_t = GrowthArg::default_growth())]
+    pub growth: GrowthArg,
+    /// Compute each contact's geometry (barycentric coordinates, point, normal); shown in the
+    /// JSON pairs.
+    #[arg(long)]
+    pub geometry: bool,
+    /// Report contacts between the two sides of a fresh crack too (a new vertex and its parent
+    /// are then different vertices).
+    #[arg(long)]
+    pub keep_crack_contacts: bool,
+}
+
+impl Default for QueryArgs {
+    fn default() -> Self {
+        let narrow = NarrowOptions::default();
+        Self {
+            earliest: false,
+            k: 18,
+            min_separation: narrow.min_separation,
+            tolerance: narrow.tolerance,
+            t_max: narrow.t_max,
+            max_iterations: narrow.max_iterations,
+            growth: GrowthArg::default_growth(),
+            geometry: false,
+            keep_crack_contacts: false,
+        }
+    }
+}
+
+fn parse_k(s: &str) -> Result<usize, String> {
+    let k: usize = s.parse().map_err(|_| format!("{s:?} is not a number"))?;
+    DopKind::from_k(k)
+        .map(|_| k)
+        .ok_or_else(|| format!("k must be 6, 14, 18 or 26, got {k}"))
+}
+
+impl QueryArgs {
+    /// The library's options, after checking the ranges.
+    pub fn options(&self) -> Result<QueryOptions> {
+        let options = QueryOptions {
+            narrow: NarrowOptions {
+                tolerance: self.tolerance,
+                min_separation: self.min_separation,
+                t_max: self.t_max,
+                max_iterations: self.max_iterations,
+            },
+            kdop: DopKind::from_k(self.k).unwrap_or_default(),
+            mode: if self.earliest {
+                Mode::Earliest
+            } else {
+                Mode::All
+            },
+            growth: self.growth.into(),
+            geometry: self.geometry,
+            crack_filter: !self.keep_crack_contacts,
+        };
+        options.validate()?;
+        Ok(options)
+    }
+}

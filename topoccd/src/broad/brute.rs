@@ -1,0 +1,151 @@
+//! The brute-force oracle: every feature pair whose swept boxes come within `min_separation`,
+//! found by sort and sweep along x, then kept if the swept k-DOPs of the pair's owner
+//! triangles overlap (the test every other method makes on its way down; see the
+//! [broad phases](super)).
+
+use std::time::Instant;
+
+use super::{triangle_volumes, BroadInput, BroadStats, Candidates};
+use crate::kdop::Kdop;
+use crate::mesh::features::SweptBox;
+
+/// One box of the sweep: its lower x (the sort key), a kind and an index.
+#[derive(Clone, Copy, Debug)]
+struct Item {
+    lo_x: f64,
+    /// 0 for a vertex, 1 for a face (vertex-face sweep); 0 for an edge (edge-edge sweep).
+    kind: u32,
+    index: u32,
+}
+
+/// Sorts the items by lower x, breaking ties by kind and index (deterministic).
+fn sort(items: &mut [Item]) {
+    items.sort_unstable_by(|a, b| {
+        a.lo_x
+            .total_cmp(&b.lo_x)
+            .then(a.kind.cmp(&b.kind))
+            .then(a.index.cmp(&b.index))
+    });
+}
+
+/// Appends every candidate pair of the step to `out`: `(vertex, face)`, the vertex not in the
+/// face, and edge indices, smaller first, the edges sharing no vertex, that pass the pair
+/// filter, whose swept boxes come within the separation, and whose owner triangles' swept
+/// k-DOPs (`volumes`, scratch) overlap.
+pub(crate) fn candidates<const H: usize>(
+    input: &BroadInput<'_, '_>,
+    volumes: &mut Vec<Kdop<H>>,
+    out: &mut Candidates,
+) -> BroadStats {
+    let start = Instant::now();
+    let (features, filter, sep) = (input.features, input.filter, input.filter.sep);
+    let tris = input.step.triangles();
+    triangle_volumes(input.step, sep, volumes);
+    // Owner triangles: the incident triangle of lowest index (as in the ownership scheme).
+    let topo = &features.topo;
+    let owner_of_vertex = |v: u32| topo.triangles_of(v)[0];
+    let mut edge_owner = vec![u32::MAX; topo.edges.len()];
+    for (t, es) in topo.triangle_edges.iter().enumerate() {
+        for &e in es {
+            if edge_owner[e as usize] == u32::MAX {
+                edge_owner[e as usize] = t as u32;
+            }
+        }
+    }
+    let build = start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    let Candidates { vf, ee } = out;
+    let mut tests = 0u64;
+    let item = |b: &SweptBox, kind, index: usize| Item {
+        lo_x: b.lo.x,
+        kind,
+        index: index as u32,
+    };
+
+    // Vertex-face: the referenced vertices and the faces in one sweep.
+    let mut referenced = vec![false; features.vertex_box.len()];
+    for t in tris {
+        for &v in t {
+            referenced[v as usize] = true;
+        }
+    }
+    let mut items: Vec<Item> = features
+        .vertex_box
+        .iter()
+        .enumerate()
+        .filter(|&(v, _)| referenced[v])
+        .map(|(v, b)| item(b, 0, v))
+        .chain(
+            features
+                .face_box
+                .iter()
+                .enumerate()
+                .map(|(f, b)| item(b, 1, f)),
+        )
+        .collect();
+    sort(&mut items);
+    let bx = |it: &Item| match it.kind {
+        0 => &features.vertex_box[it.index as usize],
+        _ => &features.face_box[it.index as usize],
+    };
+    for (i, a) in items.iter().enumerate() {
+        let a_box = bx(a);
+        let reach = a_box.hi.x + sep;
+        for b in items[i + 1..].iter().take_while(|b| b.lo_x <= reach) {
+            if a.kind == b.kind {
+                continue;
+            }
+            let (v, f) = if a.kind == 0 {
+                (a.index, b.index)
+            } else {
+                (b.index, a.index)
+            };
+            if tris[f as usize].contains(&v) {
+                continue;
+            }
+            tests += 1;
+            if a_box.near(bx(b), sep)
+                && filter.vertex_face(v, tris[f as usize])
+                && volumes[owner_of_vertex(v) as usize].overlaps(&volumes[f as usize])
+            {
+                vf.push([v, f]);
+            }
+        }
+    }
+
+    // Edge-edge: all edges in one sweep.
+    let edges = &features.topo.edges;
+    items.clear();
+    items.extend(
+        features
+            .edge_box
+            .iter()
+            .enumerate()
+            .map(|(e, b)| item(b, 0, e)),
+    );
+    sort(&mut items);
+    for (i, a) in items.iter().enumerate() {
+        let a_box = &features.edge_box[a.index as usize];
+        let reach = a_box.hi.x + sep;
+        let [a0, a1] = edges[a.index as usize];
+        for b in items[i + 1..].iter().take_while(|b| b.lo_x <= reach) {
+            let [b0, b1] = edges[b.index as usize];
+            if a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1 {
+                continue;
+            }
+            tests += 1;
+            if a_box.near(&features.edge_box[b.index as usize], sep)
+                && filter.edge_edge([a0, a1], [b0, b1])
+                && volumes[edge_owner[a.index as usize] as usize]
+                    .overlaps(&volumes[edge_owner[b.index as usize] as usize])
+            {
+                ee.push([a.index.min(b.index), a.index.max(b.index)]);
+            }
+        }
+    }
+    BroadStats {
+        bv_tests: tests,
+        build,
+        traverse: start.elapsed().as_secs_f64(),
+    }
+}

@@ -1,0 +1,399 @@
+//! Leaf clusters (section 4.1 of the paper): rings of triangles grown around a seed triangle,
+//! each ring accepted only when it passes the paper's `phi` test and the grown patch still passes
+//! the disk certificate.
+
+use crate::narrow::bernstein::{phi, Verdict};
+use super::certificate::{DiskBuilder, DiskFailure};
+use super::{
+    ClusterOptions, ClusterStats, Clustering, GrowthStop, LeafCertificate, LeafCluster,
+    LeafDirection, RingGrowth,
+};
+use crate::math::DVec3;
+use crate::mesh::{Step, Topology};
+
+/// Marker of a triangle not yet in any leaf cluster.
+pub(super) const UNASSIGNED: u32 = u32::MAX;
+
+/// Scratch memory of the leaf growth, reused across steps.
+#[derive(Clone, Debug, Default)]
+pub(super) struct LeafScratch {
+    tri_stamp: Vec<u32>,
+    stamp: u32,
+    ring: Vec<u32>,
+    frontier: Vec<u32>,
+    /// Per triangle: the leaf stamp of the leaf whose `V` it failed (never retried there).
+    refused: Vec<u32>,
+    leaf_stamp: u32,
+    /// Candidates of the current pass and those refused in it (partial rings).
+    pending: Vec<u32>,
+    retry: Vec<u32>,
+}
+
+impl LeafScratch {
+    fn next_stamp(&mut self) -> u32 {
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            self.tri_stamp.iter_mut().for_each(|s| *s = 0);
+            self.stamp = 1;
+        }
+        self.stamp
+    }
+
+    fn next_leaf_stamp(&mut self) -> u32 {
+        self.leaf_stamp = self.leaf_stamp.wrapping_add(1);
+        if self.leaf_stamp == 0 {
+            self.refused.iter_mut().for_each(|s| *s = 0);
+            self.leaf_stamp = 1;
+        }
+        self.leaf_stamp
+    }
+}
+
+/// Corner positions of triangle `t` at t=0 and t=1.
+#[inline]
+pub(super) fn corners(step: &Step, t: u32) -> ([DVec3; 3], [DVec3; 3]) {
+    let tri = step.triangles()[t as usize];
+    (
+        tri.map(|v| step.pos0()[v as usize]),
+        tri.map(|v| step.pos1()[v as usize]),
+    )
+}
+
+/// Grows the leaf clusters of `step` into `out` (whose leaf fields must be empty), seeds by
+/// increasing triangle index. Fills `out.leaf_of_triangle`, `out.leaves`, `out.leaf_triangles`,
+/// `out.ring_starts`, `out.last_ring_vertices` and the leaf counters of `stats`.
+pub(super) fn grow_leaves(
+    step: &Step,
+    topo: &Topology,
+    options: &ClusterOptions,
+    scratch: &mut LeafScratch,
+    disk: &mut DiskBuilder,
+    out: &mut Clustering,
+    stats: &mut ClusterStats,
+) {
+    let n = step.triangles().len();
+    out.leaf_of_triangle.clear();
+    out.leaf_of_triangle.resize(n, UNASSIGNED);
+    if scratch.tri_stamp.len() != n {
+        scratch.tri_stamp.clear();
+        scratch.tri_stamp.resize(n, 0);
+        scratch.refused.clear();
+        scratch.refused.resize(n, 0);
+    }
+    let grow = options.min_separation == 0.0;
+    for seed in 0..n as u32 {
+        if out.leaf_of_triangle[seed as usize] != UNASSIGNED {
+            continue;
+        }
+        let id = out.leaves.len() as u32;
+        let first = out.leaf_triangles.len();
+        let ring_first = out.ring_starts.len();
+        out.leaf_of_triangle[seed as usize] = id;
+        out.leaf_triangles.push(seed);
+        out.ring_starts.push(first as u32);
+
+        let (s0, s1) = corners(step, seed);
+        let observation = [(s0[0] + s0[1] + s0[2]) / 3.0, (s1[0] + s1[1] + s1[2]) / 3.0];
+        let direction = if options.phi_filter || options.rings == RingGrowth::Whole {
+            (s0[1] - s0[0]).cross(s0[2] - s0[0]).normalize_or_zero()
+        } else {
+            leaf_direction(step, topo, seed, options.direction)
+        };
+        scratch.frontier.clear();
+        scratch
+            .frontier
+            .extend_from_slice(&step.triangles()[seed as usize]);
+
+        let stop = if !grow {
+            GrowthStop::Disabled
+        } else if direction == DVec3::ZERO || !direction.is_finite() {
+            GrowthStop::Certificate(DiskFailure::Normal)
+        } else {
+            disk.begin(
+                topo,
+                step.vertex_count(),
+                direction,
+                observation,
+                options.subdivisions,
+            );
+            match disk
+                .extend(step, topo, &[seed])
+                .and_then(|()| disk.check_boundary(step, topo, false))
+            {
+                Err(f) => GrowthStop::Certificate(f),
+                Ok(()) if options.phi_filter || options.rings == RingGrowth::Whole => {
+                    grow_rings(step, topo, options, observation, scratch, disk, out, id)
+                }
+                Ok(()) => grow_partial_rings(step, topo, scratch, disk, out, id),
+            }
+        };
+        let partial = grow && !options.phi_filter && options.rings == RingGrowth::Partial;
+        // (After whole rings the builder holds the refused ring, so there is nothing to re-check:
+        // each accepted ring was certified with the whole patch.)
+        let stop = if partial && out.leaf_triangles.len() - first > 1 {
+            // The certificate of the final patch, in full (growth only ever kept certified
+            // patches; this makes the leaf's certificate independent of how it was grown).
+            disk.end_batch();
+            match disk.check_boundary(step, topo, true) {
+                Ok(()) => stop,
+                Err(f) => {
+                    debug_assert!(false, "leaf {id} failed its final certificate: {f:?}");
+                    // Fall back to the seed alone; the released triangles all come after the
+                    // seed (it is the lowest-numbered free triangle), so later seeds take them.
+                    for &t in &out.leaf_triangles[first + 1..] {
+                        out.leaf_of_triangle[t as usize] = UNASSIGNED;
+                    }
+                    out.leaf_triangles.truncate(first + 1);
+                    out.ring_starts.truncate(ring_first + 1);
+                    scratch.frontier.clear();
+                    scratch
+                        .frontier
+                        .extend_from_slice(&step.triangles()[seed as usize]);
+                    GrowthStop::Certificate(f)
+                }
+            }
+        } else {
+            stop
+        };
+        match stop {
+            GrowthStop::Exhausted => stats.stops_exhausted += 1,
+            GrowthStop::Phi => stats.stops_phi += 1,
+            GrowthStop::Certificate(f) => {
+                stats.stops_certificate += 1;
+                stats.disk_failures.record(f);
+            }
+            GrowthStop::Disabled => {}
+        }
+
+        let bar_first = out.last_ring_vertices.len();
+        out.last_ring_vertices.extend_from_slice(&scratch.frontier);
+        let triangles = first..out.leaf_triangles.len();
+        let triangles_len = triangles.len();
+        let certificate = if triangles.len() == 1 {
+            LeafCertificate::SingleTriangle
+        } else {
+            LeafCertificate::Disk
+        };
+        out.leaves.push(LeafCluster {
+            triangles,
+            rings: ring_first..out.ring_starts.len(),
+            last_ring_vertices: bar_first..out.last_ring_vertices.len(),
+            observation,
+            direction,
+            centre: if triangles_len > 1 {
+                disk.centre()
+            } else {
+                observation
+            },
+            certificate,
+            stop,
+        });
+    }
+}
+
+/// Grows rings around the seed already in `disk` until one fails or none is left. On return,
+/// `scratch.frontier` holds the new vertices of the last accepted ring (equation 4).
+#[allow(clippy::too_many_arguments)]
+fn grow_rings(
+    step: &Step,
+    topo: &Topology,
+    options: &ClusterOptions,
+    observation: [DVec3; 2],
+    scratch: &mut LeafScratch,
+    disk: &mut DiskBuilder,
+    out: &mut Clustering,
+    id: u32,
+) -> GrowthStop {
+    loop {
+        let stamp = scratch.next_stamp();
+        scratch.ring.clear();
+        for &v in &scratch.frontier {
+            for &t in topo.triangles_of(v) {
+                if out.leaf_of_triangle[t as usize] == UNASSIGNED
+                    && scratch.tri_stamp[t as usize] != stamp
+                {
+                    scratch.tri_stamp[t as usize] = stamp;
+                    scratch.ring.push(t);
+                }
+            }
+        }
+        if scratch.ring.is_empty() {
+            return GrowthStop::Exhausted;
+        }
+        if options.phi_filter {
+            for &t in &scratch.ring {
+                let (p0, p1) = corners(step, t);
+                if phi(&p0, &p1, observation).nonnegative(options.subdivisions) != Verdict::Holds {
+                    return GrowthStop::Phi;
+                }
+            }
+        }
+        if let Err(f) = disk.extend(step, topo, &scratch.ring) {
+            return GrowthStop::Certificate(f);
+        }
+        match disk.check_boundary(step, topo, false) {
+            Ok(()) => {}
+            Err(DiskFailure::Star | DiskFailure::Winding) => {
+                // Seen from the current centre the boundary is not star-shaped: try the mean
+                // of the patch's vertices, checking every boundary edge against it.
+                let certified_centre = disk.centre();
+                disk.set_centre(disk.vertex_centroid());
+                if let Err(f) = disk.check_boundary(step, topo, true) {
+                    // The leaf keeps the centre its accepted rings were certified with.
+                    disk.set_centre(certified_centre);
+                    return GrowthStop::Certificate(f);
+                }
+            }
+            Err(f) => return GrowthStop::Certificate(f),
+        }
+        out.ring_starts.push(out.leaf_triangles.len() as u32);
+        for &t in &scratch.ring {
+            out.leaf_of_triangle[t as usize] = id;
+            out.leaf_triangles.push(t);
+        }
+        debug_assert_eq!(
+            disk.face_count(),
+            out.leaf_triangles.len() - out.leaves_end_offset()
+        );
+        scratch.frontier.clear();
+        scratch.frontier.extend_from_slice(disk.fresh_vertices());
+    }
+}
+
+/// Grows partial rings around the seed already in `disk` (certified, its boundary checked
+/// around the seed's centroid). Each round collects the free triangles around the vertices that
+/// the last round added (and the triangles the last round refused for a reason other than the
+/// normal cone) and adds them one at a time, in order, with [`DiskBuilder::try_add`], passing
+/// over the refused ones again while a pass adds something; when star tests failed, the round
+/// once tries re-centring `c` at the mean of the patch's vertices. The triangles a round adds
+/// are the leaf's next ring. Growth ends at a round that adds nothing. On return,
+/// `scratch.frontier` holds the new vertices of the last ring. Deterministic: every order is
+/// that of the topology's incidence lists.
+fn grow_partial_rings(
+    step: &Step,
+    topo: &Topology,
+    scratch: &mut LeafScratch,
+    disk: &mut DiskBuilder,
+    out: &mut Clustering,
+    id: u32,
+) -> GrowthStop {
+    let leaf = scratch.next_leaf_stamp();
+    scratch.retry.clear();
+    loop {
+        let stamp = scratch.next_stamp();
+        scratch.ring.clear();
+        let free = |t: u32, s: &LeafScratch| {
+            out.leaf_of_triangle[t as usize] == UNASSIGNED && s.refused[t as usize] != leaf
+        };
+        for i in 0..scratch.retry.len() {
+            let t = scratch.retry[i];
+            if free(t, scratch) && scratch.tri_stamp[t as usize] != stamp {
+                scratch.tri_stamp[t as usize] = stamp;
+                scratch.ring.push(t);
+            }
+        }
+        for i in 0..scratch.frontier.len() {
+            let v = scratch.frontier[i];
+            for &t in topo.triangles_of(v) {
+                if free(t, scratch) && scratch.tri_stamp[t as usize] != stamp {
+                    scratch.tri_stamp[t as usize] = stamp;
+                    scratch.ring.push(t);
+                }
+            }
+        }
+        if scratch.ring.is_empty() {
+            return GrowthStop::Exhausted;
+        }
+        disk.begin_batch();
+        let ring_start = out.leaf_triangles.len();
+        let mut first_failure = None;
+        let mut recentred = false;
+        std::mem::swap(&mut scratch.pending, &mut scratch.ring);
+        loop {
+            let mut added = false;
+            let mut star_failed = false;
+            scratch.retry.clear();
+            for &t in &scratch.pending {
+                match disk.try_add(step, topo, t) {
+                    Ok(()) => {
+                        added = true;
+                        out.leaf_of_triangle[t as usize] = id;
+                        out.leaf_triangles.push(t);
+                    }
+                    Err(f) => {
+                        first_failure.get_or_insert(f);
+                        if f == DiskFailure::Normal {
+                            scratch.refused[t as usize] = leaf;
+                        } else {
+                            star_failed |= f == DiskFailure::Star;
+                            scratch.retry.push(t);
+                        }
+                    }
+                }
+            }
+            std::mem::swap(&mut scratch.pending, &mut scratch.retry);
+            if scratch.pending.is_empty() {
+                break;
+            }
+            if !added {
+                if !star_failed || recentred {
+                    break;
+                }
+                recentred = true;
+                if disk
+                    .try_recentre(step, topo, disk.vertex_centroid())
+                    .is_err()
+                {
+                    break;
+                }
+            }
+        }
+        // What this round refused (but not for the normal cone) is retried next round.
+        std::mem::swap(&mut scratch.pending, &mut scratch.retry);
+        disk.end_batch();
+        if out.leaf_triangles.len() == ring_start {
+            return GrowthStop::Certificate(first_failure.unwrap_or(DiskFailure::Topology));
+        }
+        out.ring_starts.push(ring_start as u32);
+        debug_assert_eq!(
+            disk.face_count(),
+            out.leaf_triangles.len() - out.leaves_end_offset()
+        );
+        scratch.frontier.clear();
+        scratch.frontier.extend_from_slice(disk.fresh_vertices());
+    }
+}
+
+/// Unit normal of triangle `t` at t=0 and at t=1 (zero when degenerate).
+fn unit_normals(step: &Step, t: u32) -> [DVec3; 2] {
+    let (p0, p1) = corners(step, t);
+    [p0, p1].map(|p| (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero())
+}
+
+/// The direction `V` of a leaf grown from `seed` (any fixed vector serves the disk theorem; this
+/// only decides how far the leaf can grow). Zero when the seed is degenerate.
+fn leaf_direction(step: &Step, topo: &Topology, seed: u32, choice: LeafDirection) -> DVec3 {
+    let [n0, n1] = unit_normals(step, seed);
+    if n0 == DVec3::ZERO || n1 == DVec3::ZERO {
+        return DVec3::ZERO;
+    }
+    let mut sum = n0 + n1;
+    if choice == LeafDirection::Neighbourhood {
+        // The seed counts twice as much as each neighbour sharing one of its vertices.
+        sum *= 2.0;
+        for &v in &step.triangles()[seed as usize] {
+            for &t in topo.triangles_of(v) {
+                if t != seed {
+                    let [m0, m1] = unit_normals(step, t);
+                    sum += (m0 + m1) / topo.triangles_of(v).len() as f64;
+                }
+            }
+        }
+    }
+    let direction = sum.normalize_or_zero();
+    if direction.is_finite() {
+        direction
+    } else {
+        DVec3::ZERO
+    }
+}

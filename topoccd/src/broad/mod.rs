@@ -1,0 +1,75 @@
+//! The broad phases, side by side: each finds the candidate feature pairs of one step and
+//! hands them, through the same ownership scheme ([`Features`]) and the same pair filter
+//! ([`PairFilter`]), to the narrow phase.
+//!
+//! - [`brute`]: the oracle, a sort and sweep over every feature's swept box;
+//! - [`bvh`]: a k-DOP hierarchy over the triangles' swept volumes, built anew every step;
+//! - [`cluster`]: the paper's dynamic clustering, a hierarchy over certified clusters and lazy
+//!   hierarchies over their triangles.
+//!
+//! # One answer, whatever the method
+//! A vertex-face pair `(v, f)` is a candidate of every method exactly when the two features
+//! share no vertex, pass the pair filter, their swept boxes come within the minimum
+//! separation, and the swept k-DOPs of `v`'s owner triangle and of `f` overlap (each inflated
+//! by the separation); an edge-edge pair likewise with its two owner triangles. The per-step
+//! hierarchy finds exactly these (its traversal reports every overlapping triangle pair); the
+//! oracle tests the k-DOPs of the owners explicitly; the cluster method finds them all except
+//! pairs inside one certified intermediate cluster, which are proved never to touch (see
+//! [`cluster::traverse`]). Since every method then runs the same elementary tests on the same
+//! pairs, all report the same contacts with the same times.
+
+pub(crate) mod brute;
+pub(crate) mod bvh;
+pub mod cluster;
+
+use crate::kdop::Kdop;
+use crate::mesh::features::Features;
+use crate::mesh::filter::PairFilter;
+use crate::mesh::Step;
+
+/// What a broad phase reads.
+pub(crate) struct BroadInput<'a, 's> {
+    pub step: &'a Step<'s>,
+    pub features: &'a Features,
+    pub filter: &'a PairFilter<'a>,
+}
+
+/// Candidate feature pairs: `[vertex, face]` and `[e, f]` (indices into the step's sorted
+/// edges, `e < f`).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Candidates {
+    pub vf: Vec<[u32; 2]>,
+    pub ee: Vec<[u32; 2]>,
+}
+
+impl Candidates {
+    pub fn clear(&mut self) {
+        self.vf.clear();
+        self.ee.clear();
+    }
+}
+
+/// What a broad phase did.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct BroadStats {
+    /// Bounding-volume overlap tests.
+    pub bv_tests: u64,
+    /// Seconds spent building volumes and hierarchies.
+    pub build: f64,
+    /// Seconds spent traversing down to the candidates.
+    pub traverse: f64,
+}
+
+/// The swept k-DOP of every triangle, inflated by `inflation`, into `out`.
+pub(crate) fn triangle_volumes<const H: usize>(
+    step: &Step<'_>,
+    inflation: f64,
+    out: &mut Vec<Kdop<H>>,
+) {
+    let (x0, x1) = (step.pos0(), step.pos1());
+    out.clear();
+    out.extend(step.triangles().iter().map(|tri| {
+        let [a, b, c] = tri.map(|i| i as usize);
+        Kdop::swept_triangle(&[x0[a], x0[b], x0[c]], &[x1[a], x1[b], x1[c]], inflation)
+    }));
+}

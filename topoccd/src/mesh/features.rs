@@ -1,0 +1,209 @@
+//! The features of one step (vertices, edges, faces), their swept boxes, and which triangle
+//! owns each vertex and edge. Computed anew every step in linear time after the edge sort.
+//!
+//! # Ownership: each feature pair tested at most once
+//! Every referenced vertex and every edge is *owned* by exactly one incident triangle, the one
+//! of lowest index. When a traversal reports an overlapping triangle pair `{A, B}`, only the
+//! pairs `(v owned by A, face B)`, `(v owned by B, face A)` and `(e owned by A, e' owned by B)`
+//! are candidates ([`Features::triangle_pair`]). A vertex-face pair `(v, f)` can therefore only
+//! come from the triangle pair `{owner(v), f}`, and an edge-edge pair `{e, e'}` only from
+//! `{owner(e), owner(e')}` (pairs with equal owners share a vertex and are skipped). Since a
+//! traversal visits each unordered triangle pair once, each feature pair is a candidate at most
+//! once. Nothing is lost: a feature lies inside its owner triangle's swept volume.
+
+use super::filter::PairFilter;
+use super::{Step, Topology};
+use crate::math::DVec3;
+
+/// An axis-aligned box swept by a feature (or a set of triangles) over the step: a point
+/// moving linearly stays in the box of its two end positions. Exact: min and max do not round.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SweptBox {
+    /// Smallest coordinates.
+    pub lo: DVec3,
+    /// Largest coordinates.
+    pub hi: DVec3,
+}
+
+impl SweptBox {
+    /// The empty box, which overlaps nothing.
+    pub const EMPTY: Self = Self {
+        lo: DVec3::INFINITY,
+        hi: DVec3::NEG_INFINITY,
+    };
+
+    /// Grows the box to hold `p`.
+    #[inline]
+    pub fn add(&mut self, p: DVec3) {
+        self.lo = self.lo.min(p);
+        self.hi = self.hi.max(p);
+    }
+
+    /// Whether the closed boxes share a point (touching counts).
+    #[inline]
+    pub fn overlaps(&self, other: &Self) -> bool {
+        self.lo.cmple(other.hi).all() && other.lo.cmple(self.hi).all()
+    }
+
+    #[inline]
+    pub fn merge(&self, other: &Self) -> Self {
+        Self {
+            lo: self.lo.min(other.lo),
+            hi: self.hi.max(other.hi),
+        }
+    }
+
+    /// Whether the boxes come within `sep` of each other along every axis (a necessary
+    /// condition for the features to come within `sep`). Exact: no rounding is involved.
+    #[inline]
+    pub fn near(&self, other: &Self, sep: f64) -> bool {
+        self.lo.x <= other.hi.x + sep
+            && other.lo.x <= self.hi.x + sep
+            && self.lo.y <= other.hi.y + sep
+            && other.lo.y <= self.hi.y + sep
+            && self.lo.z <= other.hi.z + sep
+            && other.lo.z <= self.hi.z + sep
+    }
+}
+
+/// Per-step feature data, with buffers reused across steps.
+#[derive(Clone, Debug, Default)]
+pub struct Features {
+    /// Edges and incidences.
+    pub topo: Topology,
+    /// Per triangle: bit `k` set if it owns vertex `tri[k]`, bit `3 + k` if it owns edge
+    /// `triangle_edges[k]`.
+    pub owned: Vec<u8>,
+    /// Swept box of each vertex (unreferenced ones included, though never used).
+    pub vertex_box: Vec<SweptBox>,
+    /// Swept box of each edge of `topo.edges`.
+    pub edge_box: Vec<SweptBox>,
+    /// Swept box of each triangle.
+    pub face_box: Vec<SweptBox>,
+    /// Scratch: whether a vertex / edge has an owner yet.
+    claimed: Vec<bool>,
+}
+
+impl Features {
+    /// Recomputes everything for `step`.
+    pub fn update(&mut self, step: &Step) {
+        let tris = step.triangles();
+        self.topo = Topology::new(tris, step.vertex_count());
+        let (x0, x1) = (step.pos0(), step.pos1());
+        self.vertex_box.clear();
+        self.vertex_box
+            .extend(x0.iter().zip(x1).map(|(a, b)| SweptBox {
+                lo: a.min(*b),
+                hi: a.max(*b),
+            }));
+        let vb = &self.vertex_box;
+        self.edge_box.clear();
+        self.edge_box.extend(
+            self.topo
+                .edges
+                .iter()
+                .map(|&[i, j]| vb[i as usize].merge(&vb[j as usize])),
+        );
+        self.face_box.clear();
+        self.face_box.extend(tris.iter().map(|t| {
+            t.iter()
+                .fold(SweptBox::EMPTY, |b, &v| b.merge(&vb[v as usize]))
+        }));
+
+        self.owned.clear();
+        self.owned.resize(tris.len(), 0);
+        self.claimed.clear();
+        self.claimed.resize(step.vertex_count(), false);
+        for (t, tri) in tris.iter().enumerate() {
+            for (k, &v) in tri.iter().enumerate() {
+                if !std::mem::replace(&mut self.claimed[v as usize], true) {
+                    self.owned[t] |= 1 << k;
+                }
+            }
+        }
+        self.claimed.clear();
+        self.claimed.resize(self.topo.edges.len(), false);
+        for (t, edges) in self.topo.triangle_edges.iter().enumerate() {
+            for (k, &e) in edges.iter().enumerate() {
+                if !std::mem::replace(&mut self.claimed[e as usize], true) {
+                    self.owned[t] |= 8 << k;
+                }
+            }
+        }
+    }
+
+    /// Appends the candidate feature pairs of the overlapping triangle pair `{a, b}` (`a != b`)
+    /// whose swept boxes come within `sep`: `(vertex, face)` to `vf`, `(edge, edge)` (indices
+    /// into `topo.edges`, smaller first) to `ee`. See the module documentation.
+    #[inline]
+    pub fn triangle_pair(
+        &self,
+        tris: &[[u32; 3]],
+        a: u32,
+        b: u32,
+        filter: &PairFilter<'_>,
+        vf: &mut Vec<[u32; 2]>,
+        ee: &mut Vec<[u32; 2]>,
+    ) {
+        debug_assert_ne!(a, b);
+        let (ta, tb) = (tris[a as usize], tris[b as usize]);
+        let (ma, mb) = (self.owned[a as usize], self.owned[b as usize]);
+        self.vertices_face(ta, ma, tb, b, filter, vf);
+        self.vertices_face(tb, mb, ta, a, filter, vf);
+        if ma & 0o70 == 0 || mb & 0o70 == 0 {
+            return;
+        }
+        let (ea, eb) = (
+            &self.topo.triangle_edges[a as usize],
+            &self.topo.triangle_edges[b as usize],
+        );
+        let edges = &self.topo.edges;
+        for (i, &e) in ea.iter().enumerate() {
+            if ma & (8 << i) == 0 {
+                continue;
+            }
+            let [e0, e1] = edges[e as usize];
+            let e_box = &self.edge_box[e as usize];
+            for (j, &f) in eb.iter().enumerate() {
+                if mb & (8 << j) == 0 {
+                    continue;
+                }
+                let [f0, f1] = edges[f as usize];
+                if e0 == f0 || e0 == f1 || e1 == f0 || e1 == f1 {
+                    continue;
+                }
+                if e_box.near(&self.edge_box[f as usize], filter.sep)
+                    && filter.edge_edge([e0, e1], [f0, f1])
+                {
+                    ee.push([e.min(f), e.max(f)]);
+                }
+            }
+        }
+    }
+
+    /// The owned vertices of triangle `tv` (mask `mask`) against face `f` (vertices `tf`).
+    #[inline]
+    fn vertices_face(
+        &self,
+        tv: [u32; 3],
+        mask: u8,
+        tf: [u32; 3],
+        f: u32,
+        filter: &PairFilter<'_>,
+        vf: &mut Vec<[u32; 2]>,
+    ) {
+        if mask & 7 == 0 {
+            return;
+        }
+        let f_box = &self.face_box[f as usize];
+        for (k, &v) in tv.iter().enumerate() {
+            if mask & (1 << k) != 0
+                && !tf.contains(&v)
+                && self.vertex_box[v as usize].near(f_box, filter.sep)
+                && filter.vertex_face(v, tf)
+            {
+                vf.push([v, f]);
+            }
+        }
+    }
+}

@@ -1,0 +1,91 @@
+//! Which feature pairs may collide at all: the pair filter that every broad phase applies
+//! before a pair becomes a candidate, so that all methods report the same pairs.
+//!
+//! A pair is dropped when
+//! 1. the two features share a vertex (always);
+//! 2. with the crack filter on and a topology change in the step, they share a vertex once
+//!    every new vertex is identified with its parent ([`Step::with_parents`]): the two sides of
+//!    a fresh crack start at the same place and would otherwise all "touch" at t=0;
+//! 3. with group ids, every vertex of one feature is in the group of every vertex of the other;
+//! 4. with a user predicate, it is false for every vertex of one feature against every vertex
+//!    of the other.
+//!
+//! Rules 3 and 4 follow the IPC toolkit's `can_collide`: a pair is kept when *some* vertex
+//! pair across the features may collide.
+
+use super::Step;
+
+/// The pair filter of one query. Cheap to build: the parent map is written into a buffer the
+/// caller keeps across steps.
+pub(crate) struct PairFilter<'s> {
+    /// Minimum separation (`>= 0`): feature boxes farther apart than this are not candidates.
+    pub sep: f64,
+    /// Each vertex's representative (its parent for a new vertex of the step, else itself);
+    /// `None` when no vertex has a parent or the crack filter is off.
+    canon: Option<&'s [u32]>,
+    groups: Option<&'s [u32]>,
+    can_collide: Option<super::step::CanCollide<'s>>,
+}
+
+impl<'s> PairFilter<'s> {
+    /// The filter of `step`; `canon` is scratch memory for the parent map.
+    pub fn new(step: &'s Step<'_>, sep: f64, crack_filter: bool, canon: &'s mut Vec<u32>) -> Self {
+        let parents = step.parents();
+        let canon = if crack_filter && !parents.is_empty() {
+            canon.clear();
+            canon.extend(0..step.vertex_count() as u32);
+            for &[child, parent] in parents {
+                canon[child as usize] = parent;
+            }
+            Some(&canon[..])
+        } else {
+            None
+        };
+        Self {
+            sep,
+            canon,
+            groups: step.groups(),
+            can_collide: step.can_collide(),
+        }
+    }
+
+    /// `true` when only shared vertices are filtered (the common case, checked once per pair).
+    #[inline]
+    fn only_shared(&self) -> bool {
+        self.canon.is_none() && self.groups.is_none() && self.can_collide.is_none()
+    }
+
+    /// Whether vertex `v` and the face with vertices `f` may collide. `v` not in `f` is
+    /// checked by the caller.
+    #[inline]
+    pub fn vertex_face(&self, v: u32, f: [u32; 3]) -> bool {
+        self.only_shared() || self.check(&[v], &f)
+    }
+
+    /// Whether two edges that share no vertex may collide.
+    #[inline]
+    pub fn edge_edge(&self, a: [u32; 2], b: [u32; 2]) -> bool {
+        self.only_shared() || self.check(&a, &b)
+    }
+
+    fn check(&self, a: &[u32], b: &[u32]) -> bool {
+        if let Some(canon) = self.canon {
+            let c = |v: u32| canon[v as usize];
+            if a.iter().any(|&x| b.iter().any(|&y| c(x) == c(y))) {
+                return false;
+            }
+        }
+        if let Some(groups) = self.groups {
+            let g = |v: u32| groups[v as usize];
+            if !a.iter().any(|&x| b.iter().any(|&y| g(x) != g(y))) {
+                return false;
+            }
+        }
+        if let Some(can) = self.can_collide {
+            if !a.iter().any(|&x| b.iter().any(|&y| can(x, y))) {
+                return false;
+            }
+        }
+        true
+    }
+}

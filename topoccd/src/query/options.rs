@@ -1,0 +1,178 @@
+//! Options of the whole-step query, validated once ([`QueryOptions::validate`]).
+
+use crate::kdop::DopKind;
+use crate::narrow::NarrowOptions;
+use thiserror::Error;
+
+/// What a query reports.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Mode {
+    /// Every colliding vertex-face and edge-edge pair with its time of impact.
+    #[default]
+    All,
+    /// Only the earliest time of impact and the pairs attaining it: every pair whose time of
+    /// impact is within the tolerance of the earliest (at least one). What a simulator's line
+    /// search needs; the query skips work that cannot beat the best time found so far.
+    Earliest,
+}
+
+/// How candidate feature pairs are found. Every method sends its candidates to the same
+/// elementary tests, so all report the same contacts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
+pub enum Method {
+    /// The oracle: every vertex-face and edge-edge pair whose swept axis-aligned boxes come
+    /// within `min_separation`, found by sort and sweep along x.
+    Brute,
+    /// A k-DOP bounding volume hierarchy over the triangles' swept volumes, built anew every
+    /// step (the paper's baseline, as in Self-CCD).
+    #[default]
+    Bvh,
+    /// The paper's method (section 4): the step's triangles are clustered into leaf and
+    /// intermediate clusters proved free of self-contact, a
+    /// k-DOP hierarchy is built over the clusters, and a hierarchy over a leaf cluster's
+    /// triangles only when that cluster's volume overlaps another's. Feature pairs inside one
+    /// intermediate cluster are never tested. See [`QueryOptions::growth`].
+    Cluster,
+}
+
+impl std::str::FromStr for Method {
+    type Err = String;
+
+    /// `"brute"`, `"bvh"` or `"cluster"`.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "brute" => Ok(Method::Brute),
+            "bvh" => Ok(Method::Bvh),
+            "cluster" => Ok(Method::Cluster),
+            _ => Err(format!(
+                "unknown method {s:?} (expected brute, bvh or cluster)"
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Method::Brute => "brute",
+            Method::Bvh => "bvh",
+            Method::Cluster => "cluster",
+        })
+    }
+}
+
+/// How [`Method::Cluster`] grows its leaf clusters. Both are sound: what makes a cluster free
+/// of self-contact is the disk certificate of the cluster method, which both apply.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum ClusterGrowth {
+    /// The paper's criterion on top of the certificate: a ring joins a leaf only if all its
+    /// triangles face away from the observation point (`phi >= 0`, equation 2), and a merge
+    /// also needs algorithm 1's `phi` test. On curved cloth it stops at most saddles and
+    /// hollows, giving leaves of one or two triangles.
+    Paper,
+    /// The disk certificate alone (`ClusterOptions::phi_filter`
+    /// `false`): far bigger clusters, fewer candidate pairs; the default.
+    #[default]
+    Certificate,
+}
+
+impl std::fmt::Display for ClusterGrowth {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ClusterGrowth::Paper => "paper",
+            ClusterGrowth::Certificate => "certificate",
+        })
+    }
+}
+
+/// Options of [`Ccd::query`](crate::Ccd::query), checked by [`QueryOptions::validate`].
+///
+/// ```
+/// use topoccd::{DopKind, Mode, QueryOptions};
+/// let mut options = QueryOptions::default();
+/// assert_eq!(options.kdop, DopKind::K18);
+/// options.mode = Mode::Earliest;
+/// options.narrow.min_separation = 1e-4;
+/// assert!(options.validate().is_ok());
+/// options.narrow.tolerance = 0.0;
+/// assert_eq!(
+///     options.validate().unwrap_err().to_string(),
+///     "tolerance must be in (0, 1), got 0"
+/// );
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct QueryOptions {
+    /// Options of the elementary tests. `min_separation` also inflates every bounding volume;
+    /// `t_max` bounds the times searched (contacts after it are not reported).
+    pub narrow: NarrowOptions,
+    /// Which k-DOP bounds the triangles in [`Method::Bvh`]. Default 18, as in the paper.
+    pub kdop: DopKind,
+    /// Report all contacts or only the earliest.
+    pub mode: Mode,
+    /// How [`Method::Cluster`] grows its leaf clusters (ignored by the other methods).
+    pub growth: ClusterGrowth,
+    /// Whether contacts carry their geometry (barycentric coordinates, point and normal at
+    /// the time of impact). Default `false`.
+    pub geometry: bool,
+    /// Whether the two sides of a fresh crack are kept apart: with a topology change
+    /// ([`Step::with_parents`](crate::Step::with_parents)), a new vertex and its parent count
+    /// as one vertex, so pairs joined that way are not tested. Default `true`.
+    pub crack_filter: bool,
+}
+
+impl Default for QueryOptions {
+    fn default() -> Self {
+        Self {
+            narrow: NarrowOptions::default(),
+            kdop: DopKind::default(),
+            mode: Mode::default(),
+            growth: ClusterGrowth::default(),
+            geometry: false,
+            crack_filter: true,
+        }
+    }
+}
+
+/// An option out of its range. The message names the option, its range and the value.
+#[derive(Debug, Error, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum OptionsError {
+    /// `tolerance` not in `(0, 1)`.
+    #[error("tolerance must be in (0, 1), got {0}")]
+    Tolerance(f64),
+    /// `max_iterations` is 0.
+    #[error("max_iterations must be at least 1, got 0")]
+    MaxIterations,
+    /// `min_separation` negative or not finite.
+    #[error("min_separation must be finite and >= 0, got {0}")]
+    MinSeparation(f64),
+    /// `t_max` not in `(0, 1]`.
+    #[error("t_max must be in (0, 1], got {0}")]
+    TMax(f64),
+}
+
+impl QueryOptions {
+    /// Checks every option against its documented range. [`Ccd::query`](crate::Ccd::query)
+    /// calls it first and refuses invalid options.
+    pub fn validate(&self) -> Result<(), OptionsError> {
+        let n = &self.narrow;
+        if !(n.tolerance > 0.0 && n.tolerance < 1.0) {
+            return Err(OptionsError::Tolerance(n.tolerance));
+        }
+        if n.max_iterations == 0 {
+            return Err(OptionsError::MaxIterations);
+        }
+        if !(n.min_separation >= 0.0 && n.min_separation.is_finite()) {
+            return Err(OptionsError::MinSeparation(n.min_separation));
+        }
+        if !(n.t_max > 0.0 && n.t_max <= 1.0) {
+            return Err(OptionsError::TMax(n.t_max));
+        }
+        Ok(())
+    }
+}

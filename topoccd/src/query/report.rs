@@ -1,0 +1,192 @@
+//! The result of a whole-step query: contacts with their certainty and (on request) their
+//! geometry, the earliest contact, and statistics.
+
+use std::cmp::Ordering;
+
+pub use crate::broad::cluster::phase::ClusterFigures;
+pub use crate::narrow::Certainty;
+
+/// A vertex that (may) touch a triangle during the step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct VfContact {
+    /// The vertex index.
+    pub vertex: u32,
+    /// The triangle's index in [`Step::triangles`](crate::Step::triangles).
+    pub face: u32,
+    /// Time of impact in `[0, t_max]`, no later than the first contact.
+    pub toi: f64,
+    /// Whether the contact was isolated or the search gave up conservatively.
+    pub certainty: Certainty,
+    /// Where the contact is, with [`QueryOptions::geometry`](crate::QueryOptions::geometry).
+    pub geometry: Option<VfGeometry>,
+}
+
+/// The geometry of a vertex-face contact at its time of impact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct VfGeometry {
+    /// Barycentric coordinates, on the face's three vertices, of the face's point closest to
+    /// the vertex (they sum to 1).
+    pub barycentric: [f64; 3],
+    /// That point.
+    pub point: [f64; 3],
+    /// Unit contact normal, from the face towards the side the vertex comes from: the
+    /// direction from the point to the vertex when they are apart, else the face normal
+    /// turned to the vertex's side at t=0.
+    pub normal: [f64; 3],
+    /// Distance between the vertex and the face at the time of impact.
+    pub distance: f64,
+}
+
+/// The geometry of an edge-edge contact at its time of impact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct EeGeometry {
+    /// Parameter in `[0, 1]` of the closest point on edge `a`, from `a[0]` to `a[1]`.
+    pub a_param: f64,
+    /// Parameter in `[0, 1]` of the closest point on edge `b`, from `b[0]` to `b[1]`.
+    pub b_param: f64,
+    /// The midpoint of the two closest points.
+    pub point: [f64; 3],
+    /// Unit contact normal, from edge `b` towards edge `a`: the direction between the closest
+    /// points when they are apart, else the cross product of the edges turned to `a`'s side
+    /// at t=0.
+    pub normal: [f64; 3],
+    /// Distance between the edges at the time of impact.
+    pub distance: f64,
+}
+
+/// Two edges that (may) touch during the step. Each edge is `[i, j]` with `i < j`, and
+/// `a < b` lexicographically.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct EeContact {
+    /// The first edge, by vertex indices.
+    pub a: [u32; 2],
+    /// The second edge.
+    pub b: [u32; 2],
+    /// Time of impact in `[0, t_max]`, no later than the first contact.
+    pub toi: f64,
+    /// Whether the contact was isolated or the search gave up conservatively.
+    pub certainty: Certainty,
+    /// Where the contact is, with [`QueryOptions::geometry`](crate::QueryOptions::geometry).
+    pub geometry: Option<EeGeometry>,
+}
+
+/// One contact of either kind.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum Contact {
+    /// A vertex-face contact.
+    Vf(VfContact),
+    /// An edge-edge contact.
+    Ee(EeContact),
+}
+
+impl Contact {
+    /// The time of impact.
+    pub fn toi(&self) -> f64 {
+        match self {
+            Contact::Vf(c) => c.toi,
+            Contact::Ee(c) => c.toi,
+        }
+    }
+
+    /// How sure the contact is.
+    pub fn certainty(&self) -> Certainty {
+        match self {
+            Contact::Vf(c) => c.certainty,
+            Contact::Ee(c) => c.certainty,
+        }
+    }
+
+    /// The order that picks the earliest contact: by time of impact, then vertex-face before
+    /// edge-edge, then by `(vertex, face)` or `(a, b)`.
+    pub fn earliest_order(&self, other: &Self) -> Ordering {
+        self.toi()
+            .total_cmp(&other.toi())
+            .then_with(|| match (self, other) {
+                (Contact::Vf(x), Contact::Vf(y)) => (x.vertex, x.face).cmp(&(y.vertex, y.face)),
+                (Contact::Ee(x), Contact::Ee(y)) => (x.a, x.b).cmp(&(y.a, y.b)),
+                (Contact::Vf(_), Contact::Ee(_)) => Ordering::Less,
+                (Contact::Ee(_), Contact::Vf(_)) => Ordering::Greater,
+            })
+    }
+}
+
+/// Wall-clock time of each phase of a query, in seconds.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Seconds {
+    /// Topology, feature ownership, swept volumes and the hierarchy (or the oracle's sort).
+    /// For [`Method::Cluster`](crate::Method::Cluster): the swept volumes, the hierarchy over
+    /// the clusters and the lazy hierarchies over leaf clusters' triangles, but not the
+    /// clustering itself.
+    pub build: f64,
+    /// Traversal (or sweep) down to the candidate feature pairs.
+    pub traverse: f64,
+    /// The elementary tests.
+    pub narrow: f64,
+    /// The whole query.
+    pub total: f64,
+    /// [`Method::Cluster`](crate::Method::Cluster) only: growing the leaf clusters.
+    pub clustering: Option<f64>,
+    /// [`Method::Cluster`](crate::Method::Cluster) only: merging them into intermediate
+    /// clusters.
+    pub merging: Option<f64>,
+}
+
+/// Work counters of a query.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Stats {
+    /// Bounding-volume overlap tests: k-DOP node pairs in [`Method::Bvh`](crate::Method::Bvh)
+    /// (in [`Method::Cluster`](crate::Method::Cluster): of the cluster hierarchy and of the
+    /// lazy hierarchies), box pairs of the sweep in [`Method::Brute`](crate::Method::Brute).
+    pub bv_tests: u64,
+    /// Vertex-face pairs given to the narrow phase (its conservative prefilter, then the
+    /// elementary test for the pairs it cannot reject); each pair at most once per query.
+    pub vf_tests: u64,
+    /// Edge-edge pairs given to the narrow phase, as for `vf_tests`; each pair at most once.
+    pub ee_tests: u64,
+    /// Time of each phase.
+    pub seconds: Seconds,
+    /// [`Method::Cluster`](crate::Method::Cluster) only: the clusters and lazy hierarchies.
+    pub cluster: Option<ClusterFigures>,
+}
+
+/// The result of a whole-step query.
+#[derive(Clone, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Report {
+    /// Colliding vertex-face pairs, sorted by `(vertex, face)`. In
+    /// [`Mode::Earliest`](crate::Mode::Earliest), only those whose time of impact is within the
+    /// tolerance of the earliest.
+    pub vf: Vec<VfContact>,
+    /// Colliding edge-edge pairs, sorted by `(a, b)`. In
+    /// [`Mode::Earliest`](crate::Mode::Earliest), only those whose time of impact is within the
+    /// tolerance of the earliest.
+    pub ee: Vec<EeContact>,
+    /// The earliest contact (the first in [`Contact::earliest_order`]), or `None` when nothing
+    /// collides.
+    pub earliest: Option<Contact>,
+    /// Reported contacts whose [`Certainty`] is not [`Certainty::Resolved`]: the search gave
+    /// up on them (iteration limit, unrepresentable coordinates) and reported a conservative
+    /// time. Check it before trusting a time of impact of 0.
+    pub unresolved: usize,
+    /// Work counters and timings.
+    pub stats: Stats,
+}
+
+impl Report {
+    /// The earliest time of impact, or `None` when nothing collides.
+    pub fn earliest_toi(&self) -> Option<f64> {
+        self.earliest.map(|c| c.toi())
+    }
+
+    /// Number of colliding pairs of both kinds.
+    pub fn contact_count(&self) -> usize {
+        self.vf.len() + self.ee.len()
+    }
+}
