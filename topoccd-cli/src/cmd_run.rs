@@ -6,16 +6,19 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
+use topoccd::io::read_mesh;
 use topoccd::io::sequence::Sequence;
 use topoccd::Ccd;
 
-use crate::cmd_step::{write_pairs, StepOut};
+use crate::cmd_step::{coincidence_warning, write_pairs, StepOut};
 use crate::query_args::{MethodArgs, QueryArgs};
 
 /// Arguments of `topoccd run`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Folder of frames `0000.ply`, `0001.ply`, ... (and optional `NNNN.parents` files).
+    /// Folder of frames named a common prefix and a consecutive number from any start
+    /// (`0000.ply`, `0001.ply`, ... or `frame_1.obj`, `frame_2.obj`, ...), with optional
+    /// parents files beside them (`0001.parents`); or a scene folder with `frames/`.
     seq_dir: PathBuf,
     #[command(flatten)]
     method: MethodArgs,
@@ -25,8 +28,8 @@ pub struct Args {
     /// always included).
     #[arg(long)]
     with_pairs: bool,
-    /// Print one JSON object per step (the keys of `topoccd step --json` plus `step`), then a
-    /// summary object.
+    /// Print JSON Lines: one JSON object per line, one per step (the keys of `topoccd step
+    /// --json` plus `step`), then a summary object `{"summary": ...}`.
     #[arg(long)]
     json: bool,
     /// Write each step's colliding pairs to DIR/NNNN.csv (NNNN: the step's first frame), in the
@@ -74,6 +77,20 @@ pub fn prepare_dir(dir: &Path) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))
 }
 
+/// Prints the reader's notes on the first frame, and a warning if vertices of it coincide.
+fn warn_first_frame(sequence: &Sequence) -> Result<()> {
+    let first = &sequence.frames[0];
+    let mesh = read_mesh(first)?;
+    for note in &mesh.notes {
+        eprintln!("note: {}: {note}", first.display());
+    }
+    let remedy = "Merge them in the frames (`topoccd step --weld` does it for one step)";
+    if let Some(w) = coincidence_warning(first, &mesh.positions, &mesh.triangles, remedy) {
+        eprintln!("{w}");
+    }
+    Ok(())
+}
+
 /// Runs the command.
 pub fn run(args: &Args) -> Result<()> {
     let options = args.query.options()?;
@@ -81,6 +98,7 @@ pub fn run(args: &Args) -> Result<()> {
     if let Some(dir) = &args.pairs_dir {
         prepare_dir(dir)?;
     }
+    warn_first_frame(&sequence)?;
     let started = Instant::now();
     let bar = progress(sequence.steps(), "steps");
     let mut ccd = Ccd::new();
@@ -91,7 +109,7 @@ pub fn run(args: &Args) -> Result<()> {
         let report = ccd.query(&step, method, &options)?;
         if let Some(dir) = &args.pairs_dir {
             let inputs: Vec<&Path> = sequence.frames.iter().map(PathBuf::as_path).collect();
-            write_pairs(&dir.join(format!("{k:04}.csv")), &report, &inputs)?;
+            write_pairs(&dir.join(format!("{k:04}.csv")), &report, &inputs, None)?;
         }
         let out = StepOut::new(&step, method, options.mode, &report, args.with_pairs);
         summary.steps += 1;
@@ -112,7 +130,8 @@ pub fn run(args: &Args) -> Result<()> {
                 Ok(())
             })?;
         } else {
-            bar.println(format!("step {k:04}: {}", out.text()));
+            // Results go to stdout whether or not stderr (the progress bar) is a terminal.
+            bar.suspend(|| println!("step {k:04}: {}", out.text()));
         }
     }
     bar.finish_and_clear();
