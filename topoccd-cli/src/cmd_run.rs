@@ -1,10 +1,11 @@
 //! `topoccd run SEQ_DIR`: every step of a frame sequence, with a progress bar.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 use topoccd::io::read_mesh;
 use topoccd::io::sequence::Sequence;
@@ -69,6 +70,37 @@ pub fn progress(len: usize, what: &str) -> ProgressBar {
     bar
 }
 
+/// Runs `work`, showing a spinner with `what` on stderr if it takes more than a second (and
+/// stderr is a terminal: a hidden bar draws nothing).
+pub fn with_spinner<T>(what: &str, work: impl FnOnce() -> T) -> T {
+    let spinner = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
+    spinner.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{elapsed_precise}]")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    spinner.set_message(what.to_string());
+    let done = AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        scope.spawn(|| {
+            let started = Instant::now();
+            while started.elapsed() < Duration::from_secs(1) {
+                if done.load(Ordering::Acquire) {
+                    return;
+                }
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            if !done.load(Ordering::Acquire) {
+                spinner.set_draw_target(ProgressDrawTarget::stderr());
+                spinner.enable_steady_tick(Duration::from_millis(120));
+            }
+        });
+        let result = work();
+        done.store(true, Ordering::Release);
+        spinner.finish_and_clear();
+        result
+    })
+}
+
 /// Creates the pairs folder, refusing a path that exists and is not a folder.
 pub fn prepare_dir(dir: &Path) -> Result<()> {
     if dir.exists() && !dir.is_dir() {
@@ -101,6 +133,8 @@ pub fn run(args: &Args) -> Result<()> {
     warn_first_frame(&sequence)?;
     let started = Instant::now();
     let bar = progress(sequence.steps(), "steps");
+    // Keep the elapsed time moving during a long step.
+    bar.enable_steady_tick(Duration::from_millis(250));
     let mut ccd = Ccd::new();
     let mut summary = Summary::default();
     for item in sequence.iter() {

@@ -13,6 +13,7 @@ use topoccd::io::{
 };
 use topoccd::{Ccd, Contact, EeContact, Method, Mode, Report, Seconds, Stats, Step, VfContact};
 
+use crate::cmd_run::with_spinner;
 use crate::query_args::{MethodArgs, QueryArgs};
 
 /// Arguments of `topoccd step`.
@@ -561,7 +562,9 @@ pub fn run(args: &Args) -> Result<()> {
     }
     let mut ccd = Ccd::new();
     let method = args.method.method.into();
-    let mut report = ccd.query(&input.step, method, &options)?;
+    let mut report = with_spinner("querying the step", || {
+        ccd.query(&input.step, method, &options)
+    })?;
     rename(
         &mut report,
         input.vertex_ids.as_deref(),
