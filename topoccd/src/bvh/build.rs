@@ -1,6 +1,36 @@
-//! Top-down construction: median split along the longest axis of the leaves' centres.
+//! Top-down construction: median split along the longest axis of the leaves' centres, the two
+//! halves built in parallel (rayon) above a size threshold, into a node layout fixed by the
+//! subtree sizes alone, so the tree is the same for any thread count.
+
+use rayon::prelude::*;
 
 use super::{BoundingVolume, Bvh, BvhWorkspace, Leaf, Node, LEAF};
+
+/// Ranges of at least this many leaves have their two halves built as two rayon tasks. Below
+/// it, a task costs more than it saves. (The output does not depend on it.)
+const PARALLEL_LEAVES: usize = 4096;
+
+/// One leaf to place: its volume's centre, each coordinate as an integer ordered as
+/// `f64::total_cmp` orders the coordinate (see [`key`]), and its index in the input.
+pub(super) type Item = ([u64; 3], u32);
+
+/// The integer whose unsigned order is `f64::total_cmp`'s order of `x`. Comparing these is
+/// cheaper than comparing the floats, and [`unkey`] gives `x` back.
+#[inline]
+fn key(x: f64) -> u64 {
+    let bits = x.to_bits();
+    if bits >> 63 == 1 {
+        !bits
+    } else {
+        bits | (1 << 63)
+    }
+}
+
+/// The inverse of [`key`].
+#[inline]
+fn unkey(k: u64) -> f64 {
+    f64::from_bits(if k >> 63 == 1 { k & !(1 << 63) } else { !k })
+}
 
 impl<V: BoundingVolume> Bvh<V> {
     /// Rebuilds the hierarchy over `leaves`, reusing this tree's node array and the workspace.
@@ -8,7 +38,13 @@ impl<V: BoundingVolume> Bvh<V> {
     /// Top-down: a range of leaves is split at its median along the axis where the leaves'
     /// centres ([`BoundingVolume::center`]) spread most, ties broken by the leaves' positions in
     /// `leaves`, so the tree depends only on the input. The depth is `ceil(log2 n)`, and the
-    /// two children of a node are adjacent in [`Bvh::nodes`] and come after it.
+    /// two children of a node are adjacent in [`Bvh::nodes`] and come after it: an internal
+    /// node over `m` leaves with children at `c, c + 1` has the descendants of its first child
+    /// (`2 m_1 - 2` nodes) at `c + 2..`, then those of its second child.
+    ///
+    /// The two halves of a big range are built as two tasks on the current rayon thread pool
+    /// (on one thread when called from a pool of one); the node array is the same, bit for bit,
+    /// for any number of threads.
     ///
     /// ```
     /// use topoccd::bvh::{Bvh, BvhWorkspace, Leaf};
@@ -24,87 +60,134 @@ impl<V: BoundingVolume> Bvh<V> {
     /// assert!(bvh.validate(&leaves).is_ok());
     /// ```
     pub fn rebuild(&mut self, leaves: &[Leaf<V>], ws: &mut BvhWorkspace) {
-        self.nodes.clear();
         if leaves.is_empty() {
+            self.nodes.clear();
             return;
         }
-        debug_assert!(leaves.len() < (u32::MAX / 2) as usize);
-        self.nodes.reserve(2 * leaves.len() - 1);
-        let items = &mut ws.items;
-        items.clear();
-        items.extend(
-            leaves
-                .iter()
-                .enumerate()
-                .map(|(i, l)| (l.volume.center().to_array(), i as u32)),
+        assert!(
+            leaves.len() < (u32::MAX / 2) as usize,
+            "too many leaves for u32 node indices"
         );
-        let placeholder = leaves[0].volume;
-        self.nodes.push(Node {
-            volume: placeholder,
+        let items = &mut ws.items;
+        let item = |(i, l): (usize, &Leaf<V>)| (l.volume.center().to_array().map(key), i as u32);
+        if leaves.len() >= PARALLEL_LEAVES {
+            leaves
+                .par_iter()
+                .enumerate()
+                .map(item)
+                .collect_into_vec(items);
+        } else {
+            items.clear();
+            items.extend(leaves.iter().enumerate().map(item));
+        }
+        let placeholder = Node {
+            volume: leaves[0].volume,
             a: 0,
-            b: 0,
-        });
-        ws.ranges.clear();
-        ws.ranges.push((0, 0, leaves.len() as u32));
-        while let Some((node, begin, end)) = ws.ranges.pop() {
-            let range = &mut items[begin as usize..end as usize];
-            if range.len() == 1 {
-                let leaf = &leaves[range[0].1 as usize];
-                self.nodes[node as usize] = Node {
-                    volume: leaf.volume,
-                    a: leaf.id,
-                    b: LEAF,
-                };
-                continue;
-            }
-            let axis = longest_axis(range);
-            let mid = range.len() / 2;
-            range.select_nth_unstable_by(mid, |x, y| {
-                x.0[axis].total_cmp(&y.0[axis]).then(x.1.cmp(&y.1))
-            });
-            let first = self.nodes.len() as u32;
-            for _ in 0..2 {
-                self.nodes.push(Node {
-                    volume: placeholder,
-                    a: 0,
-                    b: 0,
-                });
-            }
-            self.nodes[node as usize].a = first;
-            self.nodes[node as usize].b = first + 1;
-            let split = begin + mid as u32;
-            ws.ranges.push((first + 1, split, end));
-            ws.ranges.push((first, begin, split));
-        }
-        // Children come after their parent: fill the volumes from the back.
-        for i in (0..self.nodes.len()).rev() {
-            if let Some([l, r]) = self.nodes[i].children() {
-                debug_assert!(l as usize > i && r as usize > i);
-                let v = self.nodes[l as usize]
-                    .volume
-                    .merge(&self.nodes[r as usize].volume);
-                self.nodes[i].volume = v;
-            }
-        }
+            b: LEAF,
+        };
+        // Every node is written by the build: only grow (or shrink) the array, so that a tree
+        // rebuilt over as many leaves as last time is written once, not twice.
+        self.nodes.resize(2 * leaves.len() - 1, placeholder);
+        let (root, rest) = self.nodes.split_at_mut(1);
+        root[0] = build(leaves, items, rest, 1);
+    }
+}
+
+/// Builds the subtree over `items` (not empty) and returns its root node; writes its other
+/// `2 m - 2` nodes into `block`, whose first node has index `base` in the whole array.
+fn build<V: BoundingVolume>(
+    leaves: &[Leaf<V>],
+    items: &mut [Item],
+    block: &mut [Node<V>],
+    base: u32,
+) -> Node<V> {
+    debug_assert_eq!(block.len() + 2, 2 * items.len());
+    let len = items.len();
+    if len == 1 {
+        let leaf = &leaves[items[0].1 as usize];
+        return Node {
+            volume: leaf.volume,
+            a: leaf.id,
+            b: LEAF,
+        };
+    }
+    let axis = longest_axis(items);
+    let mid = len / 2;
+    items.select_nth_unstable_by(mid, |x, y| (x.0[axis], x.1).cmp(&(y.0[axis], y.1)));
+    let (first, second) = items.split_at_mut(mid);
+    let (pair, rest) = block.split_at_mut(2);
+    let (block1, block2) = rest.split_at_mut(2 * first.len() - 2);
+    let base1 = base + 2;
+    let base2 = base1 + block1.len() as u32;
+    let (n1, n2) = if len >= PARALLEL_LEAVES {
+        rayon::join(
+            || build(leaves, first, block1, base1),
+            || build(leaves, second, block2, base2),
+        )
+    } else {
+        (
+            build(leaves, first, block1, base1),
+            build(leaves, second, block2, base2),
+        )
+    };
+    let volume = n1.volume.merge(&n2.volume);
+    pair[0] = n1;
+    pair[1] = n2;
+    Node {
+        volume,
+        a: base,
+        b: base + 1,
     }
 }
 
 /// The axis along which the centres spread most.
-fn longest_axis(range: &[([f64; 3], u32)]) -> usize {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
+fn longest_axis(range: &[Item]) -> usize {
+    let mut lo = [u64::MAX; 3];
+    let mut hi = [0u64; 3];
     for (c, _) in range {
         for k in 0..3 {
             lo[k] = lo[k].min(c[k]);
             hi[k] = hi[k].max(c[k]);
         }
     }
-    let ext = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
+    let ext: [f64; 3] = std::array::from_fn(|k| unkey(hi[k]) - unkey(lo[k]));
     if ext[0] >= ext[1] && ext[0] >= ext[2] {
         0
     } else if ext[1] >= ext[2] {
         1
     } else {
         2
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{key, unkey};
+
+    #[test]
+    fn keys_order_as_total_cmp_and_invert() {
+        let xs = [
+            f64::NEG_INFINITY,
+            -1e300,
+            -1.5,
+            -f64::MIN_POSITIVE,
+            -0.0,
+            0.0,
+            5e-324,
+            1.0,
+            2.5,
+            1e300,
+            f64::INFINITY,
+        ];
+        for (i, &x) in xs.iter().enumerate() {
+            assert_eq!(unkey(key(x)).to_bits(), x.to_bits());
+            for &y in &xs[i + 1..] {
+                assert!(key(x) < key(y), "{x} {y}");
+            }
+        }
+        let nan = f64::NAN;
+        assert_eq!(unkey(key(nan)).to_bits(), nan.to_bits());
+        assert_eq!(key(nan).cmp(&key(1.0)), nan.total_cmp(&1.0));
+        assert_eq!(key(-nan).cmp(&key(-1.0)), (-nan).total_cmp(&-1.0));
     }
 }

@@ -2,11 +2,17 @@
 //! the work at the leaves is a closure passed to the traversals.
 //!
 //! - [`Bvh::rebuild`] builds a binary tree top-down, splitting at the median of the leaves'
-//!   centres along the longest axis of their bounds (deterministic; `O(n log n)`).
+//!   centres along the longest axis of their bounds (deterministic; `O(n log n)`; the halves of
+//!   big ranges built in parallel on the current rayon pool, into the same tree for any thread
+//!   count).
 //! - [`Bvh::self_pairs`] reports every unordered pair of distinct leaves whose volumes overlap,
 //!   once; [`Bvh::tree_pairs`] every overlapping pair of a leaf of one tree and a leaf of
 //!   another; [`Bvh::volume_leaves`] every leaf overlapping one given volume. All count the
 //!   bounding-volume tests they make.
+//! - [`Bvh::par_self_pairs`] and [`Bvh::par_tree_pairs`] do the same on the current rayon
+//!   pool: the traversal is split into tasks in a fixed order, each with an accumulator of the
+//!   caller's, returned in task order, so the output is the same for any thread count.
+//! - [`Bvh::refit`] gives the leaves new volumes in the same tree, in linear time.
 //! - [`Bvh::validate`] checks the tree against its leaves; the tests run it after every build.
 //!
 //! Scratch memory lives in a [`BvhWorkspace`] that a caller keeps across steps, and
@@ -36,15 +42,19 @@
 //! ```
 
 mod build;
+mod parallel;
+mod refit;
 mod traverse;
 mod validation;
 
+pub use parallel::{ParOptions, ParPairs};
 pub use validation::BvhError;
 
 use crate::math::DVec3;
 
-/// What the hierarchy needs of a bounding volume.
-pub trait BoundingVolume: Copy {
+/// What the hierarchy needs of a bounding volume. `Send + Sync`, so that the hierarchy can be
+/// built and traversed on several threads.
+pub trait BoundingVolume: Copy + Send + Sync {
     /// The smallest volume (of this type) containing both.
     fn merge(&self, other: &Self) -> Self;
     /// Whether the two volumes may share a point; `false` proves them disjoint.
@@ -108,11 +118,11 @@ impl<V> Default for Bvh<V> {
 #[derive(Clone, Debug, Default)]
 pub struct BvhWorkspace {
     /// Build: the leaves' centres and their indices in the input.
-    items: Vec<([f64; 3], u32)>,
-    /// Build: pending ranges `(node, begin, end)` of `items`.
-    ranges: Vec<(u32, u32, u32)>,
+    items: Vec<build::Item>,
     /// Traversal: pending node pairs.
     pairs: Vec<(u32, u32)>,
+    /// Parallel traversals: the tasks.
+    tasks: parallel::Tasks,
 }
 
 impl<V: BoundingVolume> Bvh<V> {
@@ -148,3 +158,6 @@ impl<V: BoundingVolume> Bvh<V> {
         self.nodes.first().map(|n| &n.volume)
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -1,6 +1,6 @@
 //! Traversals: all overlapping leaf pairs of one tree, or of two trees.
 
-use super::{BoundingVolume, Bvh, BvhWorkspace, Node};
+use super::{BoundingVolume, Bvh, BvhWorkspace, Node, LEAF};
 
 impl<V: BoundingVolume> Bvh<V> {
     /// Calls `leaf_pair(a, b)` for every unordered pair of distinct leaves whose volumes
@@ -28,28 +28,12 @@ impl<V: BoundingVolume> Bvh<V> {
     /// assert_eq!(pairs, vec![(0, 1), (1, 2)]);
     /// ```
     pub fn self_pairs(&self, ws: &mut BvhWorkspace, mut leaf_pair: impl FnMut(u32, u32)) -> u64 {
-        let nodes = &self.nodes[..];
-        let mut tests = 0u64;
-        if nodes.is_empty() {
-            return 0;
-        }
         let stack = &mut ws.pairs;
         stack.clear();
-        stack.push((0, 0));
-        while let Some((a, b)) = stack.pop() {
-            if a == b {
-                // A subtree against itself: each child against itself, and the two children.
-                if let Some([l, r]) = nodes[a as usize].children() {
-                    stack.push((l, r));
-                    stack.push((r, r));
-                    stack.push((l, l));
-                }
-                continue;
-            }
-            tests += 1;
-            descend(nodes, nodes, a, b, stack, &mut leaf_pair);
+        if self.nodes.len() > 1 {
+            stack.push((0, 0));
         }
-        tests
+        run(&self.nodes, &self.nodes, stack, &mut leaf_pair)
     }
 
     /// Calls `leaf(id)` for every leaf whose volume overlaps `volume`, each once, in a
@@ -133,51 +117,145 @@ impl<V: BoundingVolume> Bvh<V> {
         mut leaf_pair: impl FnMut(u32, u32),
     ) -> u64 {
         let (na, nb) = (&self.nodes[..], &other.nodes[..]);
-        let mut tests = 0u64;
         if na.is_empty() || nb.is_empty() {
             return 0;
         }
         let stack = &mut ws.pairs;
         stack.clear();
-        stack.push((0, 0));
-        while let Some((a, b)) = stack.pop() {
-            tests += 1;
-            descend(na, nb, a, b, stack, &mut leaf_pair);
+        let tests = 1;
+        if !na[0].volume.overlaps(&nb[0].volume) {
+            return tests;
         }
-        tests
+        match (na[0].leaf(), nb[0].leaf()) {
+            (Some(x), Some(y)) => {
+                leaf_pair(x, y);
+                tests
+            }
+            _ => {
+                stack.push((0, OTHER));
+                tests + run(na, nb, stack, &mut leaf_pair)
+            }
+        }
     }
 }
 
-/// Tests node `a` of `na` against node `b` of `nb`; on overlap, reports a leaf pair or pushes
-/// the child pairs (both nodes are split when both are internal).
-#[inline]
-fn descend<V: BoundingVolume>(
+/// In the pairs on the stack of [`run`], marks a node of the second tree (whose index may
+/// equal the first's) so that the pair `(a, a | OTHER)` is not read as "a subtree against
+/// itself". A tree over fewer than `2^30` leaves never has this bit in a node index.
+pub(super) const OTHER: u32 = 1 << 31;
+
+/// Where one step of the traversal puts its output: the node pairs still to descend, and the
+/// overlapping leaf pairs.
+pub(super) trait Sink {
+    /// A stack entry (see [`step`]) to process later.
+    fn push(&mut self, a: u32, b: u32);
+    /// An overlapping pair of leaves, by leaf id.
+    fn leaf(&mut self, x: u32, y: u32);
+}
+
+/// The sink of a sequential traversal: a stack and the caller's closure.
+struct Stack<'a, F> {
+    stack: &'a mut Vec<(u32, u32)>,
+    leaf_pair: &'a mut F,
+}
+
+impl<F: FnMut(u32, u32)> Sink for Stack<'_, F> {
+    #[inline(always)]
+    fn push(&mut self, a: u32, b: u32) {
+        self.stack.push((a, b));
+    }
+
+    #[inline(always)]
+    fn leaf(&mut self, x: u32, y: u32) {
+        (self.leaf_pair)(x, y)
+    }
+}
+
+/// The traversal loop shared by the self and the two-tree traversals: pops and processes
+/// entries (see [`step`]) until the stack is empty. Returns the number of overlap tests.
+pub(super) fn run<V: BoundingVolume>(
+    na: &[Node<V>],
+    nb: &[Node<V>],
+    stack: &mut Vec<(u32, u32)>,
+    leaf_pair: &mut impl FnMut(u32, u32),
+) -> u64 {
+    let mut tests = 0u64;
+    while let Some((a, tagged)) = stack.pop() {
+        tests += step(na, nb, a, tagged, &mut Stack { stack, leaf_pair });
+    }
+    tests
+}
+
+/// Processes one entry of the traversal:
+/// - `(x, x)`: internal node `x` of `na` against itself (no test needed): its two children
+///   are tested against each other and each internal one is pushed against itself;
+/// - `(a, b | OTHER)` or, within one tree, `(a, b)` with `a != b`: two nodes known to overlap,
+///   at least one internal: the children of the internal ones are tested against each other
+///   (or against the leaf), and each overlapping pair is reported (two leaves) or pushed.
+///
+/// Children are tested as soon as their parents' pair is processed, so only overlapping pairs
+/// are pushed. Returns the number of overlap tests.
+#[inline(always)]
+pub(super) fn step<V: BoundingVolume>(
+    na: &[Node<V>],
+    nb: &[Node<V>],
+    a: u32,
+    tagged: u32,
+    sink: &mut impl Sink,
+) -> u64 {
+    if a == tagged {
+        let c = na[a as usize].a;
+        test(na, na, c, c + 1, 0, sink);
+        for x in [c + 1, c] {
+            if na[x as usize].b != LEAF {
+                sink.push(x, x);
+            }
+        }
+        return 1;
+    }
+    let tag = tagged & OTHER;
+    let b = tagged & !OTHER;
+    let (x, y) = (&na[a as usize], &nb[b as usize]);
+    match (x.b != LEAF, y.b != LEAF) {
+        (true, true) => {
+            for i in [x.a, x.b] {
+                for j in [y.a, y.b] {
+                    test(na, nb, i, j, tag, sink);
+                }
+            }
+            4
+        }
+        (true, false) => {
+            test(na, nb, x.a, b, tag, sink);
+            test(na, nb, x.b, b, tag, sink);
+            2
+        }
+        (false, true) => {
+            test(na, nb, a, y.a, tag, sink);
+            test(na, nb, a, y.b, tag, sink);
+            2
+        }
+        (false, false) => unreachable!("leaf pairs are reported, not pushed"),
+    }
+}
+
+/// Tests node `a` of `na` against node `b` of `nb`; on overlap, reports the leaf pair or
+/// pushes the pair (with `tag`, [`OTHER`] for two trees).
+#[inline(always)]
+fn test<V: BoundingVolume>(
     na: &[Node<V>],
     nb: &[Node<V>],
     a: u32,
     b: u32,
-    stack: &mut Vec<(u32, u32)>,
-    leaf_pair: &mut impl FnMut(u32, u32),
+    tag: u32,
+    sink: &mut impl Sink,
 ) {
     let (x, y) = (&na[a as usize], &nb[b as usize]);
-    if !x.volume.overlaps(&y.volume) {
-        return;
-    }
-    match (x.children(), y.children()) {
-        (None, None) => leaf_pair(x.a, y.a),
-        (None, Some([l, r])) => {
-            stack.push((a, r));
-            stack.push((a, l));
-        }
-        (Some([l, r]), None) => {
-            stack.push((r, b));
-            stack.push((l, b));
-        }
-        (Some([al, ar]), Some([bl, br])) => {
-            stack.push((ar, br));
-            stack.push((ar, bl));
-            stack.push((al, br));
-            stack.push((al, bl));
+    if x.volume.overlaps(&y.volume) {
+        if x.b == LEAF && y.b == LEAF {
+            sink.leaf(x.a, y.a);
+        } else {
+            sink.push(a, b | tag);
         }
     }
 }

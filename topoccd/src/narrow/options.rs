@@ -1,6 +1,6 @@
 //! Options of the elementary tests.
 
-/// Options of [`vertex_face`](super::vertex_face) and [`edge_edge`](super::edge_edge).
+/// Options of the elementary tests (vertex-face and edge-edge).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct NarrowOptions {

@@ -1,0 +1,273 @@
+//! Parallel traversals: the traversal is split into independent tasks, enumerated in a fixed
+//! order that depends on the trees alone, run on the current rayon thread pool, and their
+//! results returned in task order; so the output is the same for any number of threads.
+
+use rayon::prelude::*;
+
+use super::traverse::{run, step, Sink, OTHER};
+use super::{BoundingVolume, Bvh, BvhWorkspace, Node};
+
+/// How a parallel traversal splits and hands over its work. The tasks depend on these and on
+/// the trees only, never on the thread count, so neither does the output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ParOptions {
+    /// Split the traversal into at least this many tasks, when the trees have that many node
+    /// pairs to split. Default 512: enough for rayon to balance a few threads over tasks of
+    /// very unequal sizes.
+    pub min_tasks: usize,
+    /// Trees with fewer nodes than this (both of them, for two trees) are traversed as one
+    /// task. Default 2048.
+    pub min_nodes: usize,
+    /// Run the tasks this many at a time, and hand over a batch's results before starting the
+    /// next, so that at most one batch of results is alive at once. Default `usize::MAX` (one
+    /// batch). `0` counts as 1.
+    pub batch: usize,
+}
+
+impl Default for ParOptions {
+    fn default() -> Self {
+        Self {
+            min_tasks: 512,
+            min_nodes: 2048,
+            batch: usize::MAX,
+        }
+    }
+}
+
+/// The output of a parallel traversal.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ParPairs<T> {
+    /// One value per task, made by the caller's `make` and fed the task's leaf pairs, in task
+    /// order. Concatenating them gives the same sequence for any number of threads.
+    pub results: Vec<T>,
+    /// The number of bounding-volume overlap tests (also independent of the thread count).
+    pub bv_tests: u64,
+}
+
+/// The tasks of the splitting phase: the node pairs left to descend (stack entries, see
+/// `traverse::step`) and the leaf pairs found on the way.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Tasks {
+    /// Stack entries, each a task of the parallel phase.
+    pub(super) entries: Vec<(u32, u32)>,
+    /// The next round's entries.
+    next: Vec<(u32, u32)>,
+    /// Overlapping leaf pairs found while splitting, handed to the first accumulator.
+    found: Vec<(u32, u32)>,
+}
+
+/// The sink of one splitting round.
+struct Round<'a> {
+    next: &'a mut Vec<(u32, u32)>,
+    found: &'a mut Vec<(u32, u32)>,
+}
+
+impl Sink for Round<'_> {
+    #[inline]
+    fn push(&mut self, a: u32, b: u32) {
+        self.next.push((a, b));
+    }
+
+    #[inline]
+    fn leaf(&mut self, x: u32, y: u32) {
+        self.found.push((x, y));
+    }
+}
+
+impl<V: BoundingVolume> Bvh<V> {
+    /// [`Bvh::self_pairs`] on the current rayon thread pool: the same leaf pairs, each once,
+    /// handed to `leaf_pair` with a per-task accumulator made by `make`. The accumulators are
+    /// returned in a fixed task order, and the pairs each receives, in order, depend only on
+    /// the tree: the concatenated output is the same for any number of threads (and the same
+    /// set as [`Bvh::self_pairs`]'s).
+    ///
+    /// ```
+    /// use topoccd::bvh::{Bvh, Leaf};
+    /// use topoccd::kdop::Kdop;
+    /// use topoccd::math::DVec3;
+    /// let leaves: Vec<_> = (0..1000)
+    ///     .map(|i| {
+    ///         let mut volume = Kdop::<9>::from_point(DVec3::new(i as f64, 0.0, 0.0));
+    ///         volume.inflate(0.6);
+    ///         Leaf { id: i, volume }
+    ///     })
+    ///     .collect();
+    /// let bvh = Bvh::from_leaves(&leaves);
+    /// let out = bvh.par_self_pairs(&mut Default::default(), Vec::new, |v, a, b| {
+    ///     v.push((a.min(b), a.max(b)))
+    /// });
+    /// let mut pairs: Vec<(u32, u32)> = out.results.concat();
+    /// pairs.sort();
+    /// assert_eq!(pairs, (0..999).map(|i| (i, i + 1)).collect::<Vec<_>>());
+    /// assert!(out.bv_tests > 0);
+    /// ```
+    pub fn par_self_pairs<T: Send>(
+        &self,
+        ws: &mut BvhWorkspace,
+        make: impl Fn() -> T + Sync + Send,
+        leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+    ) -> ParPairs<T> {
+        let mut results = Vec::new();
+        let options = ParOptions::default();
+        let bv_tests = self.par_self_pairs_with(ws, &options, make, leaf_pair, |r| results.push(r));
+        ParPairs { results, bv_tests }
+    }
+
+    /// [`Bvh::par_self_pairs`] with options, handing each task's accumulator to `consume`, in
+    /// task order, batch by batch ([`ParOptions::batch`]): the caller can use (and drop) a
+    /// batch's results before the next batch runs, e.g. to bound the memory of candidate pairs.
+    /// Returns the number of bounding-volume overlap tests.
+    ///
+    /// ```
+    /// use topoccd::bvh::{Bvh, Leaf, ParOptions};
+    /// use topoccd::kdop::Kdop;
+    /// use topoccd::math::DVec3;
+    /// let leaves: Vec<_> = (0..5000)
+    ///     .map(|i| {
+    ///         let mut volume = Kdop::<9>::from_point(DVec3::new(i as f64, 0.0, 0.0));
+    ///         volume.inflate(0.6);
+    ///         Leaf { id: i, volume }
+    ///     })
+    ///     .collect();
+    /// let bvh = Bvh::from_leaves(&leaves);
+    /// let options = ParOptions { batch: 16, ..ParOptions::default() };
+    /// let (mut pairs, mut largest) = (0, 0);
+    /// bvh.par_self_pairs_with(&mut Default::default(), &options, Vec::new, |v, a, b| v.push((a, b)), |v| {
+    ///     pairs += v.len();
+    ///     largest = largest.max(v.len());
+    /// });
+    /// assert_eq!(pairs, 4999);
+    /// assert!(largest < 100);
+    /// ```
+    pub fn par_self_pairs_with<T: Send>(
+        &self,
+        ws: &mut BvhWorkspace,
+        options: &ParOptions,
+        make: impl Fn() -> T + Sync + Send,
+        leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+        consume: impl FnMut(T),
+    ) -> u64 {
+        let t = &mut ws.tasks;
+        t.entries.clear();
+        t.found.clear();
+        if self.nodes.len() > 1 {
+            t.entries.push((0, 0));
+        }
+        let small = self.nodes.len() < options.min_nodes;
+        let nodes = &self.nodes[..];
+        par_run(nodes, nodes, t, 0, small, options, make, leaf_pair, consume)
+    }
+
+    /// [`Bvh::tree_pairs`] on the current rayon thread pool, with per-task accumulators
+    /// returned in a fixed task order, as [`Bvh::par_self_pairs`]: `leaf_pair(acc, a, b)` for
+    /// every leaf `a` of `self` and `b` of `other` whose volumes overlap.
+    ///
+    /// ```
+    /// use topoccd::bvh::{Bvh, Leaf};
+    /// use topoccd::kdop::Kdop;
+    /// use topoccd::math::DVec3;
+    /// let boxes = |x0: f64| -> Vec<Leaf<Kdop<3>>> {
+    ///     (0..500).map(|i| Leaf {
+    ///         id: i,
+    ///         volume: Kdop::from_points(&[DVec3::splat(x0 + i as f64), DVec3::splat(x0 + i as f64 + 0.9)]),
+    ///     }).collect()
+    /// };
+    /// let (a, b) = (Bvh::from_leaves(&boxes(0.0)), Bvh::from_leaves(&boxes(0.5)));
+    /// let out = a.par_tree_pairs(&b, &mut Default::default(), || 0usize, |n, _, _| *n += 1);
+    /// assert_eq!(out.results.iter().sum::<usize>(), 999);
+    /// ```
+    pub fn par_tree_pairs<T: Send>(
+        &self,
+        other: &Bvh<V>,
+        ws: &mut BvhWorkspace,
+        make: impl Fn() -> T + Sync + Send,
+        leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+    ) -> ParPairs<T> {
+        let mut results = Vec::new();
+        let options = ParOptions::default();
+        let bv_tests =
+            self.par_tree_pairs_with(other, ws, &options, make, leaf_pair, |r| results.push(r));
+        ParPairs { results, bv_tests }
+    }
+
+    /// [`Bvh::par_tree_pairs`] with options, handing each task's accumulator to `consume` in
+    /// task order, batch by batch, as [`Bvh::par_self_pairs_with`]. Returns the number of
+    /// bounding-volume overlap tests.
+    pub fn par_tree_pairs_with<T: Send>(
+        &self,
+        other: &Bvh<V>,
+        ws: &mut BvhWorkspace,
+        options: &ParOptions,
+        make: impl Fn() -> T + Sync + Send,
+        leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+        mut consume: impl FnMut(T),
+    ) -> u64 {
+        let (na, nb) = (&self.nodes[..], &other.nodes[..]);
+        let t = &mut ws.tasks;
+        t.entries.clear();
+        t.found.clear();
+        if na.is_empty() || nb.is_empty() {
+            consume(make());
+            return 0;
+        }
+        if na[0].volume.overlaps(&nb[0].volume) {
+            match (na[0].leaf(), nb[0].leaf()) {
+                (Some(x), Some(y)) => t.found.push((x, y)),
+                _ => t.entries.push((0, OTHER)),
+            }
+        }
+        let small = na.len() < options.min_nodes && nb.len() < options.min_nodes;
+        par_run(na, nb, t, 1, small, options, make, leaf_pair, consume)
+    }
+}
+
+/// Splits the entries of `t` level by level (every entry processed once per round, in order)
+/// until there are at least `options.min_tasks` or none left (unless `small`), then runs them
+/// on the rayon pool, batch by batch, handing the results to `consume` in task order. The
+/// first result holds the leaf pairs found while splitting. Returns the overlap tests.
+#[allow(clippy::too_many_arguments)]
+fn par_run<V: BoundingVolume, T: Send>(
+    na: &[Node<V>],
+    nb: &[Node<V>],
+    t: &mut Tasks,
+    mut bv_tests: u64,
+    small: bool,
+    options: &ParOptions,
+    make: impl Fn() -> T + Sync + Send,
+    leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+    mut consume: impl FnMut(T),
+) -> u64 {
+    while !small && !t.entries.is_empty() && t.entries.len() < options.min_tasks {
+        t.next.clear();
+        let mut round = Round {
+            next: &mut t.next,
+            found: &mut t.found,
+        };
+        for &(a, b) in &t.entries {
+            bv_tests += step(na, nb, a, b, &mut round);
+        }
+        std::mem::swap(&mut t.entries, &mut t.next);
+    }
+    let mut first = make();
+    for &(x, y) in &t.found {
+        leaf_pair(&mut first, x, y);
+    }
+    consume(first);
+    for batch in t.entries.chunks(options.batch.max(1)) {
+        let done: Vec<(T, u64)> = batch
+            .par_iter()
+            .map_init(Vec::new, |stack, &(a, b)| {
+                let mut acc = make();
+                stack.clear();
+                stack.push((a, b));
+                let tests = run(na, nb, stack, &mut |x, y| leaf_pair(&mut acc, x, y));
+                (acc, tests)
+            })
+            .collect();
+        for (acc, tests) in done {
+            consume(acc);
+            bv_tests += tests;
+        }
+    }
+    bv_tests
+}

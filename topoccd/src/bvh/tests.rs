@@ -1,0 +1,216 @@
+//! The parallel build and traversals against the sequential ones and brute force, on seeded
+//! random input, for several thread counts.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::{Bvh, BvhWorkspace, Leaf, ParOptions, ParPairs};
+use crate::kdop::Kdop;
+use crate::math::DVec3;
+
+fn point(rng: &mut ChaCha8Rng, scale: f64) -> DVec3 {
+    DVec3::new(
+        rng.random_range(-scale..scale),
+        rng.random_range(-scale..scale),
+        rng.random_range(-scale..scale),
+    )
+}
+
+/// Swept volumes of `n` small moving triangles, denser for bigger `n`, ids shuffled.
+fn leaves(rng: &mut ChaCha8Rng, n: usize) -> Vec<Leaf<Kdop<9>>> {
+    let size = 0.1 / (n.max(1) as f64).cbrt();
+    (0..n)
+        .map(|i| {
+            let c = point(rng, 1.0);
+            let t0 = [0; 3].map(|_| c + point(rng, size));
+            let d = point(rng, size);
+            let t1 = t0.map(|p| p + d);
+            Leaf {
+                id: (i as u32).wrapping_mul(2_654_435_761) % 1_000_003,
+                volume: Kdop::swept_triangle(&t0, &t1, 0.0),
+            }
+        })
+        .collect()
+}
+
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool")
+}
+
+fn sorted(mut pairs: Vec<(u32, u32)>) -> Vec<(u32, u32)> {
+    pairs.sort_unstable();
+    pairs
+}
+
+fn brute_self(leaves: &[Leaf<Kdop<9>>]) -> Vec<(u32, u32)> {
+    let mut out = Vec::new();
+    for (i, a) in leaves.iter().enumerate() {
+        for b in &leaves[i + 1..] {
+            if a.volume.overlaps(&b.volume) {
+                out.push((a.id.min(b.id), a.id.max(b.id)));
+            }
+        }
+    }
+    sorted(out)
+}
+
+type Out = ParPairs<Vec<(u32, u32)>>;
+
+#[test]
+fn parallel_build_and_traversals_match_sequential_for_any_thread_count() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    for n in [0, 1, 2, 3, 7, 64, 300, 2500, 9000, 30000] {
+        let a = leaves(&mut rng, n);
+        let b = leaves(&mut rng, n / 3 + 1);
+        let mut ws = BvhWorkspace::default();
+        let one = pool(1).install(|| Bvh::from_leaves(&a));
+        assert_eq!(one.validate(&a), Ok(()), "n {n}");
+        let other = Bvh::from_leaves(&b);
+
+        let mut seq = Vec::new();
+        let seq_tests = one.self_pairs(&mut ws, |x, y| seq.push((x.min(y), x.max(y))));
+        let seq = sorted(seq);
+        if n <= 2500 {
+            assert_eq!(seq, brute_self(&a), "n {n}");
+        }
+        let mut cross = Vec::new();
+        let cross_tests = one.tree_pairs(&other, &mut ws, |x, y| cross.push((x, y)));
+        let cross = sorted(cross);
+
+        let mut first: Option<(Out, Out)> = None;
+        for threads in [1, 2, 3] {
+            let (tree, own, two) = pool(threads).install(|| {
+                let mut ws = BvhWorkspace::default();
+                let tree = Bvh::from_leaves(&a);
+                let own = tree.par_self_pairs(&mut ws, Vec::new, |v, x, y| v.push((x, y)));
+                let two = tree.par_tree_pairs(&other, &mut ws, Vec::new, |v, x, y| v.push((x, y)));
+                (tree, own, two)
+            });
+            assert_eq!(tree.nodes(), one.nodes(), "n {n}, {threads} threads: tree");
+            assert_eq!(own.bv_tests, seq_tests, "n {n}, {threads} threads");
+            assert_eq!(two.bv_tests, cross_tests, "n {n}, {threads} threads");
+            let flat: Vec<(u32, u32)> = own.results.concat();
+            let len = flat.len();
+            let flat = sorted(
+                flat.into_iter()
+                    .map(|(x, y)| (x.min(y), x.max(y)))
+                    .collect(),
+            );
+            assert_eq!(len, seq.len(), "n {n}, {threads} threads: a pair twice");
+            assert_eq!(flat, seq, "n {n}, {threads} threads: self pairs");
+            assert_eq!(sorted(two.results.concat()), cross, "n {n}: tree pairs");
+            match &first {
+                None => first = Some((own, two)),
+                Some((o, t)) => {
+                    assert_eq!(o, &own, "n {n}, {threads} threads: self output order");
+                    assert_eq!(t, &two, "n {n}, {threads} threads: tree output order");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn rebuild_reuses_buffers_across_sizes() {
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    let mut ws = BvhWorkspace::default();
+    let mut bvh = Bvh::new();
+    for n in [5000, 3, 0, 9000, 1, 4097] {
+        let a = leaves(&mut rng, n);
+        bvh.rebuild(&a, &mut ws);
+        assert_eq!(bvh.validate(&a), Ok(()), "n {n}");
+        assert_eq!(bvh.nodes(), Bvh::from_leaves(&a).nodes(), "n {n}");
+    }
+}
+
+#[test]
+fn refit_matches_brute_force_after_moving_the_leaves() {
+    let mut rng = ChaCha8Rng::seed_from_u64(13);
+    for n in [1, 2, 9, 700, 6000] {
+        let a = leaves(&mut rng, n);
+        let mut bvh = Bvh::from_leaves(&a);
+        // New volumes for the same ids: every leaf shifted by its own random offset.
+        let moved: Vec<Leaf<Kdop<9>>> = a
+            .iter()
+            .map(|l| {
+                let d = point(&mut rng, 0.05);
+                let mut v = l.volume;
+                for k in 0..3 {
+                    v.lo[k] += d[k];
+                    v.hi[k] += d[k];
+                }
+                v.inflate(0.01);
+                Leaf {
+                    id: l.id,
+                    volume: v,
+                }
+            })
+            .collect();
+        let by_id: std::collections::HashMap<u32, Kdop<9>> =
+            moved.iter().map(|l| (l.id, l.volume)).collect();
+        bvh.refit(|id| by_id[&id]);
+        assert_eq!(bvh.validate(&moved), Ok(()), "n {n}");
+        let mut pairs = Vec::new();
+        bvh.self_pairs(&mut BvhWorkspace::default(), |x, y| {
+            pairs.push((x.min(y), x.max(y)))
+        });
+        assert_eq!(sorted(pairs), brute_self(&moved), "n {n}");
+    }
+}
+
+#[test]
+fn batches_and_task_counts_give_the_same_pairs_in_the_same_order() {
+    let mut rng = ChaCha8Rng::seed_from_u64(14);
+    let a = leaves(&mut rng, 12000);
+    let b = leaves(&mut rng, 3000);
+    let (x, y) = (Bvh::from_leaves(&a), Bvh::from_leaves(&b));
+    let mut ws = BvhWorkspace::default();
+    let all = x.par_self_pairs(&mut ws, Vec::new, |v, p, q| v.push((p, q)));
+    let cross = x.par_tree_pairs(&y, &mut ws, Vec::new, |v, p, q| v.push((p, q)));
+    for threads in [1, 2] {
+        for batch in [1, 7, 100_000] {
+            let options = ParOptions {
+                batch,
+                ..ParOptions::default()
+            };
+            let (own, two) = pool(threads).install(|| {
+                let mut ws = BvhWorkspace::default();
+                let (mut own, mut two) = (Vec::new(), Vec::new());
+                let push = |v: &mut Vec<(u32, u32)>, p, q| v.push((p, q));
+                let t1 = x.par_self_pairs_with(&mut ws, &options, Vec::new, push, |r| own.push(r));
+                let t2 =
+                    x.par_tree_pairs_with(&y, &mut ws, &options, Vec::new, push, |r| two.push(r));
+                assert_eq!((t1, t2), (all.bv_tests, cross.bv_tests));
+                (own, two)
+            });
+            assert_eq!(own, all.results, "{threads} threads, batch {batch}");
+            assert_eq!(two, cross.results, "{threads} threads, batch {batch}");
+        }
+    }
+    // Other task counts: other tasks, the same pairs.
+    for min_tasks in [1, 3, 5000] {
+        let options = ParOptions {
+            min_tasks,
+            min_nodes: 0,
+            ..ParOptions::default()
+        };
+        let mut own = Vec::new();
+        x.par_self_pairs_with(
+            &mut ws,
+            &options,
+            Vec::new,
+            |v, p, q| v.push((p.min(q), p.max(q))),
+            |r| own.extend(r),
+        );
+        let expected: Vec<(u32, u32)> = all
+            .results
+            .concat()
+            .into_iter()
+            .map(|(p, q)| (p.min(q), p.max(q)))
+            .collect();
+        assert_eq!(sorted(own), sorted(expected), "min_tasks {min_tasks}");
+    }
+}
