@@ -161,15 +161,42 @@ fn cluster_figures(report: &Report) -> Option<ClusterFigures> {
     })
 }
 
-/// One method's averages over the steps of one input.
+/// One method's figures over the steps of one input: in JSON, `seconds` is an object of the
+/// average seconds per step of each phase and of the whole query (`total`), and the counts are
+/// integer totals over the steps.
 #[derive(Debug, Serialize)]
 pub struct MethodRow {
     method: String,
+    #[serde(serialize_with = "seconds_object")]
     seconds: Vec<(&'static str, f64)>,
+    #[serde(skip)]
     total: f64,
+    #[serde(skip)]
     bv_tests: f64,
+    #[serde(skip)]
     elementary_tests: f64,
+    #[serde(skip)]
     contacts: f64,
+    /// Totals over the steps.
+    #[serde(rename = "bv_tests")]
+    bv_tests_total: u64,
+    #[serde(rename = "elementary_tests")]
+    elementary_tests_total: u64,
+    #[serde(rename = "contacts")]
+    contacts_total: u64,
+}
+
+/// The phases (and the total) as one JSON object, in pipeline order.
+fn seconds_object<S: serde::Serializer>(
+    seconds: &[(&'static str, f64)],
+    serializer: S,
+) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeMap;
+    let mut map = serializer.serialize_map(Some(seconds.len()))?;
+    for (name, value) in seconds {
+        map.serialize_entry(name, value)?;
+    }
+    map.end()
 }
 
 /// The tables of one input.
@@ -295,7 +322,7 @@ fn average(method: &str, samples: &[Sample]) -> MethodRow {
         .first()
         .map(|s| s.phases.iter().map(|p| p.0).collect())
         .unwrap_or_default();
-    let seconds = phase_names
+    let mut seconds: Vec<(&'static str, f64)> = phase_names
         .iter()
         .enumerate()
         .map(|(i, name)| {
@@ -307,10 +334,15 @@ fn average(method: &str, samples: &[Sample]) -> MethodRow {
             (*name, sum / n)
         })
         .collect();
+    let total = samples.iter().map(|s| s.total).sum::<f64>() / n;
+    seconds.push(("total", total));
     MethodRow {
         method: method.to_string(),
         seconds,
-        total: samples.iter().map(|s| s.total).sum::<f64>() / n,
+        total,
+        bv_tests_total: samples.iter().map(|s| s.bv_tests).sum(),
+        elementary_tests_total: samples.iter().map(|s| s.elementary_tests).sum(),
+        contacts_total: samples.iter().map(|s| s.contacts as u64).sum(),
         bv_tests: samples.iter().map(|s| s.bv_tests as f64).sum::<f64>() / n,
         elementary_tests: samples
             .iter()
@@ -446,7 +478,18 @@ mod tests {
             clusters: None,
         };
         let row = average("bvh", &[s(1.0), s(3.0)]);
-        assert_eq!(row.seconds, vec![("build", 2.0), ("narrow", 4.0)]);
+        assert_eq!(
+            row.seconds,
+            vec![("build", 2.0), ("narrow", 4.0), ("total", 6.0)]
+        );
+        assert_eq!((row.bv_tests_total, row.contacts_total), (20, 2));
+        let json = serde_json::to_value(&row).expect("json");
+        assert_eq!(
+            json["seconds"],
+            serde_json::json!({"build": 2.0, "narrow": 4.0, "total": 6.0})
+        );
+        assert_eq!(json["contacts"], serde_json::json!(2));
+        assert!(json["bv_tests"].is_u64());
         assert_eq!(row.total, 6.0);
         assert_eq!(row.bv_tests, 10.0);
     }

@@ -1,21 +1,25 @@
 //! `topoccd run SEQ_DIR`: every step of a frame sequence, with a progress bar.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
+use topoccd::io::read_mesh;
 use topoccd::io::sequence::Sequence;
 use topoccd::Ccd;
 
-use crate::cmd_step::{write_pairs, StepOut};
+use crate::cmd_step::{coincidence_warning, write_pairs, StepOut};
 use crate::query_args::{MethodArgs, QueryArgs};
 
 /// Arguments of `topoccd run`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Folder of frames `0000.ply`, `0001.ply`, ... (and optional `NNNN.parents` files).
+    /// Folder of frames named a common prefix and a consecutive number from any start
+    /// (`0000.ply`, `0001.ply`, ... or `frame_1.obj`, `frame_2.obj`, ...), with optional
+    /// parents files beside them (`0001.parents`); or a scene folder with `frames/`.
     seq_dir: PathBuf,
     #[command(flatten)]
     method: MethodArgs,
@@ -25,8 +29,8 @@ pub struct Args {
     /// always included).
     #[arg(long)]
     with_pairs: bool,
-    /// Print one JSON object per step (the keys of `topoccd step --json` plus `step`), then a
-    /// summary object.
+    /// Print JSON Lines: one JSON object per line, one per step (the keys of `topoccd step
+    /// --json` plus `step`), then a summary object `{"summary": ...}`.
     #[arg(long)]
     json: bool,
     /// Write each step's colliding pairs to DIR/NNNN.csv (NNNN: the step's first frame), in the
@@ -66,12 +70,57 @@ pub fn progress(len: usize, what: &str) -> ProgressBar {
     bar
 }
 
+/// Runs `work`, showing a spinner with `what` on stderr if it takes more than a second (and
+/// stderr is a terminal: a hidden bar draws nothing).
+pub fn with_spinner<T>(what: &str, work: impl FnOnce() -> T) -> T {
+    let spinner = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
+    spinner.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{elapsed_precise}]")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    spinner.set_message(what.to_string());
+    let done = AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        scope.spawn(|| {
+            let started = Instant::now();
+            while started.elapsed() < Duration::from_secs(1) {
+                if done.load(Ordering::Acquire) {
+                    return;
+                }
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            if !done.load(Ordering::Acquire) {
+                spinner.set_draw_target(ProgressDrawTarget::stderr());
+                spinner.enable_steady_tick(Duration::from_millis(120));
+            }
+        });
+        let result = work();
+        done.store(true, Ordering::Release);
+        spinner.finish_and_clear();
+        result
+    })
+}
+
 /// Creates the pairs folder, refusing a path that exists and is not a folder.
 pub fn prepare_dir(dir: &Path) -> Result<()> {
     if dir.exists() && !dir.is_dir() {
         bail!("{}: exists and is not a folder", dir.display());
     }
     std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))
+}
+
+/// Prints the reader's notes on the first frame, and a warning if vertices of it coincide.
+fn warn_first_frame(sequence: &Sequence) -> Result<()> {
+    let first = &sequence.frames[0];
+    let mesh = read_mesh(first)?;
+    for note in &mesh.notes {
+        eprintln!("note: {}: {note}", first.display());
+    }
+    let remedy = "Merge them in the frames (`topoccd step --weld` does it for one step)";
+    if let Some(w) = coincidence_warning(first, &mesh.positions, &mesh.triangles, remedy) {
+        eprintln!("{w}");
+    }
+    Ok(())
 }
 
 /// Runs the command.
@@ -81,8 +130,11 @@ pub fn run(args: &Args) -> Result<()> {
     if let Some(dir) = &args.pairs_dir {
         prepare_dir(dir)?;
     }
+    warn_first_frame(&sequence)?;
     let started = Instant::now();
     let bar = progress(sequence.steps(), "steps");
+    // Keep the elapsed time moving during a long step.
+    bar.enable_steady_tick(Duration::from_millis(250));
     let mut ccd = Ccd::new();
     let mut summary = Summary::default();
     for item in sequence.iter() {
@@ -91,7 +143,7 @@ pub fn run(args: &Args) -> Result<()> {
         let report = ccd.query(&step, method, &options)?;
         if let Some(dir) = &args.pairs_dir {
             let inputs: Vec<&Path> = sequence.frames.iter().map(PathBuf::as_path).collect();
-            write_pairs(&dir.join(format!("{k:04}.csv")), &report, &inputs)?;
+            write_pairs(&dir.join(format!("{k:04}.csv")), &report, &inputs, None)?;
         }
         let out = StepOut::new(&step, method, options.mode, &report, args.with_pairs);
         summary.steps += 1;
@@ -112,7 +164,8 @@ pub fn run(args: &Args) -> Result<()> {
                 Ok(())
             })?;
         } else {
-            bar.println(format!("step {k:04}: {}", out.text()));
+            // Results go to stdout whether or not stderr (the progress bar) is a terminal.
+            bar.suspend(|| println!("step {k:04}: {}", out.text()));
         }
     }
     bar.finish_and_clear();

@@ -3,31 +3,48 @@
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
+use topoccd::io::sequence::StepFrames;
 use topoccd::io::{
-    available_memory, read_mesh, read_ply_header, MemoryEstimate, MeshFormat, PlyCounts,
+    available_memory, coincident_vertices, read_mesh, read_ply_header, weld_frames, FaceOrigin,
+    MemoryEstimate, MeshFormat, PlyCounts,
 };
 use topoccd::{Ccd, Contact, EeContact, Method, Mode, Report, Seconds, Stats, Step, VfContact};
 
+use crate::cmd_run::with_spinner;
 use crate::query_args::{MethodArgs, QueryArgs};
 
 /// Arguments of `topoccd step`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Positions at t=0 (.ply or .obj).
+    /// Positions at t=0 (.ply, .obj or .stl).
     t0: PathBuf,
-    /// Positions at t=1 and the step's triangles (.ply or .obj), same vertex count as T0.
+    /// Positions at t=1 and the step's triangles (.ply, .obj or .stl), same vertex count as T0
+    /// (or more, with --parents).
     t1: PathBuf,
     #[command(flatten)]
     method: MethodArgs,
     #[command(flatten)]
     query: QueryArgs,
-    /// Write one line per colliding pair: `vf,VERTEX,FACE,TOI` or `ee,A0,A1,B0,B1,TOI`.
+    /// Write one line per colliding pair to FILE (`-`: stdout, and the summary line goes to
+    /// stderr): `vf,VERTEX,FACE,TOI` or `ee,A0,A1,B0,B1,TOI`. When T1 had polygons split into
+    /// triangles, vf lines end with two more fields, `,FILE_FACE,SUB`: the face of T1's file
+    /// and the triangle's rank within it.
     #[arg(long, value_name = "FILE")]
     pairs: Option<PathBuf>,
+    /// A topology change: vertices of T1 beyond T0's count are new, and FILE gives their
+    /// parents, one line `NEW_ID PARENT_ID` each (the format of a sequence's `NNNN.parents`). A
+    /// new vertex starts the step at its parent's position; without a parent it does not move.
+    #[arg(long, value_name = "FILE")]
+    parents: Option<PathBuf>,
+    /// Merge vertices whose positions are identical at t=0 and at t=1 (UV seams, poles of a UV
+    /// sphere): such duplicates touch from the start and give spurious contacts at t=0.
+    /// Triangles that become degenerate are dropped. Ids in the output stay those of the input
+    /// files (a merged vertex is named by the lowest id of its group).
+    #[arg(long)]
+    weld: bool,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -279,7 +296,8 @@ fn header_counts(path: &Path) -> Result<Option<PlyCounts>> {
 
 fn vertex_mismatch(t0: &Path, n0: usize, t1: &Path, n1: usize) -> anyhow::Error {
     anyhow::anyhow!(
-        "{} has {n0} vertices but {} has {n1}: a step needs the same vertices at t=0 and t=1",
+        "{} has {n0} vertices but {} has {n1}: a step needs the same vertices at t=0 and t=1 \
+         (for a topology change that adds vertices, give their parents with --parents FILE)",
         t0.display(),
         t1.display(),
     )
@@ -309,13 +327,186 @@ pub fn read_step_within(t0: &Path, t1: &Path, limit: MemoryLimit) -> Result<Step
         .with_context(|| format!("step from {} to {}", t0.display(), t1.display()))
 }
 
-/// Writes the pairs of a report, one per line, refusing to overwrite any of `inputs`.
-pub fn write_pairs(path: &Path, report: &Report, inputs: &[&Path]) -> Result<()> {
+/// One step as `topoccd step` reads it: the step, and what the output needs to name vertices
+/// and faces as the input files do.
+pub struct StepInput {
+    /// The step.
+    pub step: Step<'static>,
+    /// `vertex_ids[v]`: the id in the files of the step's vertex `v` (`None`: the same).
+    pub vertex_ids: Option<Vec<u32>>,
+    /// `triangle_ids[t]`: the index in T1's triangles of the step's triangle `t` (`None`: the
+    /// same).
+    pub triangle_ids: Option<Vec<u32>>,
+    /// T1's map from its triangles to the faces of its file (`None`: triangle `t` is face `t`).
+    pub face_origin: Option<Vec<FaceOrigin>>,
+    /// Notes and warnings for stderr, one per line.
+    pub messages: Vec<String>,
+}
+
+/// Reads a step with the options of `topoccd step`: a parents file (a topology change), or
+/// welding; warns of coincident vertices when not welding.
+pub fn read_step_input(
+    t0: &Path,
+    t1: &Path,
+    limit: MemoryLimit,
+    parents: Option<&Path>,
+    weld: bool,
+) -> Result<StepInput> {
+    if parents.is_some() && weld {
+        bail!("--weld cannot be combined with --parents (the vertex ids of a topology change must stay as they are)");
+    }
+    if let (Some(c0), Some(c1)) = (header_counts(t0)?, header_counts(t1)?) {
+        if c0.vertices != c1.vertices && parents.is_none() {
+            return Err(vertex_mismatch(t0, c0.vertices, t1, c1.vertices));
+        }
+        limit.check(c1.vertices, c1.faces, t0, t1)?;
+    }
+    let m0 = read_mesh(t0)?;
+    let m1 = read_mesh(t1)?;
+    let mut messages: Vec<String> = [(t0, &m0.notes), (t1, &m1.notes)]
+        .iter()
+        .flat_map(|(path, notes)| {
+            notes
+                .iter()
+                .map(move |n| format!("note: {}: {n}", path.display()))
+        })
+        .collect();
+    limit.check(m1.positions.len(), m1.triangles.len(), t0, t1)?;
+    let context = || format!("step from {} to {}", t0.display(), t1.display());
+    if let Some(parents) = parents {
+        let frames = StepFrames::new(0, m0, m1, t0, t1, Some(parents))?;
+        let step = Step::with_parents(frames.x0, frames.x1, frames.triangles, &frames.parents)
+            .with_context(context)?;
+        return Ok(StepInput {
+            step,
+            vertex_ids: None,
+            triangle_ids: None,
+            face_origin: frames.face_origin,
+            messages,
+        });
+    }
+    if m0.positions.len() != m1.positions.len() {
+        return Err(vertex_mismatch(
+            t0,
+            m0.positions.len(),
+            t1,
+            m1.positions.len(),
+        ));
+    }
+    if weld {
+        let w = weld_frames(&m0.positions, &m1.positions, &m1.triangles);
+        let merged = m0.positions.len() - w.x0.len();
+        messages.push(format!(
+            "note: --weld merged {merged} vertices (in {} groups) and dropped {} degenerate \
+             triangles; ids in the output are those of the input files",
+            w.groups.len(),
+            m1.triangles.len() - w.triangles.len()
+        ));
+        let step = Step::new(w.x0, w.x1, w.triangles).with_context(context)?;
+        return Ok(StepInput {
+            step,
+            vertex_ids: Some(w.first),
+            triangle_ids: Some(w.kept),
+            face_origin: m1.face_origin,
+            messages,
+        });
+    }
+    let remedy = "--weld merges vertices that coincide at t=0 and t=1";
+    if let Some(warning) = coincidence_warning(t0, &m0.positions, &m1.triangles, remedy) {
+        messages.push(warning);
+    }
+    let step = Step::new(m0.positions, m1.positions, m1.triangles).with_context(context)?;
+    Ok(StepInput {
+        step,
+        vertex_ids: None,
+        triangle_ids: None,
+        face_origin: m1.face_origin,
+        messages,
+    })
+}
+
+/// A warning if vertices used by `triangles` coincide in `positions` (read from `path`);
+/// `remedy` ends it.
+pub fn coincidence_warning(
+    path: &Path,
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    remedy: &str,
+) -> Option<String> {
+    let groups = coincident_vertices(positions, triangles);
+    let largest = groups.iter().rev().max_by_key(|g| g.len())?; // the first of the largest
+    let duplicates: usize = groups.iter().map(|g| g.len() - 1).sum();
+    let example: Vec<String> = largest.iter().take(6).map(u32::to_string).collect();
+    Some(format!(
+        "warning: {}: {duplicates} vertices sit exactly on another vertex ({} groups; the largest \
+         has {} vertices: {}{}); duplicates touch from the start and give spurious contacts at \
+         t=0. {remedy}",
+        path.display(),
+        groups.len(),
+        largest.len(),
+        example.join(", "),
+        if largest.len() > example.len() {
+            ", ..."
+        } else {
+            ""
+        }
+    ))
+}
+
+/// Renames the contacts of a report from the step's ids to the input files' ids.
+pub fn rename(report: &mut Report, vertex_ids: Option<&[u32]>, triangle_ids: Option<&[u32]>) {
+    // Both maps increase, so the report's order (by vertex, face / by edges) is kept.
+    let v = |i: u32| vertex_ids.map_or(i, |m| m[i as usize]);
+    let t = |i: u32| triangle_ids.map_or(i, |m| m[i as usize]);
+    let vf = |c: &mut VfContact| {
+        c.vertex = v(c.vertex);
+        c.face = t(c.face);
+    };
+    let ee = |c: &mut EeContact| {
+        c.a = c.a.map(v);
+        c.b = c.b.map(v);
+    };
+    report.vf.iter_mut().for_each(vf);
+    report.ee.iter_mut().for_each(ee);
+    match &mut report.earliest {
+        Some(Contact::Vf(c)) => vf(c),
+        Some(Contact::Ee(c)) => ee(c),
+        None => {}
+    }
+}
+
+/// Writes the pairs of a report, one per line, to `path` (`-`: stdout), refusing to overwrite
+/// any of `inputs`. With a face map, vf lines end with the face of the file and the rank of
+/// the triangle within it.
+pub fn write_pairs(
+    path: &Path,
+    report: &Report,
+    inputs: &[&Path],
+    face_origin: Option<&[FaceOrigin]>,
+) -> Result<()> {
+    if path == Path::new("-") {
+        let stdout = std::io::stdout();
+        return write_pairs_to(stdout.lock(), report, face_origin)
+            .context("cannot write the pairs to stdout");
+    }
     refuse_overwrite(path, inputs)?;
     let file = File::create(path).with_context(|| format!("{}: cannot create", path.display()))?;
-    let mut out = BufWriter::new(file);
+    write_pairs_to(file, report, face_origin)
+        .with_context(|| format!("{}: cannot write", path.display()))
+}
+
+fn write_pairs_to(
+    out: impl Write,
+    report: &Report,
+    face_origin: Option<&[FaceOrigin]>,
+) -> std::io::Result<()> {
+    let mut out = BufWriter::new(out);
     for c in &report.vf {
-        writeln!(out, "vf,{},{},{}", c.vertex, c.face, c.toi)?;
+        write!(out, "vf,{},{},{}", c.vertex, c.face, c.toi)?;
+        if let Some(o) = face_origin.and_then(|m| m.get(c.face as usize)) {
+            write!(out, ",{},{}", o.face, o.sub)?;
+        }
+        writeln!(out)?;
     }
     for c in &report.ee {
         writeln!(
@@ -325,7 +516,6 @@ pub fn write_pairs(path: &Path, report: &Report, inputs: &[&Path]) -> Result<()>
         )?;
     }
     out.flush()
-        .with_context(|| format!("{}: cannot write", path.display()))
 }
 
 /// Fails if `output` names the same file as one of `inputs`.
@@ -347,28 +537,50 @@ pub fn refuse_overwrite(output: &Path, inputs: &[&Path]) -> Result<()> {
 /// Runs the command.
 pub fn run(args: &Args) -> Result<()> {
     let options = args.query.options()?;
-    if let Some(p) = &args.pairs {
-        refuse_overwrite(p, &[&args.t0, &args.t1])?;
+    let to_stdout = args.pairs.as_deref() == Some(Path::new("-"));
+    if to_stdout && args.json {
+        bail!("--pairs - and --json would both write to stdout; use --json --with-pairs to have the pairs in the JSON");
     }
-    let started = Instant::now();
+    if let Some(p) = &args.pairs {
+        if !to_stdout {
+            refuse_overwrite(p, &[&args.t0, &args.t1])?;
+        }
+    }
     let limit = match args.max_memory {
         Some(limit) => limit,
         None => MemoryLimit::from_env()?,
     };
-    let step = read_step_within(&args.t0, &args.t1, limit)?;
-    let read_seconds = started.elapsed().as_secs_f64();
+    let input = read_step_input(
+        &args.t0,
+        &args.t1,
+        limit,
+        args.parents.as_deref(),
+        args.weld,
+    )?;
+    for message in &input.messages {
+        eprintln!("{message}");
+    }
     let mut ccd = Ccd::new();
     let method = args.method.method.into();
-    let report = ccd.query(&step, method, &options)?;
+    let mut report = with_spinner("querying the step", || {
+        ccd.query(&input.step, method, &options)
+    })?;
+    rename(
+        &mut report,
+        input.vertex_ids.as_deref(),
+        input.triangle_ids.as_deref(),
+    );
+    let face_origin = input.face_origin.as_deref();
     if let Some(p) = &args.pairs {
-        write_pairs(p, &report, &[&args.t0, &args.t1])?;
+        write_pairs(p, &report, &[&args.t0, &args.t1], face_origin)?;
     }
-    let out = StepOut::new(&step, method, options.mode, &report, args.with_pairs);
+    let out = StepOut::new(&input.step, method, options.mode, &report, args.with_pairs);
     if args.json {
         println!("{}", serde_json::to_string(&out)?);
+    } else if to_stdout {
+        eprintln!("{}", out.text());
     } else {
         println!("{}", out.text());
-        eprintln!("(reading the two frames took {read_seconds:.3} s)");
     }
     Ok(())
 }

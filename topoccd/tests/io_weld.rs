@@ -92,7 +92,7 @@ fn uv_sphere_poles_are_welded_with_a_map() {
             .map(|[a, b]| [a.min(b), a.max(b)])
             .collect();
         edges.sort_unstable();
-        edges.len() % 2 == 0 && edges.chunks(2).all(|w| w[0] == w[1])
+        edges.len().is_multiple_of(2) && edges.chunks(2).all(|w| w[0] == w[1])
     };
     assert!(closed(&welded) && !closed(&sphere));
     assert_eq!(
@@ -133,7 +133,7 @@ fn welding_drops_collapsed_triangles_and_maps_the_rest_to_their_faces() {
     );
     for &t in &dropped {
         let [a, b, c] = sphere.triangles[t as usize];
-        let pole = |v: u32| v < SEGMENTS || v >= RINGS * SEGMENTS;
+        let pole = |v: u32| !(SEGMENTS..RINGS * SEGMENTS).contains(&v);
         assert!([a, b, c].iter().filter(|&&v| pole(v)).count() == 2);
     }
     // Every kept triangle names its face of the original mesh.

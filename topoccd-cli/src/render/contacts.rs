@@ -114,7 +114,9 @@ fn parse_line(line: &str, vertices: usize, faces: usize) -> Result<Contact, Stri
         }
     };
     match (fields[0], fields.len()) {
-        ("vf", 4) => Ok(Contact::VertexFace {
+        // (6 fields: `topoccd step --pairs` adds the face of the file and the sub-triangle
+        // when polygons were split; the picture uses the step's triangle, field 2.)
+        ("vf", 4 | 6) => Ok(Contact::VertexFace {
             vertex: index(1, "vertex", vertices)?,
             face: index(2, "face", faces)?,
             toi: toi(3)?,
@@ -128,7 +130,7 @@ fn parse_line(line: &str, vertices: usize, faces: usize) -> Result<Contact, Stri
             Ok(Contact::EdgeEdge { a, b, toi: toi(5)? })
         }
         ("vf", n) => Err(format!(
-            "expected vf,VERTEX,FACE,TOI (4 fields), got {n} fields"
+            "expected vf,VERTEX,FACE,TOI (4 fields, or 6 with FILE_FACE,SUB), got {n} fields"
         )),
         ("ee", n) => Err(format!(
             "expected ee,A0,A1,B0,B1,TOI (6 fields), got {n} fields"
@@ -213,7 +215,7 @@ mod tests {
     fn errors_name_the_file_and_line() {
         assert_eq!(
             error("vf,0,0,0\nvf,1,2\n"),
-            "p.csv:2: expected vf,VERTEX,FACE,TOI (4 fields), got 3 fields"
+            "p.csv:2: expected vf,VERTEX,FACE,TOI (4 fields, or 6 with FILE_FACE,SUB), got 3 fields"
         );
         assert_eq!(
             error("ee,0,1,2,3,4,0.1"),

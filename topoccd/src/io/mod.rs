@@ -45,4 +45,4 @@ pub use scene::{
     frame_number, libigl_edges, read_scene_truth, scene_frames, EdgePair, SceneFrames, SceneTruth,
 };
 pub use stl::{read_stl, read_stl_from};
-pub use weld::{apply_weld, coincident_vertices, weld};
+pub use weld::{apply_weld, coincident_vertices, weld, weld_frames, WeldedFrames};

@@ -28,7 +28,15 @@ pub enum PolygonSplit {
 
 /// Splits the polygon `corners` (vertex ids in order, at least three, each in range of
 /// `positions`) into `corners.len() - 2` triangles appended to `out`, with the polygon's winding.
-/// See the [module documentation](self) for the choice of method.
+///
+/// Convex polygons (in their best-fit plane, Newell's normal) are split as a fan from the
+/// first vertex: what modelers and most readers do for quads and convex n-gons, exact for any
+/// convex polygon, and predictable (sub-triangle `i` is `(v0, v(i+1), v(i+2))`). On a
+/// non-convex polygon a fan can make triangles outside the polygon (overlapping ones, which
+/// would show up as spurious contacts), so those are ear-clipped in the best-fit plane, which
+/// gives triangles inside any simple polygon that is planar or close to it. A polygon that ear
+/// clipping cannot split (self-intersecting, folded, without area) is finished as a fan and
+/// reported as [`PolygonSplit::Irregular`].
 ///
 /// ```
 /// use topoccd::io::{triangulate_polygon, PolygonSplit};

@@ -1,12 +1,24 @@
-//! Frame sequences: a folder of frames `0000.ply`, `0001.ply`, ... (PLY or OBJ, by extension).
+//! Frame sequences: a folder of frames `0000.ply`, `0001.ply`, ... (PLY, OBJ or STL, by
+//! extension).
+//!
+//! A frame file's name is any prefix followed by its number (`0000.ply`, `frame_0001.obj`,
+//! `mesh.12.ply`, `cloth_ball92.ply`); all frames share one prefix, and their numbers are
+//! consecutive from any start (`frame_0001`, `frame_0002`, ...; zero-padding optional). Frame
+//! `k` of the sequence is the `k`-th number. A scene folder of the shared data (frames in a
+//! `frames/` subfolder beside `boxes/` and `mma_bool/`) opens as the sequence of its `frames/`.
 //!
 //! Step `k` goes from frame `k` to frame `k + 1` and uses frame `k + 1`'s triangles. Vertex ids
 //! persist from frame to frame; a topology change may remove triangles and append vertices (a cut
 //! or a fracture duplicates the vertices along the crack), so the vertex count never shrinks. A
 //! new vertex (id at least frame `k`'s vertex count) starts the step at its *parent's* position in
-//! frame `k`, given by an optional file `NNNN.parents` beside frame `NNNN` (here `k + 1`): one line
-//! `NEW_ID PARENT_ID` per new vertex, `#` comments and blank lines allowed. A new vertex without a
-//! parent starts where it ends (it does not move during the step).
+//! frame `k`, given by an optional parents file beside frame `k + 1`, of the same name with the
+//! extension `.parents` (`0001.parents` beside `0001.ply`, `frame_0002.parents` beside
+//! `frame_0002.obj`): one line `NEW_ID PARENT_ID` per new vertex, `#` comments and blank lines
+//! allowed. A new vertex without a parent starts where it ends (it does not move during the
+//! step).
+//!
+//! [`Sequence::load`] reads one step as plain data ([`StepFrames`]); [`Sequence::iter`],
+//! [`step_between`] and [`step_from_frames`] build [`Step`]s directly.
 
 use std::collections::BTreeMap;
 use std::fs;
@@ -14,7 +26,7 @@ use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
-use super::{read_mesh, write_mesh, IoError, Mesh};
+use super::{read_mesh, write_mesh, FaceOrigin, IoError, Mesh, MeshNote};
 use crate::mesh::{Step, StepError};
 
 /// Why a sequence could not be read.
@@ -30,23 +42,53 @@ pub enum SequenceError {
     },
     /// Fewer than two frames: no step.
     #[error(
-        "{path}: a sequence needs at least two frames (0000.ply, 0001.ply, ...), found {found}"
+        "{path}: a sequence needs at least two frames (files named a common prefix and a \
+         consecutive number: 0000.ply, 0001.ply, ... or frame_1.obj, frame_2.obj, ...), found \
+         {found}{}",
+        ignored_list(ignored)
     )]
     TooFewFrames {
         /// The folder.
         path: PathBuf,
         /// Frames found.
         found: usize,
+        /// The files of the folder that are not frames, each with the reason.
+        ignored: Vec<String>,
     },
-    /// The numbering has a gap, does not start at 0, or a number appears twice.
-    #[error("{path}: frame {expected:04} is missing (frames must be numbered 0000, 0001, ... without gaps); found {found}")]
+    /// The frame files have more than one prefix (`a_0.ply`, `b_0.ply`, ...).
+    #[error(
+        "{path}: frame files with {} different prefixes ({}); a sequence folder holds one \
+         series of frames",
+        series.len(),
+        series.join("; ")
+    )]
+    Ambiguous {
+        /// The folder.
+        path: PathBuf,
+        /// Each series: its prefix and files, as text.
+        series: Vec<String>,
+    },
+    /// The numbering has a gap, or a number appears twice.
+    #[error("{path}: frame {expected} is missing (frames must be numbered consecutively from the first one, {first}); found {found}")]
     Numbering {
         /// The folder.
         path: PathBuf,
+        /// The number of the first frame.
+        first: u64,
         /// The frame number expected next.
         expected: u64,
         /// The file found in its place.
         found: String,
+    },
+    /// [`Sequence::load`] was asked for a step that does not exist.
+    #[error("{path}: no step {step}: the sequence has {steps} steps")]
+    NoSuchStep {
+        /// The folder.
+        path: PathBuf,
+        /// The step asked for.
+        step: usize,
+        /// Steps in the sequence.
+        steps: usize,
     },
     /// A frame could not be read.
     #[error(transparent)]
@@ -83,44 +125,138 @@ pub enum SequenceError {
     },
 }
 
+/// The ignored files as text for [`SequenceError::TooFewFrames`]: at most 12 named.
+fn ignored_list(ignored: &[String]) -> String {
+    const SHOWN: usize = 12;
+    if ignored.is_empty() {
+        return String::new();
+    }
+    let mut text = format!(
+        "; ignored: {}",
+        ignored[..ignored.len().min(SHOWN)].join(", ")
+    );
+    if ignored.len() > SHOWN {
+        text.push_str(&format!(" and {} more", ignored.len() - SHOWN));
+    }
+    text
+}
+
+/// The extensions of frame files (lower case).
+const FRAME_EXTENSIONS: [&str; 3] = ["ply", "obj", "stl"];
+
 /// A frame sequence on disk: the frame files, in order.
 #[derive(Clone, Debug)]
 pub struct Sequence {
-    /// The folder.
+    /// The folder of the frames (`<scene>/frames` for a scene folder).
     pub dir: PathBuf,
     /// The frame files, `frames[k]` being frame `k`.
     pub frames: Vec<PathBuf>,
+    /// The number in the name of frame 0 (the first frame).
+    pub first: u64,
+}
+
+/// A file name split into its prefix and the number that ends its stem.
+fn split_name(path: &Path) -> Result<(String, u64), &'static str> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some(e) if FRAME_EXTENSIONS.contains(&e) => {}
+        Some("parents") => return Err("parents"),
+        _ => return Err("not a .ply, .obj or .stl file"),
+    }
+    let stem = path
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .ok_or("not a UTF-8 name")?;
+    let prefix = stem.trim_end_matches(|c: char| c.is_ascii_digit());
+    if prefix.len() == stem.len() {
+        return Err("no number at the end of its name");
+    }
+    let number = stem[prefix.len()..]
+        .parse()
+        .map_err(|_| "its number is too large")?;
+    Ok((prefix.to_owned(), number))
 }
 
 impl Sequence {
-    /// Lists the frames of a folder and checks their numbering.
+    /// Lists the frames of a folder and checks their numbering (see the [module
+    /// documentation](self) for the names). A folder without frame files but with a `frames/`
+    /// subfolder (a scene folder of the shared data) opens as that subfolder. When fewer than
+    /// two frames are found, the error names the files that were ignored, and why.
+    ///
+    /// ```
+    /// use topoccd::io::sequence::{write_frame, Sequence, SequenceError};
+    /// use topoccd::io::{write_mesh, Mesh};
+    /// let dir = std::env::temp_dir().join(format!("topoccd-doc-seq-{}", std::process::id()));
+    /// std::fs::create_dir_all(&dir)?;
+    /// let mesh = Mesh::new(vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![[0, 1, 2]]);
+    /// write_mesh(&dir.join("frame_0001.obj"), &mesh)?;
+    /// let err = Sequence::open(&dir).unwrap_err();
+    /// assert!(err.to_string().contains("found 1"), "{err}");
+    /// std::fs::write(dir.join("notes.txt"), "")?;
+    /// write_mesh(&dir.join("frame_0002.obj"), &mesh)?;
+    /// let seq = Sequence::open(&dir)?;
+    /// assert_eq!((seq.steps(), seq.first), (1, 1));
+    /// let step = seq.load(0)?;
+    /// assert!(step.end.ends_with("frame_0002.obj"));
+    /// std::fs::remove_dir_all(&dir)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn open(dir: &Path) -> Result<Self, SequenceError> {
         let folder_err = |source| SequenceError::Folder {
             path: dir.to_path_buf(),
             source,
         };
-        let mut numbered: BTreeMap<u64, Vec<PathBuf>> = BTreeMap::new();
+        let mut entries = Vec::new();
         for entry in fs::read_dir(dir).map_err(folder_err)? {
-            let path = entry.map_err(folder_err)?.path();
-            let ext = path
-                .extension()
-                .and_then(|e| e.to_str())
-                .map(str::to_ascii_lowercase);
-            if !matches!(ext.as_deref(), Some("ply" | "obj")) {
+            entries.push(entry.map_err(folder_err)?.path());
+        }
+        entries.sort();
+        let mut series: BTreeMap<String, BTreeMap<u64, Vec<PathBuf>>> = BTreeMap::new();
+        let mut ignored = Vec::new();
+        for path in entries {
+            let shown = path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            if path.is_dir() {
+                ignored.push(format!("{shown}/ (a folder)"));
                 continue;
             }
-            let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("");
-            if stem.is_empty() || !stem.bytes().all(|b| b.is_ascii_digit()) {
-                continue;
-            }
-            if let Ok(n) = stem.parse::<u64>() {
-                numbered.entry(n).or_default().push(path);
+            match split_name(&path) {
+                Ok((prefix, number)) => {
+                    series
+                        .entry(prefix)
+                        .or_default()
+                        .entry(number)
+                        .or_default()
+                        .push(path);
+                }
+                Err("parents") => {}
+                Err(why) => ignored.push(format!("{shown} ({why})")),
             }
         }
+        if series.is_empty() && dir.join("frames").is_dir() {
+            return Self::open(&dir.join("frames"));
+        }
+        if series.len() > 1 {
+            return Err(SequenceError::Ambiguous {
+                path: dir.to_path_buf(),
+                series: series
+                    .iter()
+                    .map(|(prefix, numbered)| {
+                        let files = numbered.values().map(Vec::len).sum::<usize>();
+                        format!("'{prefix}': {files} file(s)")
+                    })
+                    .collect(),
+            });
+        }
+        let numbered = series.into_values().next().unwrap_or_default();
+        let first = numbered.keys().next().copied().unwrap_or(0);
         let mut frames = Vec::with_capacity(numbered.len());
-        for (expected, (n, mut paths)) in numbered.into_iter().enumerate() {
-            paths.sort();
-            let expected = expected as u64;
+        for (expected, (n, paths)) in (first..).zip(numbered) {
             if n != expected || paths.len() > 1 {
                 let found = paths
                     .iter()
@@ -129,6 +265,7 @@ impl Sequence {
                     .join(" and ");
                 return Err(SequenceError::Numbering {
                     path: dir.to_path_buf(),
+                    first,
                     expected: if n != expected {
                         expected
                     } else {
@@ -143,12 +280,36 @@ impl Sequence {
             return Err(SequenceError::TooFewFrames {
                 path: dir.to_path_buf(),
                 found: frames.len(),
+                ignored,
             });
         }
         Ok(Self {
             dir: dir.to_path_buf(),
             frames,
+            first,
         })
+    }
+
+    /// Reads step `k` (frames `k` and `k + 1`, and the parents file of frame `k + 1` if there
+    /// is one) as plain data: see [`StepFrames`].
+    pub fn load(&self, k: usize) -> Result<StepFrames, SequenceError> {
+        if k >= self.steps() {
+            return Err(SequenceError::NoSuchStep {
+                path: self.dir.clone(),
+                step: k,
+                steps: self.steps(),
+            });
+        }
+        let (start, end) = (&self.frames[k], &self.frames[k + 1]);
+        let parents = parents_path(end);
+        StepFrames::new(
+            k,
+            read_mesh(start)?,
+            read_mesh(end)?,
+            start,
+            end,
+            parents.exists().then_some(parents.as_path()),
+        )
     }
 
     /// Number of steps (frames less one).
@@ -196,6 +357,80 @@ impl Iterator for StepIter<'_> {
             self.next = self.sequence.steps(); // stop after the first error
         }
         Some(result)
+    }
+}
+
+/// One step of a sequence as plain data, read by [`Sequence::load`]: the positions of both
+/// frames, the triangles of the second, and the parents of the vertices new in the second.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StepFrames {
+    /// The step's index in the sequence (its first frame's rank, from 0).
+    pub index: usize,
+    /// Positions of frame `k` (t=0): possibly fewer than `x1` (a topology change appends
+    /// vertices).
+    pub x0: Vec<[f64; 3]>,
+    /// Positions of frame `k + 1` (t=1).
+    pub x1: Vec<[f64; 3]>,
+    /// Triangles of frame `k + 1`, used over the whole step.
+    pub triangles: Vec<[u32; 3]>,
+    /// `[child, parent]` rows of frame `k + 1`'s parents file: `x0.len() <= child < x1.len()`,
+    /// `parent < x0.len()`, each child at most once. Empty without a parents file.
+    pub parents: Vec<[u32; 2]>,
+    /// The map from `triangles` to the faces of frame `k + 1`'s file (see
+    /// [`Mesh::face_origin`]); `None` when triangle `t` is face `t`.
+    pub face_origin: Option<Vec<FaceOrigin>>,
+    /// What the readers noted about either frame (see [`Mesh::notes`]), with the file.
+    pub notes: Vec<(PathBuf, MeshNote)>,
+    /// Frame `k`'s file.
+    pub start: PathBuf,
+    /// Frame `k + 1`'s file.
+    pub end: PathBuf,
+}
+
+impl StepFrames {
+    /// Step `index` from two frames read already: checks that the vertex count does not shrink
+    /// and reads `parents_file` (if any: see [`parse_parents`] for its format). This is also
+    /// the way to build one step from two files and a parents file outside a sequence folder.
+    pub fn new(
+        index: usize,
+        start: Mesh,
+        end: Mesh,
+        start_path: &Path,
+        end_path: &Path,
+        parents_file: Option<&Path>,
+    ) -> Result<Self, SequenceError> {
+        let (n0, n1) = (start.positions.len(), end.positions.len());
+        if n1 < n0 {
+            return Err(SequenceError::Shrinks {
+                path: end_path.to_path_buf(),
+                vertices: n1,
+                previous: n0,
+            });
+        }
+        let parents = match parents_file {
+            Some(file) => read_parents(file, n0, n1)?
+                .into_iter()
+                .map(|(child, parent)| [child, parent])
+                .collect(),
+            None => Vec::new(),
+        };
+        let notes = (start
+            .notes
+            .into_iter()
+            .map(|n| (start_path.to_path_buf(), n)))
+        .chain(end.notes.into_iter().map(|n| (end_path.to_path_buf(), n)))
+        .collect();
+        Ok(Self {
+            index,
+            x0: start.positions,
+            x1: end.positions,
+            triangles: end.triangles,
+            parents,
+            face_origin: end.face_origin,
+            notes,
+            start: start_path.to_path_buf(),
+            end: end_path.to_path_buf(),
+        })
     }
 }
 
