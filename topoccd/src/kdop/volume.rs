@@ -141,6 +141,50 @@ impl<const H: usize> Kdop<H> {
         out
     }
 
+    /// The swept volume of a triangle moving linearly from `t0` (time 0) to `t1` (time 1),
+    /// over the times `[0, t_max]` only: the k-DOP of its positions at 0 and at `t_max`,
+    /// inflated by `inflation` and padded against the rounding of the interpolation and the
+    /// projections. For a query that already knows a contact at `t_max` and only looks for
+    /// earlier ones. `t_max` is clamped to `[0, 1]`; at 1 this is
+    /// [`Kdop::swept_triangle`].
+    ///
+    /// ```
+    /// use topoccd::kdop::Kdop;
+    /// use topoccd::math::DVec3;
+    /// let t0 = [DVec3::ZERO, DVec3::X, DVec3::Y];
+    /// let t1 = t0.map(|p| p + DVec3::Z);
+    /// let d = Kdop::<9>::swept_triangle_until(&t0, &t1, 0.25, 0.0);
+    /// assert!(d.contains_point(DVec3::new(0.2, 0.2, 0.25)));
+    /// assert!(!d.contains_point(DVec3::new(0.2, 0.2, 0.3)));
+    /// ```
+    pub fn swept_triangle_until(
+        t0: &[DVec3; 3],
+        t1: &[DVec3; 3],
+        t_max: f64,
+        inflation: f64,
+    ) -> Self {
+        // Not `!(t_max < 1.0)`-style tricks: a NaN `t_max` gives the whole step.
+        if t_max.is_nan() || t_max >= 1.0 {
+            return Self::swept_triangle(t0, t1, inflation);
+        }
+        let t = t_max.max(0.0);
+        let mut out = Self::EMPTY;
+        let mut m = DVec3::ZERO;
+        for k in 0..3 {
+            let (a, b) = (t0[k], t1[k]);
+            out.add_point(a);
+            out.add_point(a + (b - a) * t);
+            m = m.max(a.abs()).max(b.abs());
+        }
+        // The interpolation `a + (b - a) t` rounds three times, each by at most
+        // u * 2 max(|a|, |b|) per coordinate, so a coordinate is off by at most
+        // 6 u max(|a|, |b|) (plus second-order terms); the projections sum three coordinates
+        // and round twice more (see `swept_triangle`). Pad by more than both.
+        let pad = 32.0 * UNIT_ROUNDOFF * (m.x + m.y + m.z);
+        out.inflate_padded(inflation, pad);
+        out
+    }
+
     /// Inflates the k-DOP by `distance` (in the coordinates' units, `>= 0`): every point within
     /// `distance` of the old volume lies in the new one. Slab `i` moves outward by
     /// `distance * |n_i|`, since the directions are not unit vectors.
@@ -272,5 +316,43 @@ mod tests {
         check::<7>(DopKind::K14, p);
         check::<9>(DopKind::K18, p);
         check::<13>(DopKind::K26, p);
+    }
+
+    /// The volume over `[0, t_max]` contains the triangle at every time in it, is smaller than
+    /// the whole step's, and is the whole step's at `t_max = 1`.
+    #[test]
+    fn swept_until_contains_the_triangle_before_t_max() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let mut p = |scale: f64| {
+            DVec3::new(
+                rng.random_range(-scale..scale),
+                rng.random_range(-scale..scale),
+                rng.random_range(-scale..scale),
+            )
+        };
+        for round in 0..300 {
+            let scale = [1e-3, 1.0, 1e4][round % 3];
+            let c = p(scale);
+            let t0 = [p(scale) + c, p(scale) + c, p(scale) + c];
+            let t1 = t0.map(|q| q + DVec3::splat(scale) + p(scale));
+            let whole = Kdop::<9>::swept_triangle(&t0, &t1, 0.0);
+            assert_eq!(Kdop::<9>::swept_triangle_until(&t0, &t1, 1.0, 0.0), whole);
+            assert_eq!(
+                Kdop::<9>::swept_triangle_until(&t0, &t1, f64::NAN, 0.0),
+                whole
+            );
+            let t_max = (round as f64 / 300.0).powi(3);
+            let until = Kdop::<9>::swept_triangle_until(&t0, &t1, t_max, 0.0);
+            assert!(until.hi[0] - until.lo[0] <= whole.hi[0] - whole.lo[0] + 1e-9 * scale);
+            for k in 0..20 {
+                let t = t_max * k as f64 / 19.0;
+                for (u, v) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (0.3, 0.3)] {
+                    let at = |i: usize| t0[i] + (t1[i] - t0[i]) * t;
+                    let q = at(0) + (at(1) - at(0)) * u + (at(2) - at(0)) * v;
+                    assert!(until.contains_point(q), "round {round} t {t} of {t_max}");
+                }
+            }
+        }
     }
 }
