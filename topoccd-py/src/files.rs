@@ -1,0 +1,125 @@
+//! Readers: one mesh file, and frame sequences, as numpy arrays.
+
+use std::path::PathBuf;
+
+use numpy::ndarray::Array2;
+use numpy::prelude::*;
+use numpy::PyArray2;
+use pyo3::exceptions::PyIndexError;
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+use topoccd::io::sequence::Sequence as LibSequence;
+
+use crate::errors::{input_error, io_error, sequence_error};
+
+/// `(rows, N)` array from rows of `N` values.
+fn table<'py, T: Copy + numpy::Element, U: Copy, const N: usize>(
+    py: Python<'py>,
+    rows: &[[U; N]],
+    f: impl Fn(U) -> T,
+) -> PyResult<Bound<'py, PyArray2<T>>> {
+    let flat: Vec<T> = rows.iter().flat_map(|r| r.map(&f)).collect();
+    let array = Array2::from_shape_vec((rows.len(), N), flat)
+        .map_err(|e| input_error(format!("internal shape error: {e}")))?;
+    Ok(array.into_pyarray(py))
+}
+
+/// Reads a triangle mesh file, ``.ply`` (ASCII or binary, float or double) or ``.obj``, chosen
+/// by the extension.
+///
+/// Returns:
+///     tuple: ``(positions, triangles)``: ``(n, 3)`` float64 and ``(m, 3)`` int64 arrays.
+///
+/// Raises:
+///     FileNotFoundError, PermissionError, OSError: the file cannot be read.
+///     FormatError: the file is malformed (the message names the line or element).
+#[pyfunction]
+pub fn read_mesh<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyTuple>> {
+    let mesh = py
+        .detach(|| topoccd::io::read_mesh(&path))
+        .map_err(|e| io_error(&e))?;
+    let positions = table(py, &mesh.positions, |x: f64| x)?;
+    let triangles = table(py, &mesh.triangles, i64::from)?;
+    (positions, triangles).into_pyobject(py)
+}
+
+/// A frame sequence on disk: a folder of frames ``0000.ply``, ``0001.ply``, ... (or ``.obj``),
+/// with optional ``NNNN.parents`` files for topology changes. Step ``k`` goes from frame ``k``
+/// to frame ``k + 1`` and uses the triangles of frame ``k + 1``.
+///
+/// ``len(seq)`` is the number of steps; ``seq[k]`` reads the two frames of step ``k`` and
+/// returns ``(x0, x1, triangles, parents)`` ready for :meth:`Ccd.query`
+/// (``parents`` is a ``(k, 2)`` int64 array, empty without a topology change); iterating
+/// yields the steps in order. Only the folder listing is read when the sequence is opened.
+#[pyclass(module = "topoccd", frozen)]
+pub struct Sequence {
+    inner: LibSequence,
+}
+
+#[pymethods]
+impl Sequence {
+    /// Number of steps (frames less one).
+    fn __len__(&self) -> usize {
+        self.inner.steps()
+    }
+
+    /// Step ``k`` as ``(x0, x1, triangles, parents)``; negative ``k`` counts from the end.
+    ///
+    /// Raises:
+    ///     IndexError: no such step.
+    ///     OSError, FormatError: a frame or parents file cannot be read.
+    fn __getitem__<'py>(&self, py: Python<'py>, k: isize) -> PyResult<Bound<'py, PyTuple>> {
+        let steps = self.inner.steps() as isize;
+        let index = if k < 0 { k + steps } else { k };
+        if index < 0 || index >= steps {
+            return Err(PyIndexError::new_err(format!(
+                "step {k} is out of range: the sequence has {steps} steps"
+            )));
+        }
+        let frames = py
+            .detach(|| self.inner.load(index as usize))
+            .map_err(|e| sequence_error(&e))?;
+        let x0 = table(py, &frames.x0, |x: f64| x)?;
+        let x1 = table(py, &frames.x1, |x: f64| x)?;
+        let triangles = table(py, &frames.triangles, i64::from)?;
+        let parents = table(py, &frames.parents, i64::from)?;
+        (x0, x1, triangles, parents).into_pyobject(py)
+    }
+
+    /// The frame files, in order (``len(seq) + 1`` paths).
+    #[getter]
+    fn frames(&self) -> Vec<String> {
+        self.inner
+            .frames
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect()
+    }
+
+    /// The folder.
+    #[getter]
+    fn folder(&self) -> String {
+        self.inner.dir.display().to_string()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "<topoccd.Sequence {}: {} steps>",
+            self.inner.dir.display(),
+            self.inner.steps()
+        )
+    }
+}
+
+/// Opens a frame sequence folder (see :class:`Sequence`): lists and checks the frame numbering.
+///
+/// Raises:
+///     FileNotFoundError, OSError: the folder cannot be listed.
+///     FormatError: fewer than two frames, or a gap in the numbering.
+#[pyfunction]
+pub fn read_sequence(py: Python<'_>, folder: PathBuf) -> PyResult<Sequence> {
+    let inner = py
+        .detach(|| LibSequence::open(&folder))
+        .map_err(|e| sequence_error(&e))?;
+    Ok(Sequence { inner })
+}
