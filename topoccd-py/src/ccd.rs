@@ -24,7 +24,7 @@ use crate::report::{Report, StepFacts};
 ///     >>> tris = np.array([[0, 1, 2], [3, 4, 5]])
 ///     >>> ccd = topoccd.Ccd()
 ///     >>> r = ccd.query(x0, x1, tris)
-///     >>> r.vf.tolist(), r.vf_toi.round(6).tolist(), r.earliest[:3]
+///     >>> r.vf.tolist(), r.vf_toi.round(4).tolist(), r.earliest[:3]
 ///     ([[3, 0], [4, 0], [5, 0]], [0.5, 0.75, 0.75], ('vf', 3, 0))
 #[pyclass(module = "topoccd")]
 pub struct Ccd {

@@ -38,8 +38,10 @@ from ._topoccd import (
     read_mesh,
     read_sequence,
 )
+from . import batch  # noqa: E402  (imports Ray only when used)
 
 __all__ = [
+    "batch",
     "Ccd",
     "Report",
     "Sequence",
@@ -96,7 +98,7 @@ def query(
         >>> falling = np.array([[0.2, 0.2, 1], [0.3, 0.2, 1.5], [0.2, 0.3, 1.5]])
         >>> x0 = np.vstack([fixed, falling]); x1 = np.vstack([fixed, falling - [0, 0, 2]])
         >>> r = topoccd.query(x0, x1, [[0, 1, 2], [3, 4, 5]], mode="earliest")
-        >>> r.earliest[:3], round(r.earliest_toi, 6)
+        >>> r.earliest[:3], round(r.earliest_toi, 4)
         (('vf', 3, 0), 0.5)
     """
     return Ccd().query(
