@@ -31,7 +31,7 @@ impl Positions<'_> {
     }
 }
 
-/// `numpy.asarray(obj)`, with a failure reported as an [`InputError`] naming `name`.
+/// `numpy.asarray(obj)`, with a failure reported as an `InputError` naming `name`.
 fn as_ndarray<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<Bound<'py, PyUntypedArray>> {
     let py = obj.py();
     let numpy = py.import("numpy")?;
@@ -123,7 +123,11 @@ pub fn positions<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<Positions
 
 /// Converts checked integers to `u32`, naming the first bad element as `name[row, col]` (or
 /// `name[row]` for a 1-d array).
-fn to_u32<T: Copy + Into<i128>>(values: &[T], cols: Option<usize>, name: &str) -> PyResult<Vec<u32>> {
+fn to_u32<T: Copy + Into<i128>>(
+    values: &[T],
+    cols: Option<usize>,
+    name: &str,
+) -> PyResult<Vec<u32>> {
     let mut out = Vec::with_capacity(values.len());
     for (i, &v) in values.iter().enumerate() {
         let v: i128 = v.into();
@@ -153,9 +157,7 @@ pub fn indices(obj: &Bound<'_, PyAny>, name: &str, cols: Option<usize>) -> PyRes
     let array = as_ndarray(obj, name)?;
     let shape = array.shape();
     let shape_ok = match cols {
-        Some(c) => {
-            (shape.len() == 2 && shape[1] == c) || (shape.len() == 1 && shape[0] == 0)
-        }
+        Some(c) => (shape.len() == 2 && shape[1] == c) || (shape.len() == 1 && shape[0] == 0),
         None => shape.len() == 1,
     };
     if !shape_ok {

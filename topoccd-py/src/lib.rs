@@ -2,12 +2,12 @@
 //! `python/topoccd/`): numpy arrays in, numpy arrays out, the GIL released while the library
 //! works, library errors as Python exceptions (never a panic on user input).
 //!
-//! - [`ccd`]: the `Ccd` class and its `query`.
-//! - [`input`]: numpy arrays to the library's input (borrowed when float64 and C-contiguous).
-//! - [`options`]: keyword options to the library's options.
-//! - [`report`]: the library's report to numpy arrays.
-//! - [`files`]: mesh and sequence readers.
-//! - [`errors`]: the exceptions.
+//! - `ccd`: the `Ccd` class and its `query`.
+//! - `input`: numpy arrays to the library's input (borrowed when float64 and C-contiguous).
+//! - `options`: keyword options to the library's options.
+//! - `report`: the library's report to numpy arrays.
+//! - `files`: mesh and sequence readers.
+//! - `errors`: the exceptions.
 
 mod ccd;
 mod errors;

@@ -102,7 +102,12 @@ fn certainty_code(c: Certainty) -> u8 {
     }
 }
 
-fn array2<T: numpy::Element>(py: Python<'_>, rows: usize, cols: usize, flat: Vec<T>) -> PyResult<Py<PyArray2<T>>> {
+fn array2<T: numpy::Element>(
+    py: Python<'_>,
+    rows: usize,
+    cols: usize,
+    flat: Vec<T>,
+) -> PyResult<Py<PyArray2<T>>> {
     let array = Array2::from_shape_vec((rows, cols), flat)
         .map_err(|e| input_error(format!("internal shape error: {e}")))?;
     Ok(array.into_pyarray(py).unbind())
