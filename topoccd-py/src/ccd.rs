@@ -189,7 +189,7 @@ impl Ccd {
         let (method, options) = keywords.resolve()?;
         let threads = match threads {
             None => None,
-            Some(n) if n >= 1 && n <= 4096 => Some(n as usize),
+            Some(n) if (1..=4096).contains(&n) => Some(n as usize),
             Some(n) => {
                 return Err(options_error(format!(
                     "threads must be None or in [1, 4096], got {n}"

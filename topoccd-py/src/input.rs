@@ -96,7 +96,7 @@ pub fn positions<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<Positions
     let borrow_error = |e| input_error(format!("{name}: cannot be read: {e}"));
     if let Ok(array) = obj.cast::<PyArray2<f64>>() {
         if array.is_c_contiguous() {
-            check_shape(&array.shape())?;
+            check_shape(array.shape())?;
             return Ok(Positions {
                 array: array.try_readonly().map_err(borrow_error)?,
                 borrowed: true,
@@ -104,7 +104,7 @@ pub fn positions<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<Positions
         }
     }
     let array = as_ndarray(obj, name)?;
-    check_shape(&array.shape())?;
+    check_shape(array.shape())?;
     let (kind, dtype) = dtype_of(&array)?;
     if !matches!(kind.as_str(), "f" | "i" | "u") && array.len() > 0 {
         return Err(input_error(format!(
@@ -167,7 +167,7 @@ pub fn indices(obj: &Bound<'_, PyAny>, name: &str, cols: Option<usize>) -> PyRes
         };
         return Err(input_error(format!(
             "{name} must have shape {want}, got {}",
-            shape_text(&shape)
+            shape_text(shape)
         )));
     }
     if array.len() == 0 {
