@@ -86,6 +86,14 @@ impl Sequence {
         (x0, x1, triangles, parents).into_pyobject(py)
     }
 
+    /// Iterates over the steps in order, reading each step's two frames when it is reached.
+    fn __iter__(slf: Bound<'_, Self>) -> SequenceIter {
+        SequenceIter {
+            sequence: slf.unbind(),
+            next: 0,
+        }
+    }
+
     /// The frame files, in order (``len(seq) + 1`` paths).
     #[getter]
     fn frames(&self) -> Vec<String> {
@@ -122,4 +130,28 @@ pub fn read_sequence(py: Python<'_>, folder: PathBuf) -> PyResult<Sequence> {
         .detach(|| LibSequence::open(&folder))
         .map_err(|e| sequence_error(&e))?;
     Ok(Sequence { inner })
+}
+
+/// Iterator over the steps of a :class:`Sequence`.
+#[pyclass(module = "topoccd")]
+pub struct SequenceIter {
+    sequence: Py<Sequence>,
+    next: usize,
+}
+
+#[pymethods]
+impl SequenceIter {
+    fn __iter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
+        slf
+    }
+
+    fn __next__<'py>(&mut self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyTuple>>> {
+        let sequence = self.sequence.bind(py).get();
+        if self.next >= sequence.inner.steps() {
+            return Ok(None);
+        }
+        let k = self.next;
+        self.next += 1;
+        sequence.__getitem__(py, k as isize).map(Some)
+    }
 }

@@ -1,10 +1,22 @@
 """Type stubs of the Rust extension ``topoccd._topoccd`` (re-exported by ``topoccd``)."""
 
 import os
-from typing import Iterator, Literal, Optional, Tuple, Union
+from typing import Iterator, Literal, Optional, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
+
+__all__ = [
+    "Ccd",
+    "Report",
+    "Sequence",
+    "read_mesh",
+    "read_sequence",
+    "InputError",
+    "OptionsError",
+    "FormatError",
+    "__version__",
+]
 
 __version__: str
 
@@ -12,6 +24,12 @@ _Path = Union[str, "os.PathLike[str]"]
 _Method = Literal["bvh", "cluster", "brute"]
 _Mode = Literal["all", "earliest"]
 _Growth = Literal["certificate", "paper"]
+_StepArrays = Tuple[
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.int64],
+    npt.NDArray[np.int64],
+]
 _Earliest = Union[
     Tuple[Literal["vf"], int, int, float],
     Tuple[Literal["ee"], int, int, int, int, float],
@@ -26,6 +44,7 @@ class OptionsError(ValueError):
 class FormatError(OSError):
     """A mesh or sequence file that could be opened but not understood."""
 
+@final
 class Report:
     """The result of one query, as numpy arrays (see ``help(topoccd.Report)``)."""
 
@@ -61,6 +80,7 @@ class Report:
         """Writes the pairs as ``topoccd step --pairs`` does."""
     def __len__(self) -> int: ...
 
+@final
 class Ccd:
     """A reusable query: keep one per simulation, call ``query`` once per step."""
 
@@ -87,30 +107,15 @@ class Ccd:
     ) -> Report:
         """Every contact of one step (or the earliest); see ``help(topoccd.Ccd.query)``."""
 
+@final
 class Sequence:
     """A frame sequence folder: ``len(seq)`` steps, ``seq[k] -> (x0, x1, triangles, parents)``."""
 
     frames: list[str]
     folder: str
     def __len__(self) -> int: ...
-    def __getitem__(
-        self, k: int
-    ) -> Tuple[
-        npt.NDArray[np.float64],
-        npt.NDArray[np.float64],
-        npt.NDArray[np.int64],
-        npt.NDArray[np.int64],
-    ]: ...
-    def __iter__(
-        self,
-    ) -> Iterator[
-        Tuple[
-            npt.NDArray[np.float64],
-            npt.NDArray[np.float64],
-            npt.NDArray[np.int64],
-            npt.NDArray[np.int64],
-        ]
-    ]: ...
+    def __getitem__(self, k: int, /) -> _StepArrays: ...
+    def __iter__(self) -> Iterator[_StepArrays]: ...
 
 def read_mesh(path: _Path) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
     """Reads a ``.ply`` or ``.obj`` triangle mesh: ``(positions (n, 3), triangles (m, 3))``."""
