@@ -24,7 +24,7 @@ fn table<'py, T: Copy + numpy::Element, U: Copy, const N: usize>(
     Ok(array.into_pyarray(py))
 }
 
-/// Reads a triangle mesh file, ``.ply`` (ASCII or binary, float or double) or ``.obj``, chosen
+/// Reads a triangle mesh file, ``.ply``, ``.obj`` or ``.stl`` (what the library reads), chosen
 /// by the extension.
 ///
 /// Returns:

@@ -127,12 +127,14 @@ def test_file_errors(tmp_path):
                     b"property float x\nproperty float y\nproperty float z\nend_header\n\0\0")
     with pytest.raises(topoccd.FormatError, match="bad.ply"):
         topoccd.read_mesh(bad)
-    obj = tmp_path / "quad.obj"
-    obj.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n")
-    with pytest.raises(topoccd.FormatError, match="only triangles"):
+    obj = tmp_path / "tri.obj"
+    obj.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n")
+    with pytest.raises(topoccd.FormatError, match=r"tri.obj.*line 4.*9"):
         topoccd.read_mesh(obj)
-    with pytest.raises(topoccd.FormatError):
-        topoccd.read_mesh(tmp_path / "mesh.stl")
+    unknown = tmp_path / "mesh.xyz"
+    unknown.write_text("0 0 0\n")
+    with pytest.raises(topoccd.FormatError, match="mesh.xyz"):
+        topoccd.read_mesh(unknown)
     with pytest.raises(OSError):
         topoccd.read_sequence(tmp_path / "no-such-folder")
     with pytest.raises(topoccd.FormatError, match="at least two frames"):

@@ -118,7 +118,7 @@ class Sequence:
     def __iter__(self) -> Iterator[_StepArrays]: ...
 
 def read_mesh(path: _Path) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
-    """Reads a ``.ply`` or ``.obj`` triangle mesh: ``(positions (n, 3), triangles (m, 3))``."""
+    """Reads a ``.ply``, ``.obj`` or ``.stl`` triangle mesh: ``(positions (n, 3), triangles (m, 3))``."""
 
 def read_sequence(folder: _Path) -> Sequence:
     """Opens a folder of frames ``0000.ply``, ``0001.ply``, ... (and ``.parents`` files)."""
