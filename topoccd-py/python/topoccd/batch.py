@@ -60,10 +60,11 @@ def process_step(folder: str, k: int, out_dir: str, options: Optional[Dict[str, 
 
     Reads frames ``k`` and ``k + 1`` (and frame ``k + 1``'s parents file), runs
     :meth:`topoccd.Ccd.query` with ``options``, writes the pairs to ``OUT_DIR/NNNN.csv`` in the
-    format of ``topoccd run --pairs-dir`` and returns the step's JSON line: ``step``,
-    ``vertices``, ``triangles``, ``vf``, ``ee``, ``earliest_toi``, ``seconds``, ``stats`` (and
-    ``clusters`` with ``method="cluster"``), as ``topoccd run --json`` prints them, plus
-    ``unresolved``, ``pairs`` (the file written) and ``read_seconds``.
+    format of ``topoccd run --pairs-dir`` and returns the step's JSON line, with the keys of
+    ``topoccd run --json``: ``step``, ``vertices``, ``triangles``, ``method``, ``mode``, ``vf``,
+    ``ee``, ``unresolved``, ``earliest_toi``, ``earliest`` (``["vf", vertex, face, toi]`` or
+    ``["ee", a0, a1, b0, b1, toi]``), ``seconds``, ``stats`` (and ``clusters`` with
+    ``method="cluster"``), plus ``pairs`` (the file written) and ``read_seconds``.
 
     Engine-agnostic: plain arguments, a plain ``dict`` back, no global state; call it from Ray,
     Dask, a process pool or a loop. Raises what :func:`topoccd.read_sequence` and
@@ -81,15 +82,18 @@ def process_step(folder: str, k: int, out_dir: str, options: Optional[Dict[str, 
         "step": k,
         "vertices": int(report.stats["vertices"]),
         "triangles": int(report.stats["triangles"]),
+        "method": options.get("method", "bvh"),
+        "mode": options.get("mode", "all"),
         "vf": int(len(report.vf)),
         "ee": int(len(report.ee)),
+        "unresolved": report.unresolved,
         "earliest_toi": report.earliest_toi,
+        "earliest": None if report.earliest is None else list(report.earliest),
         "seconds": dict(report.seconds),
         "stats": {key: report.stats[key] for key in ("bv_tests", "vf_tests", "ee_tests")},
     }
     if "cluster" in report.stats:
         line["clusters"] = dict(report.stats["cluster"])
-    line["unresolved"] = report.unresolved
     line["pairs"] = path
     line["read_seconds"] = read_seconds
     return line
