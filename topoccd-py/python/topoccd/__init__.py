@@ -1,0 +1,121 @@
+"""Continuous collision detection for deforming, topology-changing triangle meshes.
+
+numpy in, numpy out, in the conventions of ipctk: positions at t=0 and t=1 as ``(n, 3)``
+arrays, triangles as ``(m, 3)`` integer arrays, keyword options with the library's defaults.
+
+Example: the earliest time of impact of a step, for a line search::
+
+    import numpy as np, topoccd
+
+    ccd = topoccd.Ccd()                      # keep it: buffers are reused across steps
+    report = ccd.query(x0, x1, triangles)    # every colliding pair of the step
+    report.vf, report.vf_toi                 # (N, 2) (vertex, face), (N,) times
+    report.ee, report.ee_toi                 # (M, 4) (a0, a1, b0, b1), (M,) times
+    alpha = 1.0 if report.earliest_toi is None else 0.8 * report.earliest_toi
+
+Contents:
+
+- :class:`Ccd` and :func:`query`: one step's contacts (``mode="all"``) or its earliest time
+  (``mode="earliest"``), with parents for a topology change and groups for the pair filter.
+- :class:`Report`: the pairs, their times and certainty codes, optional contact geometry,
+  the earliest pair, the work counters and the time of each phase.
+- :func:`read_mesh`, :func:`read_sequence`: PLY / OBJ frames as numpy arrays.
+- :mod:`topoccd.batch`: every step of a frame sequence over Ray tasks or a process pool.
+- Errors: :class:`InputError` and :class:`OptionsError` (both ``ValueError``),
+  :class:`FormatError` (an ``OSError``) for malformed files.
+"""
+
+from typing import Optional
+
+from ._topoccd import (
+    Ccd,
+    FormatError,
+    InputError,
+    OptionsError,
+    Report,
+    Sequence,
+    __version__,
+    read_mesh,
+    read_sequence,
+)
+from . import batch  # noqa: E402  (imports Ray only when used)
+
+__all__ = [
+    "batch",
+    "Ccd",
+    "Report",
+    "Sequence",
+    "query",
+    "read_mesh",
+    "read_sequence",
+    "InputError",
+    "OptionsError",
+    "FormatError",
+    "RESOLVED",
+    "ITERATION_LIMIT",
+    "INVALID_INPUT",
+    "CERTAINTY",
+    "__version__",
+]
+
+#: Certainty code of a contact decided by the elementary test.
+RESOLVED = 0
+#: Certainty code of a pair still undecided after ``max_iterations`` (reported conservatively).
+ITERATION_LIMIT = 1
+#: Certainty code of a pair whose arithmetic was not finite (reported conservatively).
+INVALID_INPUT = 2
+#: The certainty codes by name.
+CERTAINTY = {RESOLVED: "resolved", ITERATION_LIMIT: "iteration_limit", INVALID_INPUT: "invalid_input"}
+
+
+def query(
+    x0,
+    x1,
+    triangles,
+    *,
+    parents=None,
+    groups=None,
+    method: str = "bvh",
+    mode: str = "all",
+    tolerance: float = 1e-6,
+    min_separation: float = 0.0,
+    t_max: float = 1.0,
+    max_iterations: int = 1_000_000,
+    k: int = 18,
+    growth: Optional[str] = None,
+    threads: Optional[int] = None,
+    geometry: bool = False,
+    crack_filter: bool = True,
+) -> Report:
+    """One query with a fresh :class:`Ccd`: every contact of one step, or the earliest.
+
+    Same arguments, result and exceptions as :meth:`Ccd.query`; in a simulation loop keep a
+    :class:`Ccd` instead, so that its buffers are reused.
+
+    Example: a triangle falls through a fixed one; its lowest vertex touches at t=0.5.
+        >>> import numpy as np, topoccd
+        >>> fixed = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+        >>> falling = np.array([[0.2, 0.2, 1], [0.3, 0.2, 1.5], [0.2, 0.3, 1.5]])
+        >>> x0 = np.vstack([fixed, falling]); x1 = np.vstack([fixed, falling - [0, 0, 2]])
+        >>> r = topoccd.query(x0, x1, [[0, 1, 2], [3, 4, 5]], mode="earliest")
+        >>> r.earliest[:3], round(r.earliest_toi, 4)
+        (('vf', 3, 0), 0.5)
+    """
+    return Ccd().query(
+        x0,
+        x1,
+        triangles,
+        parents=parents,
+        groups=groups,
+        method=method,
+        mode=mode,
+        tolerance=tolerance,
+        min_separation=min_separation,
+        t_max=t_max,
+        max_iterations=max_iterations,
+        k=k,
+        growth=growth,
+        threads=threads,
+        geometry=geometry,
+        crack_filter=crack_filter,
+    )

@@ -1,0 +1,124 @@
+"""Type stubs of the Rust extension ``topoccd._topoccd`` (re-exported by ``topoccd``)."""
+
+import os
+from typing import Iterator, Literal, Optional, Tuple, Union, final
+
+import numpy as np
+import numpy.typing as npt
+
+__all__ = [
+    "Ccd",
+    "Report",
+    "Sequence",
+    "read_mesh",
+    "read_sequence",
+    "InputError",
+    "OptionsError",
+    "FormatError",
+    "__version__",
+]
+
+__version__: str
+
+_Path = Union[str, "os.PathLike[str]"]
+_Method = Literal["bvh", "cluster", "brute"]
+_Mode = Literal["all", "earliest"]
+_Growth = Literal["certificate", "paper"]
+_StepArrays = Tuple[
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.int64],
+    npt.NDArray[np.int64],
+]
+_Earliest = Union[
+    Tuple[Literal["vf"], int, int, float],
+    Tuple[Literal["ee"], int, int, int, int, float],
+]
+
+class InputError(ValueError):
+    """Invalid input arrays (shape, dtype, NaN, index out of range, bad parents or groups)."""
+
+class OptionsError(ValueError):
+    """A keyword option out of its range."""
+
+class FormatError(OSError):
+    """A mesh or sequence file that could be opened but not understood."""
+
+@final
+class Report:
+    """The result of one query, as numpy arrays (see ``help(topoccd.Report)``)."""
+
+    vf: npt.NDArray[np.int64]
+    """``(N, 2)`` colliding vertex-face pairs ``(vertex, face)``, sorted."""
+    vf_toi: npt.NDArray[np.float64]
+    """``(N,)`` times of impact in ``[0, t_max]``."""
+    vf_certainty: npt.NDArray[np.uint8]
+    """``(N,)`` 0 resolved, 1 iteration limit, 2 invalid input."""
+    ee: npt.NDArray[np.int64]
+    """``(M, 4)`` colliding edge-edge pairs ``(a0, a1, b0, b1)``, sorted."""
+    ee_toi: npt.NDArray[np.float64]
+    ee_certainty: npt.NDArray[np.uint8]
+    vf_barycentric: Optional[npt.NDArray[np.float64]]
+    """``(N, 3)`` with ``geometry=True``, else ``None``."""
+    vf_point: Optional[npt.NDArray[np.float64]]
+    vf_normal: Optional[npt.NDArray[np.float64]]
+    ee_params: Optional[npt.NDArray[np.float64]]
+    """``(M, 2)`` positions along edge a and edge b, in ``[0, 1]``."""
+    ee_point: Optional[npt.NDArray[np.float64]]
+    ee_normal: Optional[npt.NDArray[np.float64]]
+    earliest_toi: Optional[float]
+    earliest: Optional[_Earliest]
+    unresolved: int
+    stats: dict
+    """``bv_tests``, ``vf_tests``, ``ee_tests``, ``vertices``, ``triangles`` (and ``cluster``)."""
+    seconds: dict
+    """``build``, ``traverse``, ``narrow``, ``total`` (and ``clustering``, ``merging``)."""
+    _x0_address: int
+    _x1_address: int
+    _borrowed: Tuple[bool, bool]
+    def write_pairs(self, path: _Path) -> None:
+        """Writes the pairs as ``topoccd step --pairs`` does."""
+    def __len__(self) -> int: ...
+
+@final
+class Ccd:
+    """A reusable query: keep one per simulation, call ``query`` once per step."""
+
+    def __init__(self) -> None: ...
+    def query(
+        self,
+        x0: npt.ArrayLike,
+        x1: npt.ArrayLike,
+        triangles: npt.ArrayLike,
+        *,
+        parents: Optional[npt.ArrayLike] = None,
+        groups: Optional[npt.ArrayLike] = None,
+        method: _Method = "bvh",
+        mode: _Mode = "all",
+        tolerance: float = 1e-6,
+        min_separation: float = 0.0,
+        t_max: float = 1.0,
+        max_iterations: int = 1_000_000,
+        k: int = 18,
+        growth: Optional[_Growth] = None,
+        threads: Optional[int] = None,
+        geometry: bool = False,
+        crack_filter: bool = True,
+    ) -> Report:
+        """Every contact of one step (or the earliest); see ``help(topoccd.Ccd.query)``."""
+
+@final
+class Sequence:
+    """A frame sequence folder: ``len(seq)`` steps, ``seq[k] -> (x0, x1, triangles, parents)``."""
+
+    frames: list[str]
+    folder: str
+    def __len__(self) -> int: ...
+    def __getitem__(self, k: int, /) -> _StepArrays: ...
+    def __iter__(self) -> Iterator[_StepArrays]: ...
+
+def read_mesh(path: _Path) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
+    """Reads a ``.ply``, ``.obj`` or ``.stl`` triangle mesh: ``(positions (n, 3), triangles (m, 3))``."""
+
+def read_sequence(folder: _Path) -> Sequence:
+    """Opens a folder of frames ``0000.ply``, ``0001.ply``, ... (and ``.parents`` files)."""

@@ -1,0 +1,357 @@
+"""Every step of a long frame sequence, spread over Ray tasks (or a local process pool).
+
+The steps of a sequence are independent once the frames are on disk, so each step is one task:
+:func:`process_step` reads the step's two frames (and the parents file of the second), runs the
+query, writes the step's pairs file ``OUT_DIR/NNNN.csv`` (the format of
+``topoccd run --pairs-dir``) and returns the step's JSON line (the keys of
+``topoccd run --json``). It is a plain function of plain arguments, so any engine can call it:
+:func:`run_sequence` maps it over Ray tasks (``engine="ray"``) or a
+``concurrent.futures`` process pool (``engine="process"``), gathers the lines in step order
+with a progress bar, and writes ``OUT_DIR/steps.jsonl``.
+
+On a cluster (``address="ray://head:10001"`` or ``"auto"``) every node needs ``topoccd``
+installed, and the frame folder and ``out_dir`` must be on a file system all nodes see under
+the same path (NFS, Lustre, a mounted bucket): a task reads two frames and writes one small
+file, and only the JSON line travels back to the driver.
+
+Example::
+
+    from topoccd.batch import run_sequence
+    result = run_sequence("frames/", "pairs/", workers=8, method="cluster")
+    print(result.summary)          # steps, contacts, earliest toi, seconds
+    for line in result.failed:     # steps that could not be processed, with their frames
+        print(line["step"], line["frames"], line["error"])
+"""
+
+import json
+import os
+import sys
+import time
+import traceback
+from dataclasses import dataclass, field
+from typing import Any, Callable, Dict, Iterable, List, Optional
+
+from ._topoccd import Ccd, read_sequence
+
+__all__ = ["process_step", "run_sequence", "BatchResult", "QUERY_OPTIONS"]
+
+#: The keyword options of :meth:`topoccd.Ccd.query` that :func:`run_sequence` passes on.
+QUERY_OPTIONS = (
+    "method",
+    "mode",
+    "tolerance",
+    "min_separation",
+    "t_max",
+    "max_iterations",
+    "k",
+    "growth",
+    "crack_filter",
+    "threads",
+)
+
+
+def pairs_path(out_dir: str, k: int) -> str:
+    """The pairs file of step ``k``: ``OUT_DIR/NNNN.csv`` (NNNN: the step's first frame)."""
+    return os.path.join(out_dir, f"{k:04d}.csv")
+
+
+def process_step(folder: str, k: int, out_dir: str, options: Optional[Dict[str, Any]] = None) -> dict:
+    """Processes step ``k`` of the sequence in ``folder``: one task of :func:`run_sequence`.
+
+    Reads frames ``k`` and ``k + 1`` (and frame ``k + 1``'s parents file), runs
+    :meth:`topoccd.Ccd.query` with ``options``, writes the pairs to ``OUT_DIR/NNNN.csv`` in the
+    format of ``topoccd run --pairs-dir`` and returns the step's JSON line, with the keys of
+    ``topoccd run --json``: ``step``, ``vertices``, ``triangles``, ``method``, ``mode``, ``vf``,
+    ``ee``, ``unresolved``, ``earliest_toi``, ``earliest`` (``["vf", vertex, face, toi]`` or
+    ``["ee", a0, a1, b0, b1, toi]``), ``seconds``, ``stats`` (and ``clusters`` with
+    ``method="cluster"``), plus ``pairs`` (the file written) and ``read_seconds``.
+
+    Engine-agnostic: plain arguments, a plain ``dict`` back, no global state; call it from Ray,
+    Dask, a process pool or a loop. Raises what :func:`topoccd.read_sequence` and
+    :meth:`topoccd.Ccd.query` raise.
+    """
+    options = dict(options or {})
+    started = time.perf_counter()
+    sequence = read_sequence(folder)
+    x0, x1, triangles, parents = sequence[k]
+    read_seconds = time.perf_counter() - started
+    report = Ccd().query(x0, x1, triangles, parents=parents, **options)
+    path = pairs_path(out_dir, k)
+    report.write_pairs(path)
+    line = {
+        "step": k,
+        "vertices": int(report.stats["vertices"]),
+        "triangles": int(report.stats["triangles"]),
+        "method": options.get("method", "bvh"),
+        "mode": options.get("mode", "all"),
+        "vf": int(len(report.vf)),
+        "ee": int(len(report.ee)),
+        "unresolved": report.unresolved,
+        "earliest_toi": report.earliest_toi,
+        "earliest": None if report.earliest is None else list(report.earliest),
+        "seconds": dict(report.seconds),
+        "stats": {key: report.stats[key] for key in ("bv_tests", "vf_tests", "ee_tests")},
+    }
+    if "cluster" in report.stats:
+        line["clusters"] = dict(report.stats["cluster"])
+    line["pairs"] = path
+    line["read_seconds"] = read_seconds
+    return line
+
+
+def _guarded(folder: str, k: int, out_dir: str, options: Dict[str, Any]) -> dict:
+    """:func:`process_step`, with a failure returned as a line naming the step's frames."""
+    try:
+        return process_step(folder, k, out_dir, options)
+    except Exception as err:  # noqa: BLE001 - any failure of one step is reported, not raised
+        return _failure(folder, k, err, traceback.format_exc(limit=3))
+
+
+def _failure(folder: str, k: int, err: BaseException, trace: str = "") -> dict:
+    try:
+        frames = read_sequence(folder).frames[k : k + 2]
+    except Exception:  # noqa: BLE001 - the folder itself may be the problem
+        frames = [os.path.join(folder, f"{k:04d}.*"), os.path.join(folder, f"{k + 1:04d}.*")]
+    return {
+        "step": k,
+        "error": f"{type(err).__name__}: {err}",
+        "frames": frames,
+        "traceback": trace,
+    }
+
+
+@dataclass
+class BatchResult:
+    """What :func:`run_sequence` returns.
+
+    Attributes:
+        lines: one dict per step, in step order (a failed step's dict has ``error`` and
+            ``frames`` instead of the counts).
+        failed: the failed steps' dicts.
+        summary: ``steps``, ``steps_with_contacts``, ``vf``, ``ee``, ``earliest_toi``,
+            ``query_seconds`` (sum over the steps), ``wall_seconds``, ``failed``, ``engine``,
+            ``workers``.
+        jsonl: the path of ``steps.jsonl``.
+    """
+
+    lines: List[dict]
+    failed: List[dict] = field(default_factory=list)
+    summary: Dict[str, Any] = field(default_factory=dict)
+    jsonl: str = ""
+
+
+class _Progress:
+    """tqdm when installed, else a counter on stderr."""
+
+    def __init__(self, total: int, enabled: bool) -> None:
+        self.total, self.done, self.enabled, self.bar = total, 0, enabled, None
+        if enabled:
+            try:
+                from tqdm import tqdm
+
+                self.bar = tqdm(total=total, desc="steps", unit="step", file=sys.stderr)
+            except ImportError:
+                self.bar = None
+
+    def update(self) -> None:
+        self.done += 1
+        if self.bar is not None:
+            self.bar.update(1)
+        elif self.enabled:
+            end = "\n" if self.done == self.total else ""
+            print(f"\rsteps {self.done}/{self.total}", end=end, file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+def _check_options(options: Dict[str, Any]) -> None:
+    """Raises OptionsError (or TypeError) now rather than in every task."""
+    import numpy as np
+
+    unknown = set(options) - set(QUERY_OPTIONS)
+    if unknown:
+        raise TypeError(f"run_sequence() got unknown query options {sorted(unknown)}")
+    empty = np.zeros((0, 3))
+    Ccd().query(empty, empty, np.zeros((0, 3), dtype=np.int64), **options)
+
+
+def _run_ray(
+    folder: str,
+    out_dir: str,
+    steps: int,
+    options: Dict[str, Any],
+    address: Optional[str],
+    workers: Optional[int],
+    cpus_per_task: float,
+    on_done: Callable[[int, dict], None],
+) -> None:
+    try:
+        import ray
+    except ImportError as err:
+        raise ImportError(
+            "engine='ray' needs Ray: pip install 'topoccd[ray]' (or use engine='process')"
+        ) from err
+    if not ray.is_initialized():
+        if address is None:
+            ray.init(num_cpus=workers, include_dashboard=False, logging_level="warning")
+        else:
+            ray.init(address=address, logging_level="warning")
+    task = ray.remote(num_cpus=cpus_per_task, max_retries=0)(_guarded)
+    pending = {task.remote(folder, k, out_dir, options): k for k in range(steps)}
+    while pending:
+        done, _ = ray.wait(list(pending), num_returns=1)
+        for ref in done:
+            k = pending.pop(ref)
+            try:
+                line = ray.get(ref)
+            except Exception as err:  # noqa: BLE001 - a crashed worker loses only its step
+                line = _failure(folder, k, err)
+            on_done(k, line)
+
+
+def _run_processes(
+    folder: str,
+    out_dir: str,
+    steps: int,
+    options: Dict[str, Any],
+    workers: Optional[int],
+    on_done: Callable[[int, dict], None],
+) -> None:
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    # spawn, not fork: a forked child would inherit a thread pool without its threads.
+    context = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        futures = {pool.submit(_guarded, folder, k, out_dir, options): k for k in range(steps)}
+        for future in as_completed(futures):
+            k = futures[future]
+            try:
+                line = future.result()
+            except Exception as err:  # noqa: BLE001 - a crashed worker loses only its step
+                line = _failure(folder, k, err)
+            on_done(k, line)
+
+
+def run_sequence(
+    folder: "str | os.PathLike[str]",
+    out_dir: "str | os.PathLike[str]",
+    *,
+    engine: str = "ray",
+    address: Optional[str] = None,
+    workers: Optional[int] = None,
+    cpus_per_task: int = 1,
+    progress: bool = True,
+    method: str = "bvh",
+    mode: str = "all",
+    tolerance: float = 1e-6,
+    min_separation: float = 0.0,
+    t_max: float = 1.0,
+    max_iterations: int = 1_000_000,
+    k: int = 18,
+    growth: Optional[str] = None,
+    crack_filter: bool = True,
+) -> BatchResult:
+    """Processes every step of a frame sequence in parallel; writes one pairs file per step
+    and ``OUT_DIR/steps.jsonl``.
+
+    Args:
+        folder: the sequence (``0000.ply``, ``0001.ply``, ... and ``NNNN.parents`` files); on a
+            cluster, a path every node can read.
+        out_dir: where ``NNNN.csv`` (the pairs of step NNNN, as ``topoccd run --pairs-dir``)
+            and ``steps.jsonl`` go; created if missing; on a cluster, writable by every node.
+        engine: ``"ray"`` (Ray tasks) or ``"process"`` (a local process pool, no Ray).
+        address: Ray only: ``None`` starts a local Ray instance (unless one is already
+            initialised, which is then used as it is); ``"auto"`` or ``"ray://HOST:10001"``
+            joins a cluster.
+        workers: parallel tasks: the CPUs of a local Ray instance, or the process pool's size
+            (default: the core count). Ignored when joining a cluster (its size decides).
+        cpus_per_task: CPUs reserved by each Ray task, and the threads each query uses.
+        progress: show a progress bar (tqdm if installed, else a counter on stderr).
+        method, mode, tolerance, min_separation, t_max, max_iterations, k, growth,
+            crack_filter: as in :meth:`topoccd.Ccd.query`.
+
+    Returns:
+        BatchResult: the steps' lines in step order, the failed steps and a summary. A step
+        that fails (unreadable frame, invalid step, crashed worker) is reported with its two
+        frames and its error, in ``failed`` and in ``steps.jsonl``; the other steps are kept.
+
+    Raises:
+        OptionsError: an invalid option (checked once, before any task starts).
+        OSError, FormatError: the folder cannot be listed or is not a sequence.
+    """
+    options: Dict[str, Any] = {
+        "method": method,
+        "mode": mode,
+        "tolerance": tolerance,
+        "min_separation": min_separation,
+        "t_max": t_max,
+        "max_iterations": max_iterations,
+        "k": k,
+        "growth": growth,
+        "crack_filter": crack_filter,
+        "threads": int(cpus_per_task),
+    }
+    _check_options(options)
+    folder = os.path.abspath(os.fspath(folder))
+    out_dir = os.path.abspath(os.fspath(out_dir))
+    steps = len(read_sequence(folder))
+    if os.path.exists(out_dir) and not os.path.isdir(out_dir):
+        raise NotADirectoryError(f"{out_dir}: exists and is not a folder")
+    os.makedirs(out_dir, exist_ok=True)
+
+    started = time.perf_counter()
+    lines: List[Optional[dict]] = [None] * steps
+    bar = _Progress(steps, progress)
+
+    def on_done(k: int, line: dict) -> None:
+        lines[k] = line
+        if "error" in line:
+            print(
+                f"topoccd.batch: step {k} failed ({' -> '.join(map(str, line['frames']))}): "
+                f"{line['error']}",
+                file=sys.stderr,
+            )
+        bar.update()
+
+    try:
+        if engine == "ray":
+            _run_ray(folder, out_dir, steps, options, address, workers, cpus_per_task, on_done)
+        elif engine == "process":
+            _run_processes(folder, out_dir, steps, options, workers, on_done)
+        else:
+            raise ValueError(f"engine must be 'ray' or 'process', got {engine!r}")
+    finally:
+        bar.close()
+    wall = time.perf_counter() - started
+
+    done = [line for line in lines if line is not None]
+    failed = [line for line in done if "error" in line]
+    good = [line for line in done if "error" not in line]
+    tois = [line["earliest_toi"] for line in good if line["earliest_toi"] is not None]
+    summary = {
+        "steps": steps,
+        "steps_with_contacts": sum(1 for line in good if line["vf"] + line["ee"] > 0),
+        "vf": sum(line["vf"] for line in good),
+        "ee": sum(line["ee"] for line in good),
+        "earliest_toi": min(tois) if tois else None,
+        "query_seconds": sum(line["seconds"]["total"] for line in good),
+        "wall_seconds": wall,
+        "failed": len(failed),
+        "engine": engine,
+        "workers": workers,
+    }
+    jsonl = os.path.join(out_dir, "steps.jsonl")
+    _write_jsonl(jsonl, done, summary)
+    return BatchResult(lines=done, failed=failed, summary=summary, jsonl=jsonl)
+
+
+def _write_jsonl(path: str, lines: Iterable[dict], summary: dict) -> None:
+    with open(path, "w", encoding="utf-8") as out:
+        for line in lines:
+            out.write(json.dumps({key: v for key, v in line.items() if key != "traceback"}))
+            out.write("\n")
+        out.write(json.dumps({"summary": summary}))
+        out.write("\n")

@@ -1,0 +1,249 @@
+//! The `Ccd` class: one query per simulation step, buffers kept across steps, the GIL released
+//! while the library works.
+
+use pyo3::prelude::*;
+use topoccd::{Ccd as LibCcd, Report as LibReport, Step, StepError};
+
+use crate::errors::{input_error, options_error};
+use crate::input::{indices, positions, rows};
+use crate::options::Keywords;
+use crate::report::{Report, StepFacts};
+
+/// A reusable continuous-collision-detection query.
+///
+/// Keep one ``Ccd`` for the whole simulation and call :meth:`query` once per step: its buffers
+/// (swept volumes, hierarchy nodes, candidate lists) and its thread pool are reused. One
+/// ``Ccd`` runs one query at a time (a second thread calling ``query`` on the same object while
+/// a query runs gets ``RuntimeError``); use one ``Ccd`` per thread.
+///
+/// Example: a triangle falls through a fixed one; its lowest vertex touches at t=0.5.
+///     >>> import numpy as np, topoccd
+///     >>> fixed = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+///     >>> falling = np.array([[0.2, 0.2, 1], [0.3, 0.2, 1.5], [0.2, 0.3, 1.5]])
+///     >>> x0 = np.vstack([fixed, falling]); x1 = np.vstack([fixed, falling - [0, 0, 2]])
+///     >>> tris = np.array([[0, 1, 2], [3, 4, 5]])
+///     >>> ccd = topoccd.Ccd()
+///     >>> r = ccd.query(x0, x1, tris)
+///     >>> r.vf.tolist(), r.vf_toi.round(4).tolist(), r.earliest[:3]
+///     ([[3, 0], [4, 0], [5, 0]], [0.5, 0.75, 0.75], ('vf', 3, 0))
+#[pyclass(module = "topoccd")]
+pub struct Ccd {
+    inner: LibCcd,
+    /// The thread pool of the last `threads=N` query, kept for the next.
+    pool: Option<(usize, rayon::ThreadPool)>,
+}
+
+impl Ccd {
+    /// Builds the thread pool for `threads`, unless the one kept has that many threads.
+    fn ensure_pool(&mut self, threads: usize) -> PyResult<()> {
+        if self.pool.as_ref().map(|(n, _)| *n) != Some(threads) {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .map_err(|e| {
+                    pyo3::exceptions::PyRuntimeError::new_err(format!(
+                        "cannot start {threads} threads: {e}"
+                    ))
+                })?;
+            self.pool = Some((threads, pool));
+        }
+        Ok(())
+    }
+}
+
+/// The step's arrays, once converted.
+struct Arrays<'a> {
+    x0: &'a [f64],
+    x1: &'a [f64],
+    triangles: &'a [u32],
+    parents: Option<&'a [[u32; 2]]>,
+    groups: Option<&'a [u32]>,
+}
+
+/// Builds the step and queries it; runs without the GIL.
+fn run(
+    ccd: &mut LibCcd,
+    pool: Option<&rayon::ThreadPool>,
+    a: &Arrays<'_>,
+    method: topoccd::Method,
+    options: &topoccd::QueryOptions,
+) -> Result<(LibReport, usize, usize), Failure> {
+    let step = match a.parents {
+        Some(parents) => Step::with_parents(a.x0, a.x1, a.triangles, parents),
+        None => Step::new(a.x0, a.x1, a.triangles),
+    }
+    .map_err(Failure::Step)?;
+    let step = match a.groups {
+        Some(g) => step.with_groups(g).map_err(Failure::Step)?,
+        None => step,
+    };
+    let x0_address = step.x0().as_ptr() as usize;
+    let x1_address = step.x1().as_ptr() as usize;
+    let mut go = || ccd.query(&step, method, options);
+    let report = match pool {
+        Some(pool) => pool.install(go),
+        None => go(),
+    }
+    .map_err(|e| Failure::Options(e.to_string()))?;
+    Ok((report, x0_address, x1_address))
+}
+
+/// Why a query failed, carried out of the GIL-free section.
+enum Failure {
+    Step(StepError),
+    Options(String),
+}
+
+#[pymethods]
+impl Ccd {
+    /// A new query object; nothing is allocated until the first query.
+    #[new]
+    fn new() -> Self {
+        Ccd {
+            inner: LibCcd::new(),
+            pool: None,
+        }
+    }
+
+    /// Every contact of one step (or only the earliest), between positions ``x0`` at t=0 and
+    /// ``x1`` at t=1 moving linearly.
+    ///
+    /// Args:
+    ///     x0: ``(n0, 3)`` positions at t=0, any real dtype, any memory order. A float64
+    ///         C-contiguous array is read in place (no copy); anything else is converted once.
+    ///     x1: ``(n, 3)`` positions at t=1; ``n == n0`` unless ``parents`` is given.
+    ///     triangles: ``(m, 3)`` vertex indices (any integer dtype), the step's faces.
+    ///     parents: optional ``(k, 2)`` integer rows ``[child, parent]`` for a topology change
+    ///         (a cut or fracture duplicating vertices): ``n0 <= n``, a new vertex (index
+    ///         ``>= n0``) starts at its parent's ``x0`` position (without a parent, it does not
+    ///         move). A child and its parent count as one vertex for ``crack_filter``.
+    ///     groups: optional ``(n,)`` integer group id per vertex. Two features are tested only
+    ///         if some vertex of one and some vertex of the other are in different groups (the
+    ///         ``can_collide`` rule of ipctk): give each rigid or non-self-colliding object one id.
+    ///     method: ``"bvh"`` (a k-DOP hierarchy built per step, the default), ``"cluster"``
+    ///         (the paper's certified clusters: fastest on large deforming meshes) or
+    ///         ``"brute"`` (the sweep-and-prune oracle). All three report the same pairs.
+    ///     mode: ``"all"`` (every colliding pair) or ``"earliest"`` (only the pair or pairs
+    ///         within ``tolerance`` of the earliest time: faster, for a line search).
+    ///     tolerance: time resolution of the elementary tests, in (0, 1). Reported times are
+    ///         never later than the true first contact and at most this much earlier.
+    ///     min_separation: distance (coordinate units, >= 0) at or below which features count
+    ///         as touching.
+    ///     t_max: only contacts at times in ``[0, t_max]``, ``t_max`` in (0, 1].
+    ///     max_iterations: per elementary test, >= 1; a pair still undecided then is reported
+    ///         with certainty code 1.
+    ///     k: bounding volumes are k-DOPs, k in {6, 14, 18, 26}.
+    ///     growth: ``method="cluster"`` only: ``"certificate"`` or ``"paper"``; ``None`` for the
+    ///         library's default.
+    ///     threads: ``None`` for one thread per core, or a count (a pool kept by this object).
+    ///     geometry: also compute the contact points, normals and barycentric coordinates.
+    ///     crack_filter: skip pairs of features that share a vertex or a vertex's crack twin
+    ///         (``parents``); on by default.
+    ///
+    /// Returns:
+    ///     Report: numpy arrays of the pairs and their times; see :class:`Report`.
+    ///
+    /// Raises:
+    ///     InputError: an array of the wrong shape or dtype, a non-finite coordinate, an
+    ///         index out of range, a bad parent row or groups array (the message names the
+    ///         element).
+    ///     OptionsError: an option out of range.
+    #[pyo3(signature = (
+        x0, x1, triangles, *, parents=None, groups=None, method="bvh", mode="all",
+        tolerance=1e-6, min_separation=0.0, t_max=1.0, max_iterations=1_000_000, k=18,
+        growth=None, threads=None, geometry=false, crack_filter=true
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn query(
+        &mut self,
+        py: Python<'_>,
+        x0: &Bound<'_, PyAny>,
+        x1: &Bound<'_, PyAny>,
+        triangles: &Bound<'_, PyAny>,
+        parents: Option<&Bound<'_, PyAny>>,
+        groups: Option<&Bound<'_, PyAny>>,
+        method: &str,
+        mode: &str,
+        tolerance: f64,
+        min_separation: f64,
+        t_max: f64,
+        max_iterations: i64,
+        k: i64,
+        growth: Option<&str>,
+        threads: Option<i64>,
+        geometry: bool,
+        crack_filter: bool,
+    ) -> PyResult<Report> {
+        let keywords = Keywords {
+            method,
+            mode,
+            tolerance,
+            min_separation,
+            t_max,
+            max_iterations,
+            k,
+            growth,
+            geometry,
+            crack_filter,
+        };
+        let (method, options) = keywords.resolve()?;
+        let threads = match threads {
+            None => None,
+            Some(n) if (1..=4096).contains(&n) => Some(n as usize),
+            Some(n) => {
+                return Err(options_error(format!(
+                    "threads must be None or in [1, 4096], got {n}"
+                )))
+            }
+        };
+        let p0 = positions(x0, "x0")?;
+        let p1 = positions(x1, "x1")?;
+        let tris = indices(triangles, "triangles", Some(3))?;
+        let parent_rows = match parents {
+            Some(p) => Some(rows::<2>(&indices(p, "parents", Some(2))?)),
+            None if p0.rows() != p1.rows() => Some(Vec::new()),
+            None => None,
+        };
+        let group_ids = match groups {
+            Some(g) => Some(indices(g, "groups", None)?),
+            None => None,
+        };
+        let arrays = Arrays {
+            x0: p0.as_flat()?,
+            x1: p1.as_flat()?,
+            triangles: &tris,
+            parents: parent_rows.as_deref(),
+            groups: group_ids.as_deref(),
+        };
+        let borrowed = (p0.borrowed, p1.borrowed);
+        if let Some(n) = threads {
+            self.ensure_pool(n)?;
+        }
+        let Ccd { inner, pool } = self;
+        let pool = match threads {
+            Some(_) => pool.as_ref().map(|(_, p)| p),
+            None => None,
+        };
+        let outcome = py.detach(|| run(inner, pool, &arrays, method, &options));
+        let (report, x0_address, x1_address) = outcome.map_err(|f| match f {
+            Failure::Step(e) => input_error(e.to_string()),
+            Failure::Options(m) => options_error(m),
+        })?;
+        let facts = StepFacts {
+            vertices: p1.rows(),
+            triangles: tris.len() / 3,
+            x0_address,
+            x1_address,
+            borrowed,
+            geometry: options.geometry,
+        };
+        Report::new(py, &report, &facts)
+    }
+
+    fn __repr__(&self) -> String {
+        match &self.pool {
+            Some((n, _)) => format!("<topoccd.Ccd with a pool of {n} threads>"),
+            None => "<topoccd.Ccd>".to_string(),
+        }
+    }
+}

@@ -1,0 +1,36 @@
+//! The extension module `topoccd._topoccd` of the Python package `topoccd` (see
+//! `python/topoccd/`): numpy arrays in, numpy arrays out, the GIL released while the library
+//! works, library errors as Python exceptions (never a panic on user input).
+//!
+//! - `ccd`: the `Ccd` class and its `query`.
+//! - `input`: numpy arrays to the library's input (borrowed when float64 and C-contiguous).
+//! - `options`: keyword options to the library's options.
+//! - `report`: the library's report to numpy arrays.
+//! - `files`: mesh and sequence readers.
+//! - `errors`: the exceptions.
+
+mod ccd;
+mod errors;
+mod files;
+mod input;
+mod options;
+mod report;
+
+use pyo3::prelude::*;
+
+/// Continuous collision detection for deforming, topology-changing triangle meshes (the Rust
+/// extension; import ``topoccd``, not this module).
+#[pymodule]
+fn _topoccd(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add_class::<ccd::Ccd>()?;
+    m.add_class::<report::Report>()?;
+    m.add_class::<files::Sequence>()?;
+    m.add_function(wrap_pyfunction!(files::read_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(files::read_sequence, m)?)?;
+    m.add("InputError", py.get_type::<errors::InputError>())?;
+    m.add("OptionsError", py.get_type::<errors::OptionsError>())?;
+    m.add("FormatError", py.get_type::<errors::FormatError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

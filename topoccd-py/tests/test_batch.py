@@ -1,0 +1,98 @@
+"""topoccd.batch: the steps of a sequence over a process pool and over Ray give exactly the
+pairs of `topoccd run`; a failed step is reported with its frames and loses no other step."""
+
+import json
+import shutil
+
+import pytest
+import topoccd
+from topoccd.batch import process_step, run_sequence
+
+
+def assert_same_pairs(out_dir, cli_pairs_dir, steps):
+    for k in range(steps):
+        name = f"{k:04d}.csv"
+        assert (out_dir / name).read_text() == (cli_pairs_dir / name).read_text(), name
+
+
+def assert_same_lines(result, cli_lines):
+    for line, cli_line in zip(result.lines, cli_lines):
+        assert "error" not in line, line
+        for key in ("step", "vertices", "triangles", "vf", "ee", "earliest_toi", "method", "mode", "unresolved"):
+            if key in cli_line:
+                assert line[key] == cli_line[key], (key, line, cli_line)
+
+
+def test_process_step_is_a_plain_function(sequence, cli_run, tmp_path):
+    pairs_dir, cli_lines = cli_run
+    line = process_step(str(sequence), 1, str(tmp_path), {"threads": 1})
+    assert json.loads(json.dumps(line)) == line  # plain JSON data
+    assert (tmp_path / "0001.csv").read_text() == (pairs_dir / "0001.csv").read_text()
+    for key in ("step", "vertices", "triangles", "vf", "ee", "earliest_toi"):
+        assert line[key] == cli_lines[1][key]
+    assert set(line["seconds"]) >= {"build", "traverse", "narrow", "total"}
+
+
+def test_process_engine_matches_topoccd_run(sequence, cli_run, tmp_path):
+    pairs_dir, cli_lines = cli_run
+    out = tmp_path / "out"
+    result = run_sequence(sequence, out, engine="process", workers=2, progress=False)
+    assert [line["step"] for line in result.lines] == [0, 1, 2]
+    assert not result.failed
+    assert_same_pairs(out, pairs_dir, 3)
+    assert_same_lines(result, cli_lines)
+    jsonl = [json.loads(x) for x in (out / "steps.jsonl").read_text().splitlines()]
+    assert [x["step"] for x in jsonl[:-1]] == [0, 1, 2]
+    cli_summary = cli_lines[-1]["summary"]
+    for key in ("steps", "steps_with_contacts", "vf", "ee", "earliest_toi"):
+        assert jsonl[-1]["summary"][key] == cli_summary[key], key
+
+
+def test_a_failed_step_is_reported_and_the_others_kept(copy_sequence, cli_run, tmp_path, capsys):
+    pairs_dir, _ = cli_run
+    folder = copy_sequence()
+    broken = folder / "0002.ply"
+    broken.write_bytes(broken.read_bytes()[:300])  # truncated: steps 1 and 2 need it
+    out = tmp_path / "out"
+    result = run_sequence(folder, out, engine="process", workers=2, progress=True)
+    assert [line["step"] for line in result.lines] == [0, 1, 2]
+    assert [line["step"] for line in result.failed] == [1, 2]
+    for line in result.failed:
+        assert "0002.ply" in line["error"] and str(broken) in line["frames"]
+    assert_same_pairs(out, pairs_dir, 1)
+    assert result.summary["failed"] == 2
+    err = capsys.readouterr().err
+    assert "step 1 failed" in err and "0002.ply" in err
+    jsonl = (out / "steps.jsonl").read_text().splitlines()
+    assert len(jsonl) == 4 and "error" in json.loads(jsonl[2])
+
+
+def test_invalid_options_fail_before_any_task(sequence, tmp_path):
+    with pytest.raises(topoccd.OptionsError):
+        run_sequence(sequence, tmp_path / "o", engine="process", tolerance=2.0)
+    with pytest.raises(ValueError, match="engine"):
+        run_sequence(sequence, tmp_path / "o", engine="spark")
+
+
+def test_ray_matches_topoccd_run(sequence, cli_run, tmp_path):
+    ray = pytest.importorskip(
+        "ray", reason="SKIPPED, NOT TESTED: Ray is not installed (pip install 'topoccd[ray]')"
+    )
+    pairs_dir, cli_lines = cli_run
+    out = tmp_path / "ray-out"
+    started_here = not ray.is_initialized()
+    try:
+        result = run_sequence(sequence, out, engine="ray", workers=2, progress=False)
+        assert not result.failed, result.failed
+        assert [line["step"] for line in result.lines] == [0, 1, 2]
+        assert_same_pairs(out, pairs_dir, 3)
+        assert_same_lines(result, cli_lines)
+        assert (out / "steps.jsonl").exists()
+        # An initialised Ray is used as it is (no second ray.init).
+        again = run_sequence(sequence, tmp_path / "again", engine="ray", progress=False)
+        assert_same_pairs(tmp_path / "again", pairs_dir, 3)
+        assert again.summary["vf"] == result.summary["vf"]
+    finally:
+        if started_here and ray.is_initialized():
+            ray.shutdown()
+        shutil.rmtree(out, ignore_errors=True)
