@@ -1,9 +1,9 @@
 //! The broad phases, side by side: each finds the candidate feature pairs of one step and
-//! hands them, through the same ownership scheme ([`Features`]) and the same pair filter
-//! ([`PairFilter`]), to the narrow phase.
+//! hands them, through the same ownership scheme (`Features`) and the same pair filter
+//! (`PairFilter`), to the narrow phase.
 //!
-//! - [`brute`]: the oracle, a sort and sweep over every feature's swept box;
-//! - [`bvh`]: a k-DOP hierarchy over the triangles' swept volumes, built anew every step;
+//! - `brute`: the oracle, a sort and sweep over every feature's swept box;
+//! - `bvh`: a k-DOP hierarchy over the triangles' swept volumes, built anew every step;
 //! - [`cluster`]: the paper's dynamic clustering, a hierarchy over certified clusters and lazy
 //!   hierarchies over their triangles.
 //!
@@ -15,7 +15,7 @@
 //! hierarchy finds exactly these (its traversal reports every overlapping triangle pair); the
 //! oracle tests the k-DOPs of the owners explicitly; the cluster method finds them all except
 //! pairs inside one certified intermediate cluster, which are proved never to touch (see
-//! [`cluster::traverse`]). Since every method then runs the same elementary tests on the same
+//! `cluster::traverse`). Since every method then runs the same elementary tests on the same
 //! pairs, all report the same contacts with the same times.
 
 pub(crate) mod brute;

@@ -54,7 +54,7 @@ impl DopKind {
         2 * self.slabs()
     }
 
-    /// The number of slabs `k/2` (3, 7, 9 or 13), the `H` of [`Kdop<H>`].
+    /// The number of slabs `k/2` (3, 7, 9 or 13), the `H` of `Kdop<H>`.
     pub fn slabs(self) -> usize {
         match self {
             DopKind::K6 => 3,
@@ -75,7 +75,7 @@ impl DopKind {
         DopKind::ALL.into_iter().find(|kind| kind.k() == k)
     }
 
-    /// The slab directions, in the order of the slabs of [`Kdop`]: the axes first, then the
+    /// The slab directions, in the order of the slabs of `Kdop`: the axes first, then the
     /// cube diagonals (k = 14, 26), then the edge diagonals (k = 18, 26).
     ///
     /// ```

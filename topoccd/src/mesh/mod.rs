@@ -1,6 +1,6 @@
 //! The input model of one step, at the bottom of the pipeline: the validated input
 //! ([`Step`]), its connectivity ([`Topology`]), its features with their swept boxes and owners
-//! ([`features`]), and the pair filter every broad phase applies ([`filter`]).
+//! (`features`), and the pair filter every broad phase applies (`filter`).
 
 pub(crate) mod features;
 pub(crate) mod filter;

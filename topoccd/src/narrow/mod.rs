@@ -1,5 +1,5 @@
 //! The elementary tests of continuous collision detection under linear motion: a vertex against a
-//! triangle ([`vertex_face`]) and an edge against an edge ([`edge_edge`]).
+//! triangle ([`vertex_face()`]) and an edge against an edge ([`edge_edge()`]).
 //!
 //! Both are conservative: if the two features touch (in exact arithmetic) at some time in
 //! `[0, t_max]`, the answer is [`Outcome::Contact`], with a time of impact no later than the true
@@ -28,7 +28,7 @@ pub enum Certainty {
     /// (the features may not touch at all): the answer stays on the safe side.
     IterationLimit,
     /// The input held a NaN or an infinite coordinate, or coordinates so far apart that their
-    /// differences exceed [`solver::MAX_DIFFERENCE`]; nothing could be decided, so the answer
+    /// differences exceed 1e300; nothing could be decided, so the answer
     /// is a contact at time 0.
     InvalidInput,
 }
