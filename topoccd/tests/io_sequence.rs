@@ -281,6 +281,10 @@ fn a_shared_scene_folder_opens_as_a_sequence() {
     let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../shared/data/scenes/cloth-ball");
     if !scene.is_dir() {
+        assert!(
+            std::env::var_os("TOPOCCD_REQUIRE_DATA").is_none(),
+            "TOPOCCD_REQUIRE_DATA is set but the shared data is absent (see the README)"
+        );
         eprintln!(
             "\n!!!!! SKIPPED: shared data not found at {} -- this test checked NOTHING !!!!!\n",
             scene.display()

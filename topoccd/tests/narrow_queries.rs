@@ -12,6 +12,10 @@ fn data_dir() -> Option<PathBuf> {
     if dir.is_dir() {
         Some(dir)
     } else {
+        assert!(
+            std::env::var_os("TOPOCCD_REQUIRE_DATA").is_none(),
+            "TOPOCCD_REQUIRE_DATA is set but the shared data is absent (see the README)"
+        );
         eprintln!("SKIPPED: the shared query data is not at {}", dir.display());
         None
     }

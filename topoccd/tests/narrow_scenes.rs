@@ -16,6 +16,10 @@ fn scene(name: &str) -> Option<PathBuf> {
     if dir.is_dir() {
         Some(dir)
     } else {
+        assert!(
+            std::env::var_os("TOPOCCD_REQUIRE_DATA").is_none(),
+            "TOPOCCD_REQUIRE_DATA is set but the shared data is absent (see the README)"
+        );
         eprintln!("SKIPPED: scene data absent at {}", dir.display());
         None
     }

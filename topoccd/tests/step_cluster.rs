@@ -433,6 +433,10 @@ fn scene_dir(scene: &str) -> Option<PathBuf> {
     if dir.is_dir() {
         Some(dir)
     } else {
+        assert!(
+            std::env::var_os("TOPOCCD_REQUIRE_DATA").is_none(),
+            "TOPOCCD_REQUIRE_DATA is set but the shared data is absent (see the README)"
+        );
         eprintln!(
             "\n!!!!! SKIPPED: shared data not found at {} -- this test checked NOTHING !!!!!\n",
             dir.display()
