@@ -8,7 +8,7 @@
 
 use std::time::Instant;
 
-use super::{triangle_volumes, BroadInput};
+use super::{triangle_volumes_until, BroadInput};
 use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf, ParOptions};
 use crate::kdop::Kdop;
 
@@ -21,11 +21,11 @@ pub(crate) struct PerStepBvh<const H: usize> {
 }
 
 impl<const H: usize> PerStepBvh<H> {
-    /// Computes the swept volumes of the step's triangles and builds the hierarchy over them.
-    /// Returns the seconds spent.
-    pub fn build(&mut self, input: &BroadInput<'_, '_>, ws: &mut BvhWorkspace) -> f64 {
+    /// Computes the volumes swept by the step's triangles over `[0, t_max]` (the whole step
+    /// for `t_max >= 1`) and builds the hierarchy over them. Returns the seconds spent.
+    pub fn build(&mut self, input: &BroadInput<'_, '_>, t_max: f64, ws: &mut BvhWorkspace) -> f64 {
         let start = Instant::now();
-        triangle_volumes(input.step, input.filter.sep, &mut self.volumes);
+        triangle_volumes_until(input.step, t_max, input.filter.sep, &mut self.volumes);
         self.leaves.clear();
         self.leaves
             .extend(self.volumes.iter().enumerate().map(|(t, &volume)| Leaf {
@@ -33,6 +33,19 @@ impl<const H: usize> PerStepBvh<H> {
                 volume,
             }));
         self.bvh.rebuild(&self.leaves, ws);
+        start.elapsed().as_secs_f64()
+    }
+
+    /// Recomputes the volumes over the whole step and refits the hierarchy to them (same
+    /// tree, linear time). Returns the seconds spent.
+    pub fn refit_whole_step(&mut self, input: &BroadInput<'_, '_>) -> f64 {
+        let start = Instant::now();
+        triangle_volumes_until(input.step, 1.0, input.filter.sep, &mut self.volumes);
+        for (leaf, &volume) in self.leaves.iter_mut().zip(&self.volumes) {
+            leaf.volume = volume;
+        }
+        let volumes = &self.volumes;
+        self.bvh.refit(|id| volumes[id as usize]);
         start.elapsed().as_secs_f64()
     }
 

@@ -120,10 +120,22 @@ pub(crate) fn triangle_volumes<const H: usize>(
     inflation: f64,
     out: &mut Vec<Kdop<H>>,
 ) {
+    triangle_volumes_until(step, 1.0, inflation, out);
+}
+
+/// The k-DOP swept by every triangle over `[0, t_max]` only (the whole step for `t_max >= 1`),
+/// inflated by `inflation`, into `out`.
+pub(crate) fn triangle_volumes_until<const H: usize>(
+    step: &Step<'_>,
+    t_max: f64,
+    inflation: f64,
+    out: &mut Vec<Kdop<H>>,
+) {
     let (x0, x1) = (step.pos0(), step.pos1());
     out.clear();
     out.extend(step.triangles().iter().map(|tri| {
         let [a, b, c] = tri.map(|i| i as usize);
-        Kdop::swept_triangle(&[x0[a], x0[b], x0[c]], &[x1[a], x1[b], x1[c]], inflation)
+        let (t0, t1) = ([x0[a], x0[b], x0[c]], [x1[a], x1[b], x1[c]]);
+        Kdop::swept_triangle_until(&t0, &t1, t_max, inflation)
     }));
 }

@@ -357,9 +357,22 @@ pub fn query(
     Ccd::new().query(step, method, options)
 }
 
+/// In [`Mode::Earliest`](super::Mode::Earliest), the per-step hierarchy first looks at the
+/// first `1 / EARLY` of the step only (its volumes swept over that interval are much smaller);
+/// only if that finds no contact early enough does it look at the whole step.
+const EARLY: f64 = 256.0;
+
 /// The per-step hierarchy's query: build, then the parallel traversal whose tasks solve their
 /// own candidates in bounded buffers. Returns the broad phase's figures; the narrow phase's
 /// time is inside the traversal's (the two run interleaved on every thread).
+///
+/// In [`Mode::Earliest`](super::Mode::Earliest) with `t_max > tau` (`tau = t_max / EARLY`), a
+/// first pass uses volumes swept over `[0, tau]` and solves every candidate over `[0, tau]`
+/// first. If it finds contacts whose earliest time `b` has `b + 2 tolerance <= tau`, the answer
+/// is complete: a pair whose first contact lies within the tolerance of `b` touches before
+/// `tau`, so its features' volumes over `[0, tau]` overlap and the first pass tested it.
+/// Otherwise the hierarchy is refitted to the whole step's volumes and traversed again, pruned
+/// with whatever the first pass found; pairs found twice are reported once.
 fn bvh_query<const H: usize>(
     tree: &mut PerStepBvh<H>,
     (input, ctx, record, task_chunk, ws): (
@@ -371,20 +384,68 @@ fn bvh_query<const H: usize>(
     ),
     (found, totals, recorded): (&mut Found, &mut Totals, &mut Candidates),
 ) -> BroadStats {
-    let build = tree.build(input, ws);
+    let options = ctx.options;
+    let t_max = options.narrow.t_max;
+    let tau = t_max / EARLY;
+    let two_pass = options.mode == super::Mode::Earliest && tau > 2.0 * options.narrow.tolerance;
+    let mut build = tree.build(input, if two_pass { tau } else { t_max }, ws);
     let t = Instant::now();
+    let mut bv_tests = traverse_pass(
+        tree,
+        (input, ctx, record, task_chunk, ws),
+        if two_pass { tau } else { f64::INFINITY },
+        (found, totals, recorded),
+    );
+    let mut traverse = t.elapsed().as_secs_f64();
+    if two_pass {
+        let mut best = None;
+        lower(&mut best, found.vf.iter().map(|c| c.toi));
+        lower(&mut best, found.ee.iter().map(|c| c.toi));
+        let complete = best.is_some_and(|b| ctx.limit(Some(b)) <= tau);
+        if !complete {
+            build += tree.refit_whole_step(input);
+            let t = Instant::now();
+            let limit = ctx.limit(best);
+            bv_tests += traverse_pass(tree, (input, ctx, record, task_chunk, ws), limit, (found, totals, recorded));
+            // A contact of the first pass is found again, with the same time.
+            found.vf.sort_unstable_by_key(|c| (c.vertex, c.face));
+            found.vf.dedup_by_key(|c| (c.vertex, c.face));
+            found.ee.sort_unstable_by_key(|c| (c.a, c.b));
+            found.ee.dedup_by_key(|c| (c.a, c.b));
+            traverse += t.elapsed().as_secs_f64();
+        }
+    }
+    BroadStats {
+        bv_tests,
+        build,
+        traverse,
+    }
+}
+
+/// One parallel traversal of the hierarchy as built or refitted, its tasks' candidates solved
+/// with the limit `start` at first (lowered by what the batches find). Returns the
+/// bounding-volume tests.
+fn traverse_pass<const H: usize>(
+    tree: &PerStepBvh<H>,
+    (input, ctx, record, task_chunk, ws): (
+        &BroadInput<'_, '_>,
+        &Context<'_, '_>,
+        bool,
+        usize,
+        &mut BvhWorkspace,
+    ),
+    start: f64,
+    (found, totals, recorded): (&mut Found, &mut Totals, &mut Candidates),
+) -> u64 {
     let tris = input.step.triangles();
     let (features, filter) = (input.features, input.filter);
-    // The best time of the batches handed over so far (f64 bits; only lowered between batches).
-    let best = AtomicU64::new(f64::INFINITY.to_bits());
+    // The limit of the batches handed over so far (f64 bits; only lowered between batches).
+    let limit = AtomicU64::new(start.to_bits());
     let par = ParOptions {
         batch: TASK_BATCH,
         ..ParOptions::default()
     };
-    let make = || {
-        let b = f64::from_bits(best.load(Ordering::Acquire));
-        Task::new(ctx.limit(b.is_finite().then_some(b)), record)
-    };
+    let make = || Task::new(f64::from_bits(limit.load(Ordering::Acquire)), record);
     let pair = |task: &mut Task, a: u32, b: u32| {
         features.triangle_pair(tris, a, b, filter, &mut task.buf.vf, &mut task.buf.ee);
         if task.buf.len() >= task_chunk {
@@ -393,12 +454,11 @@ fn bvh_query<const H: usize>(
     };
     let consume = |mut task: Task| {
         task.flush(ctx);
-        let mut b = Some(f64::from_bits(best.load(Ordering::Acquire))).filter(|b| b.is_finite());
-        lower(&mut b, task.found.vf.iter().map(|c| c.toi));
-        lower(&mut b, task.found.ee.iter().map(|c| c.toi));
-        if let Some(b) = b {
-            best.store(b.to_bits(), Ordering::Release);
-        }
+        let mut best = None;
+        lower(&mut best, task.found.vf.iter().map(|c| c.toi));
+        lower(&mut best, task.found.ee.iter().map(|c| c.toi));
+        let current = f64::from_bits(limit.load(Ordering::Acquire));
+        limit.store(current.min(ctx.limit(best)).to_bits(), Ordering::Release);
         found.vf.append(&mut task.found.vf);
         found.ee.append(&mut task.found.ee);
         totals.vf_tests += task.vf_tests;
@@ -409,10 +469,5 @@ fn bvh_query<const H: usize>(
             recorded.ee.append(&mut r.ee);
         }
     };
-    let bv_tests = tree.pairs(ws, &par, make, pair, consume);
-    BroadStats {
-        bv_tests,
-        build,
-        traverse: t.elapsed().as_secs_f64(),
-    }
+    tree.pairs(ws, &par, make, pair, consume)
 }

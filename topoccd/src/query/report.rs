@@ -149,6 +149,8 @@ pub struct Stats {
     /// elementary test for the pairs it cannot reject); each pair at most once per query.
     pub vf_tests: u64,
     /// Edge-edge pairs given to the narrow phase, as for `vf_tests`; each pair at most once.
+    /// (In [`Mode::Earliest`](crate::Mode::Earliest) the per-step hierarchy may look at the
+    /// step in two passes, the first over its start only, and count a pair once per pass.)
     pub ee_tests: u64,
     /// The most candidate pairs held in one buffer at once: candidates stream from the broad
     /// phase to the narrow phase in bounded buffers, so this stays bounded however many
