@@ -8,7 +8,7 @@ use numpy::PyArray2;
 use pyo3::exceptions::PyIndexError;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
-use topoccd::io::sequence::{step_between, Sequence as LibSequence, SequenceError};
+use topoccd::io::sequence::Sequence as LibSequence;
 
 use crate::errors::{input_error, io_error, sequence_error};
 
@@ -38,33 +38,9 @@ pub fn read_mesh<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyT
     let mesh = py
         .detach(|| topoccd::io::read_mesh(&path))
         .map_err(|e| io_error(&e))?;
-    let points: Vec<[f64; 3]> = mesh.positions.iter().map(|&p| p.into()).collect();
-    let positions = table(py, &points, |x: f64| x)?;
+    let positions = table(py, &mesh.positions, |x: f64| x)?;
     let triangles = table(py, &mesh.triangles, i64::from)?;
     (positions, triangles).into_pyobject(py)
-}
-
-/// The arrays of one step of a sequence.
-struct StepArrays {
-    x0: Vec<[f64; 3]>,
-    x1: Vec<[f64; 3]>,
-    triangles: Vec<[u32; 3]>,
-    parents: Vec<[u32; 2]>,
-}
-
-/// Reads step `k` as `topoccd run` does (frames `k` and `k + 1`, the parents file of `k + 1`,
-/// validated): `x0` has the new vertices at their parents' positions, so it is as long as `x1`.
-fn load(sequence: &LibSequence, k: usize) -> Result<StepArrays, SequenceError> {
-    let (start_path, end_path) = (&sequence.frames[k], &sequence.frames[k + 1]);
-    let start = topoccd::io::read_mesh(start_path)?;
-    let end = topoccd::io::read_mesh(end_path)?;
-    let step = step_between(&start, &end, end_path, k)?;
-    Ok(StepArrays {
-        x0: step.x0().to_vec(),
-        x1: step.x1().to_vec(),
-        triangles: step.triangles().to_vec(),
-        parents: step.parents().to_vec(),
-    })
 }
 
 /// A frame sequence on disk: a folder of frames ``0000.ply``, ``0001.ply``, ... (or ``.obj``),
@@ -72,9 +48,11 @@ fn load(sequence: &LibSequence, k: usize) -> Result<StepArrays, SequenceError> {
 /// to frame ``k + 1`` and uses the triangles of frame ``k + 1``.
 ///
 /// ``len(seq)`` is the number of steps; ``seq[k]`` reads the two frames of step ``k`` and
-/// returns ``(x0, x1, triangles, parents)`` ready for :meth:`Ccd.query`
-/// (``parents`` is a ``(k, 2)`` int64 array, empty without a topology change); iterating
-/// yields the steps in order. Only the folder listing is read when the sequence is opened.
+/// returns ``(x0, x1, triangles, parents)`` ready for :meth:`Ccd.query`: ``x0`` is frame
+/// ``k``'s positions (fewer rows than ``x1`` when the step appends vertices), ``parents`` the
+/// ``(k, 2)`` int64 ``[child, parent]`` rows of frame ``k + 1``'s parents file (empty without
+/// one): ``query(x0, x1, triangles, parents=parents)`` is the step ``topoccd run`` queries.
+/// Iterating yields the steps in order. Only the folder listing is read when the sequence is opened.
 #[pyclass(module = "topoccd", frozen)]
 pub struct Sequence {
     inner: LibSequence,
@@ -101,7 +79,7 @@ impl Sequence {
             )));
         }
         let frames = py
-            .detach(|| load(&self.inner, index as usize))
+            .detach(|| self.inner.load(index as usize))
             .map_err(|e| sequence_error(&e))?;
         let x0 = table(py, &frames.x0, |x: f64| x)?;
         let x1 = table(py, &frames.x1, |x: f64| x)?;
