@@ -75,13 +75,13 @@ pub struct QueryArgs {
     #[arg(long, default_value_t = 18, value_parser = parse_k)]
     pub k: usize,
     /// Distance at or below which features count as touching (coordinate units, >= 0).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub min_separation: f64,
     /// Time resolution of the elementary tests, in (0, 1).
-    #[arg(long, default_value_t = NarrowOptions::default().tolerance)]
+    #[arg(long, default_value_t = NarrowOptions::default().tolerance, allow_negative_numbers = true)]
     pub tolerance: f64,
     /// End of the time interval searched, in (0, 1].
-    #[arg(long, default_value_t = NarrowOptions::default().t_max)]
+    #[arg(long, default_value_t = NarrowOptions::default().t_max, allow_negative_numbers = true)]
     pub t_max: f64,
     /// Most parameter boxes an elementary test may examine (>= 1) before it gives up
     /// conservatively (the contact is then reported as unresolved).

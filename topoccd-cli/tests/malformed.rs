@@ -422,3 +422,122 @@ fn malformed_query_files_and_sequences_are_refused() {
     let run = topoccd(&[p("run"), &seq.0]);
     assert_fails(&run, &["0001.parents:1: NEW_ID 4 is not a new vertex"]);
 }
+
+/// Invalid query options are refused by every command that runs steps, with the library's own
+/// message (one argument struct, one validation).
+#[test]
+fn invalid_options_are_refused_by_every_command_alike() {
+    let dir = TempDir::new("options");
+    let tri = ply(
+        &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        &[[0, 1, 2]],
+    );
+    let a = dir.file("0000.ply", &tri);
+    let b = dir.file("0001.ply", &tri);
+    let cases: [(&[&str], &str); 5] = [
+        (&["--tolerance", "0"], "tolerance must be in (0, 1), got 0"),
+        (
+            &["--tolerance", "NaN"],
+            "tolerance must be in (0, 1), got NaN",
+        ),
+        (&["--t-max", "2"], "t_max must be in (0, 1], got 2"),
+        (
+            &["--min-separation", "-1"],
+            "min_separation must be finite and >= 0, got -1",
+        ),
+        (
+            &["--max-iterations", "0"],
+            "max_iterations must be at least 1, got 0",
+        ),
+    ];
+    for (flags, message) in cases {
+        let flags: Vec<&Path> = flags.iter().map(|f| p(f)).collect();
+        let step: Vec<&Path> = [p("step"), a.as_path(), b.as_path()]
+            .into_iter()
+            .chain(flags.iter().copied())
+            .collect();
+        let run: Vec<&Path> = [p("run"), dir.0.as_path()]
+            .into_iter()
+            .chain(flags.iter().copied())
+            .collect();
+        let bench: Vec<&Path> = [p("bench"), dir.0.as_path()]
+            .into_iter()
+            .chain(flags.iter().copied())
+            .collect();
+        for args in [step, run, bench] {
+            let out = topoccd(&args);
+            assert_fails(&out, &[message]);
+        }
+    }
+    // k is checked by the shared arguments too (bench once ran k=18 for --k 8).
+    for command in ["step", "bench"] {
+        let args: Vec<&Path> = match command {
+            "step" => vec![p("step"), a.as_path(), b.as_path(), p("--k"), p("8")],
+            _ => vec![p("bench"), dir.0.as_path(), p("--k"), p("8")],
+        };
+        let out = topoccd(&args);
+        assert_eq!(
+            out.output.status.code(),
+            Some(2),
+            "{command}: {}",
+            out.stderr
+        );
+        assert!(
+            out.stderr.contains("k must be 6, 14, 18 or 26, got 8"),
+            "{command}: {}",
+            out.stderr
+        );
+    }
+}
+
+/// `step --earliest --json` names the earliest pair and lists the pair(s) reaching it, and
+/// `--pairs` writes them.
+#[test]
+fn earliest_shows_its_pairs() {
+    let dir = TempDir::new("earliest");
+    // A vertex (3) of a small carrier triangle falls through a fixed triangle at t = 0.5.
+    let t0 = ply(
+        &[
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.2, 0.2, 1.0],
+            [0.3, 0.2, 3.0],
+            [0.2, 0.3, 3.0],
+        ],
+        &[[0, 1, 2], [3, 4, 5]],
+    );
+    let t1 = ply(
+        &[
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.2, 0.2, -1.0],
+            [0.3, 0.2, 1.0],
+            [0.2, 0.3, 1.0],
+        ],
+        &[[0, 1, 2], [3, 4, 5]],
+    );
+    let (a, b) = (dir.file("a.ply", &t0), dir.file("b.ply", &t1));
+    let pairs = dir.0.join("pairs.csv");
+    let out = topoccd(&[
+        p("step"),
+        &a,
+        &b,
+        p("--earliest"),
+        p("--json"),
+        p("--pairs"),
+        &pairs,
+    ]);
+    assert_eq!(out.output.status.code(), Some(0), "{}", out.stderr);
+    let j = json(&out);
+    let toi = j["earliest_toi"].as_f64().expect("an earliest time");
+    assert!((toi - 0.5).abs() < 1e-6, "{j}");
+    assert_eq!(j["earliest"]["Vf"]["vertex"], 3, "{j}");
+    assert_eq!(j["earliest"]["Vf"]["face"], 0, "{j}");
+    assert_eq!(j["vf"], 1, "{j}");
+    assert_eq!(j["unresolved"], 0, "{j}");
+    assert_eq!(j["pairs"]["vf"][0]["vertex"], 3, "{j}");
+    let written = std::fs::read_to_string(&pairs).expect("the pairs file");
+    assert!(written.starts_with("vf,3,0,0.4999"), "{written}");
+}

@@ -530,6 +530,18 @@ fn cloth_ball_matches_the_bvh_method_and_the_ground_truth() {
     // same times (the BVH method is itself tested equal to the oracle).
     let bvh_all = ccd.query(&step, Method::Bvh, &options).unwrap();
     assert_eq!(bvh_all.earliest, report.earliest);
+    // All three methods report the same pairs with the same times on the real step.
+    let brute = Ccd::new().query(&step, Method::Brute, &options).unwrap();
+    assert_eq!(
+        (&brute.vf, &brute.ee),
+        (&bvh_all.vf, &bvh_all.ee),
+        "cloth-ball brute vs bvh"
+    );
+    assert_eq!(
+        (&report.vf, &report.ee),
+        (&bvh_all.vf, &bvh_all.ee),
+        "cloth-ball cluster vs bvh"
+    );
     let bvh = candidate_sets(&ccd, &bvh_all, "cloth-ball bvh");
     let bvh_earliest = ccd.query(&step, Method::Bvh, &earliest).unwrap();
     assert_eq!(bvh_earliest.earliest, report.earliest);
