@@ -8,30 +8,30 @@
 //!   ([`Mesh::face_origin`]) and notes on what was done ([`Mesh::notes`]).
 //! - [`coincident_vertices`] finds duplicate vertices at one position (seams, poles), which
 //!   touch at t=0; [`weld`] merges them.
-//! - [`queries`] reads the narrow-phase query files (exact rationals and ground truth).
+//! - With the feature `internals`: `queries` reads the narrow-phase query files (exact
+//!   rationals and ground truth), `scene_frames` and `read_scene_truth` the whole-step scenes
+//!   of the shared data, and `MemoryEstimate` refuses a step too large for memory up front.
 //! - [`sequence`] reads and writes frame sequences (`0000.ply`, `0001.ply`, ... and `.parents`).
-//! - [`scene_frames`] and [`read_scene_truth`] read the whole-step scenes of the shared data.
-//! - [`MemoryEstimate`] and [`available_memory`] let a caller refuse a step too large for
-//!   memory before reading it ([`read_ply_header`] gives a PLY file's counts).
+//! - [`read_ply_header`] gives a PLY file's counts before reading it.
 //! - Every error is an [`IoError`] that names the file, and the line (text formats) or the
 //!   element (binary PLY) where reading stopped.
 
+internal!(limits, queries, scene);
+
 mod error;
 mod faces;
-mod limits;
 mod mesh;
 mod obj;
 mod ply_elements;
 mod ply_read;
 mod ply_write;
 mod polygon;
-pub mod queries;
-mod scene;
 pub mod sequence;
 mod stl;
 mod weld;
 
 pub use error::{IoError, Location};
+#[cfg(feature = "internals")]
 pub use limits::{
     available_memory, Bytes, MemoryEstimate, TooLarge, BASE_BYTES, BYTES_PER_TRIANGLE,
     BYTES_PER_VERTEX,
@@ -41,6 +41,7 @@ pub use obj::{read_obj, read_obj_from, write_obj, write_obj_to};
 pub use ply_read::{read_ply, read_ply_from, read_ply_header, PlyCounts};
 pub use ply_write::{write_ply, write_ply_to};
 pub use polygon::{triangulate_polygon, PolygonSplit};
+#[cfg(feature = "internals")]
 pub use scene::{
     frame_number, libigl_edges, read_scene_truth, scene_frames, EdgePair, SceneFrames, SceneTruth,
 };
