@@ -1,22 +1,34 @@
 //! The whole step on small random meshes: random (possibly out-of-range) indices, coordinates
 //! that mix ordinary values with NaN, infinities, huge, tiny and subnormal numbers, repeated
-//! points, degenerate and repeated triangles, and edges shared by many triangles.
+//! points, degenerate and repeated triangles, and edges shared by many triangles; random
+//! options, a few of them out of range.
 //!
-//! `Step::new` must refuse the invalid ones with an error; for a valid step, the BVH, the
-//! cluster method and the brute-force oracle must report the same contacts, every time of
-//! impact must be finite and in `[0, t_max]`, and `Mode::Earliest` must find the earliest
-//! contact of `Mode::All`. Under a small iteration limit (which the target also draws, for
-//! speed and because the limit is itself an answer to check) an unresolved pair is reported
-//! as a contact, so the checks weaken to what still holds: BVH equals brute force, the cluster
-//! method reports a subset of brute force's contacts (it skips certified pairs without
-//! solving them), and Earliest names one of All's contacts.
+//! `Step::new` must refuse exactly the invalid steps (lengths, non-finite coordinates, indices
+//! out of range or repeated in a triangle), and `Ccd::query` exactly the invalid options, with
+//! an error naming an offending option. For a valid step and options, every report must be
+//! well formed (sorted, each pair once, no pair of features sharing a vertex, every time of
+//! impact finite and in `[0, t_max]`, `unresolved` counting the contacts not `Resolved`,
+//! geometry present exactly when asked, `earliest` the first contact), and the BVH, the
+//! cluster method and the brute-force oracle must report the same contacts. `Mode::Earliest`
+//! must report only contacts of `Mode::All`, within the tolerance of its earliest one; at the
+//! default iteration limit exactly All's contacts within the tolerance of All's earliest, with
+//! the same earliest contact.
+//!
+//! Under a small iteration limit (which the target also draws, for speed and because the
+//! limit is itself an answer to check) an unresolved pair is reported as a contact, so the
+//! checks weaken to what still holds: BVH equals brute force, the cluster method reports a
+//! subset of brute force's contacts (it skips certified pairs without solving them), and
+//! Earliest reports a subset of All's contacts, so its earliest is one of All's (see
+//! `topoccd/tests/fuzz_regressions.rs`).
 #![no_main]
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
-use topoccd::kdop::DopKind;
 use topoccd::math::DVec3;
-use topoccd::step::{Ccd, Contact, Method, Mode, QueryOptions, Report, Step};
+use topoccd::{
+    Ccd, Certainty, Contact, DopKind, EeContact, Method, Mode, OptionsError, QueryOptions, Report,
+    Step, VfContact,
+};
 
 const MAX_VERTICES: usize = 40;
 const MAX_TRIANGLES: usize = 60;
@@ -128,6 +140,10 @@ struct Input {
     t_max: u8,
     kdop: u8,
     iterations: u8,
+    tolerance: u8,
+    geometry: bool,
+    /// Most values leave the options valid; the others put one option out of its range.
+    invalid: u8,
 }
 
 fn triangles(spec: &[Triangles], n: usize) -> Vec<[u32; 3]> {
@@ -157,17 +173,119 @@ fn triangles(spec: &[Triangles], n: usize) -> Vec<[u32; 3]> {
     out
 }
 
-fn check_report(report: &Report, t_max: f64, what: &str) {
-    let tois = report
-        .vf
-        .iter()
-        .map(|c| c.toi)
-        .chain(report.ee.iter().map(|c| c.toi));
-    for toi in tois.chain(report.earliest_toi()) {
+/// The step as `Step::new` should judge it: the same lengths at t=0 and t=1, finite
+/// coordinates, and triangles of three distinct vertices in range.
+fn step_is_valid(x0: &[[f64; 3]], x1: &[[f64; 3]], tris: &[[u32; 3]]) -> bool {
+    let n = x0.len();
+    n == x1.len()
+        && x0.iter().chain(x1).flatten().all(|c| c.is_finite())
+        && tris.iter().all(|&[a, b, c]| {
+            [a, b, c].iter().all(|&i| (i as usize) < n) && a != b && a != c && b != c
+        })
+}
+
+/// The options as documented: tolerance in (0, 1), at least one iteration, a finite
+/// `min_separation >= 0`, `t_max` in (0, 1].
+fn options_are_valid(o: &QueryOptions) -> bool {
+    let n = &o.narrow;
+    n.tolerance > 0.0
+        && n.tolerance < 1.0
+        && n.max_iterations >= 1
+        && n.min_separation >= 0.0
+        && n.min_separation.is_finite()
+        && n.t_max > 0.0
+        && n.t_max <= 1.0
+}
+
+/// Whether the error names an option that is out of its range, with its value.
+fn names_a_bad_option(e: &OptionsError, o: &QueryOptions) -> bool {
+    let n = &o.narrow;
+    let same = |x: f64, y: f64| x.to_bits() == y.to_bits();
+    match *e {
+        OptionsError::Tolerance(x) => {
+            same(x, n.tolerance) && !(n.tolerance > 0.0 && n.tolerance < 1.0)
+        }
+        OptionsError::MaxIterations => n.max_iterations == 0,
+        OptionsError::MinSeparation(x) => {
+            same(x, n.min_separation) && !(n.min_separation >= 0.0 && n.min_separation.is_finite())
+        }
+        OptionsError::TMax(x) => same(x, n.t_max) && !(n.t_max > 0.0 && n.t_max <= 1.0),
+        _ => false,
+    }
+}
+
+/// What every report must satisfy, whatever the method, mode and iteration limit.
+fn check_report(report: &Report, tris: &[[u32; 3]], options: &QueryOptions, what: &str) {
+    let t_max = options.narrow.t_max;
+    let toi_ok = |toi: f64| toi.is_finite() && (0.0..=t_max).contains(&toi);
+    let used = |v: u32| tris.iter().any(|t| t.contains(&v));
+    let is_edge = |[i, j]: [u32; 2]| {
+        tris.iter()
+            .any(|t| t.contains(&i) && t.contains(&j) && i != j)
+    };
+    for c in &report.vf {
+        assert!(toi_ok(c.toi), "{what}: toi of {c:?}");
+        assert!(used(c.vertex), "{what}: vertex of no triangle in {c:?}");
+        let face = tris.get(c.face as usize).expect("face in range");
         assert!(
-            toi.is_finite() && (0.0..=t_max).contains(&toi),
-            "{what}: toi {toi}"
+            !face.contains(&c.vertex),
+            "{what}: vertex of its own face in {c:?}"
         );
+        assert_eq!(
+            c.geometry.is_some(),
+            options.geometry,
+            "{what}: geometry of {c:?}"
+        );
+    }
+    for c in &report.ee {
+        assert!(toi_ok(c.toi), "{what}: toi of {c:?}");
+        assert!(
+            c.a[0] < c.a[1] && c.b[0] < c.b[1] && c.a < c.b,
+            "{what}: order in {c:?}"
+        );
+        assert!(is_edge(c.a) && is_edge(c.b), "{what}: not an edge in {c:?}");
+        assert!(
+            !c.a.iter().any(|v| c.b.contains(v)),
+            "{what}: edges share a vertex in {c:?}"
+        );
+        assert_eq!(
+            c.geometry.is_some(),
+            options.geometry,
+            "{what}: geometry of {c:?}"
+        );
+    }
+    assert!(
+        report
+            .vf
+            .windows(2)
+            .all(|w| (w[0].vertex, w[0].face) < (w[1].vertex, w[1].face)),
+        "{what}: vf not sorted, or a pair twice"
+    );
+    assert!(
+        report
+            .ee
+            .windows(2)
+            .all(|w| (w[0].a, w[0].b) < (w[1].a, w[1].b)),
+        "{what}: ee not sorted, or a pair twice"
+    );
+    let contacts = || {
+        let vf = report.vf.iter().map(|&c| Contact::Vf(c));
+        vf.chain(report.ee.iter().map(|&c| Contact::Ee(c)))
+    };
+    let unresolved = contacts()
+        .filter(|c| c.certainty() != Certainty::Resolved)
+        .count();
+    assert_eq!(report.unresolved, unresolved, "{what}: unresolved");
+    let first = contacts().min_by(Contact::earliest_order);
+    assert_eq!(
+        report.earliest, first,
+        "{what}: earliest is not the first contact"
+    );
+}
+
+fn subset<T: PartialEq + std::fmt::Debug>(part: &[T], whole: &[T], what: &str) {
+    for c in part {
+        assert!(whole.contains(c), "{what}: {c:?} missing");
     }
 }
 
@@ -187,36 +305,100 @@ fuzz_target!(|input: Input| {
             .collect(),
         Motion::Free(spec) => points(&spec[..spec.len().min(MAX_VERTICES + 1)], &x0),
     };
+    // The public input types, borrowed: `&Vec<[f64; 3]>` and `&Vec<[u32; 3]>`.
+    let x0: Vec<[f64; 3]> = x0.iter().map(|p| p.to_array()).collect();
+    let x1: Vec<[f64; 3]> = x1.iter().map(|p| p.to_array()).collect();
     let tris = triangles(&input.triangles, x0.len());
-    let Ok(step) = Step::new(x0, x1, tris) else {
-        return;
+    let valid = step_is_valid(&x0, &x1, &tris);
+    let step = match Step::new(&x0, &x1, &tris) {
+        Ok(step) => step,
+        Err(e) => {
+            assert!(!valid, "a valid step is refused: {e}");
+            return;
+        }
     };
+    assert!(valid, "an invalid step is accepted");
+    assert!(step.is_borrowed());
+    let bits = |x: &[[f64; 3]]| -> Vec<u64> { x.iter().flatten().map(|c| c.to_bits()).collect() };
+    assert_eq!(bits(step.x0()), bits(&x0));
+    assert_eq!(bits(step.x1()), bits(&x1));
+    assert_eq!(step.triangles(), &tris[..]);
 
     let mut options = QueryOptions::default();
     options.narrow.min_separation = [0.0, 1e-6, 1e-3, 0.1][usize::from(input.min_separation % 4)];
     options.narrow.t_max = [1.0, 0.5, 1e-3, f64::MIN_POSITIVE][usize::from(input.t_max % 4)];
+    let default_tolerance = options.narrow.tolerance;
+    options.narrow.tolerance =
+        [default_tolerance, 1e-3, 0.1, 0.5][usize::from(input.tolerance % 4)];
     // Few iterations keep the fuzzer fast; the iteration limit is itself an answer to check.
-    // At the default limit Earliest must name exactly the earliest contact of All.
+    // At the default limit the methods agree exactly, and Earliest reports exactly All's
+    // contacts within the tolerance of the earliest.
     let default_iterations = options.narrow.max_iterations;
     options.narrow.max_iterations =
         [1, 64, 4096, default_iterations][usize::from(input.iterations % 4)];
-    let exact = options.narrow.max_iterations == default_iterations;
     options.kdop =
         [DopKind::K6, DopKind::K14, DopKind::K18, DopKind::K26][usize::from(input.kdop % 4)];
-    let t_max = options.narrow.t_max;
-
+    options.geometry = input.geometry;
+    // One draw in five puts one option out of its range or on its edge (-0.0 separation and a
+    // subnormal t_max are valid).
+    let n = &mut options.narrow;
+    match input.invalid % 80 {
+        0 => n.tolerance = 0.0,
+        1 => n.tolerance = 1.0,
+        2 => n.tolerance = f64::NAN,
+        3 => n.tolerance = -1e-6,
+        4 => n.tolerance = f64::INFINITY,
+        5 => n.max_iterations = 0,
+        6 => n.min_separation = -1e-6,
+        7 => n.min_separation = f64::NAN,
+        8 => n.min_separation = f64::INFINITY,
+        9 => n.min_separation = -0.0,
+        10 => n.t_max = 0.0,
+        11 => n.t_max = 1.0 + f64::EPSILON,
+        12 => n.t_max = f64::NAN,
+        13 => n.t_max = -0.0,
+        14 => n.t_max = f64::INFINITY,
+        15 => n.t_max = f64::MIN_POSITIVE / 2.0, // subnormal, in (0, 1]: valid
+        _ => {}
+    }
+    let exact = options.narrow.max_iterations == default_iterations;
     let mut ccd = Ccd::new();
-    let brute = ccd.query(&step, Method::Brute, &options);
-    check_report(&brute, t_max, "brute");
-    let bvh = ccd.query(&step, Method::Bvh, &options);
+
+    if !options_are_valid(&options) {
+        assert!(options.validate().is_err());
+        for mode in [Mode::All, Mode::Earliest] {
+            options.mode = mode;
+            for method in [Method::Brute, Method::Bvh, Method::Cluster] {
+                match ccd.query(&step, method, &options) {
+                    Ok(_) => panic!("{method}: invalid options accepted: {options:?}"),
+                    Err(e) => assert!(
+                        names_a_bad_option(&e, &options),
+                        "{method}: {e} for {options:?}"
+                    ),
+                }
+            }
+        }
+        return;
+    }
+    assert_eq!(options.validate(), Ok(()));
+
+    let brute = ccd
+        .query(&step, Method::Brute, &options)
+        .expect("valid options");
+    check_report(&brute, &tris, &options, "brute");
+    let bvh = ccd
+        .query(&step, Method::Bvh, &options)
+        .expect("valid options");
     assert!(ccd.validate_tree().is_ok(), "invalid bvh");
-    check_report(&bvh, t_max, "bvh");
+    check_report(&bvh, &tris, &options, "bvh");
     assert_eq!(bvh.vf, brute.vf, "vf differs between bvh and brute");
     assert_eq!(bvh.ee, brute.ee, "ee differs between bvh and brute");
     assert_eq!(bvh.earliest, brute.earliest);
-    let cluster = ccd.query(&step, Method::Cluster, &options);
+    let cluster = ccd
+        .query(&step, Method::Cluster, &options)
+        .expect("valid options");
     assert!(ccd.validate_tree().is_ok(), "invalid cluster tree");
-    check_report(&cluster, t_max, "cluster");
+    check_report(&cluster, &tris, &options, "cluster");
     if exact {
         assert_eq!(cluster.vf, brute.vf, "vf differs between cluster and brute");
         assert_eq!(cluster.ee, brute.ee, "ee differs between cluster and brute");
@@ -225,46 +407,73 @@ fuzz_target!(|input: Input| {
         // Under a small iteration limit brute force may report a pair it could not resolve,
         // which the cluster method skips as proved free of contact by its certificate: the
         // cluster method reports a subset of brute force's contacts, with the same times.
-        assert!(
-            cluster.vf.iter().all(|c| brute.vf.contains(c)),
-            "cluster vf not in brute"
-        );
-        assert!(
-            cluster.ee.iter().all(|c| brute.ee.contains(c)),
-            "cluster ee not in brute"
-        );
+        subset(&cluster.vf, &brute.vf, "cluster vf in brute");
+        subset(&cluster.ee, &brute.ee, "cluster ee in brute");
         let toi = |r: &Report| r.earliest_toi().unwrap_or(f64::INFINITY);
         assert!(toi(&cluster) >= toi(&brute));
     }
 
     options.mode = Mode::Earliest;
+    let tolerance = options.narrow.tolerance;
     for (method, all) in [
         (Method::Bvh, &bvh),
         (Method::Brute, &brute),
         (Method::Cluster, &cluster),
     ] {
-        let earliest = ccd.query(&step, method, &options);
-        assert!(earliest.vf.is_empty() && earliest.ee.is_empty());
-        check_report(&earliest, t_max, "earliest");
-        if exact {
-            assert_eq!(
-                earliest.earliest, all.earliest,
-                "{method}: earliest differs from all's"
-            );
-            continue;
-        }
-        // Under a small iteration limit a pair that cannot be resolved over [0, t_max] may be
-        // ruled out over the shorter interval Earliest solves first: Earliest may then name
-        // another contact of All (both answers are conservative), but never one All lacks.
+        let earliest = ccd.query(&step, method, &options).expect("valid options");
+        assert!(ccd.validate_tree().is_ok(), "{method}: invalid tree");
+        check_report(&earliest, &tris, &options, "earliest");
         assert_eq!(
             earliest.earliest.is_some(),
             all.earliest.is_some(),
             "{method}"
         );
-        match earliest.earliest {
-            Some(Contact::Vf(c)) => assert!(all.vf.contains(&c), "{method}: {c:?} not in all"),
-            Some(Contact::Ee(c)) => assert!(all.ee.contains(&c), "{method}: {c:?} not in all"),
-            None => {}
+        // Earliest solves a pair over a shorter interval first, and again over the whole one
+        // if that finds a contact: what it reports is a contact of All, unchanged, within the
+        // tolerance of its own earliest (which check_report found among them).
+        subset(
+            &earliest.vf,
+            &all.vf,
+            &format!("{method}: earliest vf in all"),
+        );
+        subset(
+            &earliest.ee,
+            &all.ee,
+            &format!("{method}: earliest ee in all"),
+        );
+        if let Some(first) = earliest.earliest {
+            let cut = first.toi() + tolerance;
+            assert!(
+                earliest.vf.iter().all(|c| c.toi <= cut),
+                "{method}: vf late"
+            );
+            assert!(
+                earliest.ee.iter().all(|c| c.toi <= cut),
+                "{method}: ee late"
+            );
         }
+        if !exact {
+            // Under a small iteration limit a pair that cannot be resolved over [0, t_max]
+            // may be ruled out over the shorter interval: Earliest may then miss some of
+            // All's earliest pairs and name another contact of All (both conservative).
+            continue;
+        }
+        assert_eq!(
+            earliest.earliest, all.earliest,
+            "{method}: earliest differs from all's"
+        );
+        let cut = all
+            .earliest_toi()
+            .map_or(f64::NEG_INFINITY, |t| t + tolerance);
+        let vf: Vec<VfContact> = all.vf.iter().filter(|c| c.toi <= cut).copied().collect();
+        let ee: Vec<EeContact> = all.ee.iter().filter(|c| c.toi <= cut).copied().collect();
+        assert_eq!(
+            earliest.vf, vf,
+            "{method}: earliest vf are not all's within the tolerance"
+        );
+        assert_eq!(
+            earliest.ee, ee,
+            "{method}: earliest ee are not all's within the tolerance"
+        );
     }
 });
