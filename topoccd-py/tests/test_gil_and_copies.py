@@ -116,3 +116,5 @@ def test_one_ccd_used_by_two_threads_at_once_raises_instead_of_crashing():
     counts = [o for o in outcomes if not isinstance(o, RuntimeError)]
     assert len(outcomes) == 2 and counts and counts[0] > 0
     assert len(errors) <= 1
+    for err in errors:
+        assert "use one Ccd per thread" in str(err)
