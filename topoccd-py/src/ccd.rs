@@ -155,7 +155,7 @@ impl Ccd {
     ))]
     #[allow(clippy::too_many_arguments)]
     fn query(
-        &mut self,
+        slf: &Bound<'_, Self>,
         py: Python<'_>,
         x0: &Bound<'_, PyAny>,
         x1: &Bound<'_, PyAny>,
@@ -216,10 +216,15 @@ impl Ccd {
             groups: group_ids.as_deref(),
         };
         let borrowed = (p0.borrowed, p1.borrowed);
+        let mut this = slf.try_borrow_mut().map_err(|_| {
+            pyo3::exceptions::PyRuntimeError::new_err(
+                "this Ccd is running a query in another thread; use one Ccd per thread",
+            )
+        })?;
         if let Some(n) = threads {
-            self.ensure_pool(n)?;
+            this.ensure_pool(n)?;
         }
-        let Ccd { inner, pool } = self;
+        let Ccd { inner, pool } = &mut *this;
         let pool = match threads {
             Some(_) => pool.as_ref().map(|(_, p)| p),
             None => None,

@@ -41,7 +41,8 @@ use crate::errors::input_error;
 ///     earliest (tuple or None): the pair attaining it, ``("vf", vertex, face, toi)`` or
 ///         ``("ee", a0, a1, b0, b1, toi)``.
 ///     unresolved (int): contacts whose certainty is not 0.
-///     stats (dict): work counters: ``bv_tests``, ``vf_tests``, ``ee_tests``, ``vertices``,
+///     stats (dict): work counters: ``bv_tests``, ``vf_tests``, ``ee_tests``,
+///         ``peak_candidates`` (the most candidate pairs buffered at once), ``vertices``,
 ///         ``triangles``, and ``cluster`` (a dict, ``method="cluster"`` only).
 ///     seconds (dict): wall time of each phase: ``build``, ``traverse``, ``narrow``,
 ///         ``total``, and with ``method="cluster"`` also ``clustering`` and ``merging``.
@@ -251,6 +252,7 @@ fn stats(py: Python<'_>, r: &LibReport, facts: &StepFacts) -> PyResult<Py<PyDict
     d.set_item("bv_tests", s.bv_tests)?;
     d.set_item("vf_tests", s.vf_tests)?;
     d.set_item("ee_tests", s.ee_tests)?;
+    d.set_item("peak_candidates", s.peak_candidates)?;
     if let Some(c) = &s.cluster {
         let cd = PyDict::new(py);
         cd.set_item("leaf", c.leaf)?;
@@ -259,6 +261,7 @@ fn stats(py: Python<'_>, r: &LibReport, facts: &StepFacts) -> PyResult<Py<PyDict
         cd.set_item("triangles_per_intermediate", c.triangles_per_intermediate)?;
         cd.set_item("lazy_bvhs", c.lazy_bvhs)?;
         cd.set_item("leaf_pairs", c.leaf_pairs)?;
+        cd.set_item("uncertified_leaves", c.uncertified_leaves)?;
         d.set_item("cluster", cd)?;
     }
     Ok(d.unbind())

@@ -94,3 +94,27 @@ def test_inputs_are_not_modified():
     topoccd.query(x0, x1, tris, geometry=True)
     for a, b in zip((x0, x1, tris), copies):
         np.testing.assert_array_equal(a, b)
+
+
+def test_one_ccd_used_by_two_threads_at_once_raises_instead_of_crashing():
+    x0, x1, tris = crossing_sheets(120)
+    ccd = topoccd.Ccd()
+    outcomes = []
+
+    def run():
+        try:
+            outcomes.append(len(ccd.query(x0, x1, tris, threads=1)))
+        except RuntimeError as err:
+            outcomes.append(err)
+
+    first = threading.Thread(target=run)
+    first.start()
+    time.sleep(0.1)
+    run()  # while the first query runs (its GIL released): the object is busy
+    first.join()
+    errors = [o for o in outcomes if isinstance(o, RuntimeError)]
+    counts = [o for o in outcomes if not isinstance(o, RuntimeError)]
+    assert len(outcomes) == 2 and counts and counts[0] > 0
+    assert len(errors) <= 1
+    for err in errors:
+        assert "use one Ccd per thread" in str(err)

@@ -19,7 +19,7 @@ def test_falling_triangle_pairs_and_times():
     assert r.earliest_toi == pytest.approx(0.5, abs=2e-6)
     assert r.unresolved == 0 and len(r) == 3
     assert r.vf_point is None and r.ee_params is None
-    for key in ("bv_tests", "vf_tests", "ee_tests", "vertices", "triangles"):
+    for key in ("bv_tests", "vf_tests", "ee_tests", "peak_candidates", "vertices", "triangles"):
         assert isinstance(r.stats[key], int)
     assert r.stats["vertices"] == 6 and r.stats["triangles"] == 2
     for key in ("build", "traverse", "narrow", "total"):

@@ -70,7 +70,8 @@ class Report:
     earliest: Optional[_Earliest]
     unresolved: int
     stats: dict
-    """``bv_tests``, ``vf_tests``, ``ee_tests``, ``vertices``, ``triangles`` (and ``cluster``)."""
+    """``bv_tests``, ``vf_tests``, ``ee_tests``, ``peak_candidates``, ``vertices``, ``triangles``
+    (and ``cluster``)."""
     seconds: dict
     """``build``, ``traverse``, ``narrow``, ``total`` (and ``clustering``, ``merging``)."""
     _x0_address: int
