@@ -9,7 +9,7 @@ use plotters::style::FontStyle;
 
 static FONT: Once = Once::new();
 
-fn register_font() {
+pub fn register_font() {
     FONT.call_once(|| {
         // The bytes are a valid TrueType font shipped by the `dejavu` crate; if registering
         // failed anyway, text would be missing from the plot, which `draw` then reports.
