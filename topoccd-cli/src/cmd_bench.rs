@@ -477,7 +477,21 @@ pub fn run(args: &Args) -> Result<std::process::ExitCode> {
         if !args.json {
             print_text(&tables);
         }
-        series.push((tables.input.clone(), totals));
+        series.push(crate::plot::PlotInput {
+            name: tables.input.clone(),
+            per_step: totals,
+            phases: tables
+                .methods
+                .iter()
+                .map(|m| {
+                    m.seconds
+                        .iter()
+                        .copied()
+                        .filter(|s| s.0 != "total")
+                        .collect()
+                })
+                .collect(),
+        });
         all.push(tables);
     }
     if args.json {
