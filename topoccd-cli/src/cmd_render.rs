@@ -349,7 +349,7 @@ pub fn run(args: &Args) -> Result<ExitCode> {
                 .partition(|c| is_crack_contact(c, &canon, step.triangles()));
             let involved = contact_triangles(&real, &topo, faces);
             let cracked = contact_triangles(&crack, &topo, faces);
-            let styles = contact_styles(&contacts, &involved);
+            let styles = contact_styles(&real, &involved);
             eprintln!(
                 "crack contacts (features joined through a split vertex): {} of {}, involving \
                  {} more triangles",
@@ -468,8 +468,8 @@ pub fn run(args: &Args) -> Result<ExitCode> {
 }
 
 /// Styles for `--color contacts` from a list of contacts (read from `--pairs`, or computed by a
-/// whole-step query) and the triangles they involve (see [`contact_triangles`]): those in red
-/// over grey. Prints the counts to stderr.
+/// whole-step query; crack contacts left out) and the triangles they involve (see
+/// [`contact_triangles`]): those in red over grey. Prints the counts to stderr.
 pub fn contact_styles(contacts: &[Contact], involved: &[bool]) -> Vec<TriangleStyle> {
     let faces = involved.len();
     let vf = contacts
