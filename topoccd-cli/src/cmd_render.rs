@@ -608,4 +608,43 @@ mod tests {
             assert!(bad.parse::<Size>().is_err(), "{bad}");
         }
     }
+
+    #[test]
+    fn auto_up_axis() {
+        let v = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+        // A sheet thinnest along z, along x, and a cube falling along -y, and a still cube.
+        let sheet = [v(0.0, 0.0, 0.0), v(4.0, 3.0, 0.1)];
+        assert_eq!(auto_up(&sheet, &sheet).0, UpAxis::Z);
+        let wall = [v(0.0, 0.0, 0.0), v(0.2, 3.0, 4.0)];
+        assert_eq!(auto_up(&wall, &wall).0, UpAxis::X);
+        let cube = [v(0.0, 0.0, 0.0), v(1.0, 1.0, 1.0)];
+        let fallen = cube.map(|p| p - DVec3::Y * 0.5);
+        let (up, why) = auto_up(&cube, &fallen);
+        assert_eq!(up, UpAxis::Y, "{why}");
+        // Rising is no fall: the default, z.
+        let risen = cube.map(|p| p + DVec3::Y * 0.5);
+        assert_eq!(auto_up(&cube, &risen).0, UpAxis::Z);
+        assert_eq!(auto_up(&cube, &cube).0, UpAxis::Z);
+        assert_eq!(auto_up(&[], &[]).0, UpAxis::Z);
+    }
+
+    #[test]
+    fn crack_contacts_share_a_vertex_through_the_parents() {
+        // Vertex 4 copies 1, vertex 5 copies 4 (a chain); triangle 0 = (0, 1, 2).
+        let canon = canonical_vertices(&[[4, 1], [5, 4]], 6);
+        assert_eq!(canon, [0, 1, 2, 3, 1, 1]);
+        let tris = [[0, 1, 2], [3, 4, 5]];
+        let vf = |vertex, face| Contact::VertexFace {
+            vertex,
+            face,
+            toi: 0.0,
+        };
+        assert!(is_crack_contact(&vf(5, 0), &canon, &tris));
+        assert!(!is_crack_contact(&vf(3, 0), &canon, &tris));
+        let ee = |a, b| Contact::EdgeEdge { a, b, toi: 0.0 };
+        assert!(is_crack_contact(&ee([4, 3], [1, 0]), &canon, &tris));
+        // 5 is a copy of 1, which neither 3, 2 nor 0 is.
+        assert!(!is_crack_contact(&ee([3, 2], [0, 5]), &canon, &tris));
+        assert!(!is_crack_contact(&ee([3, 2], [0, 1]), &canon, &tris));
+    }
 }
