@@ -21,6 +21,10 @@ cargo build --release -q -p topoccd-cli
 topoccd() { cargo run --release -q -p topoccd-cli -- "$@"; }
 mkdir -p docs
 
+# Every picture carries a title and a legend; the up axis is chosen from the data (`--up auto`:
+# y for cloth-ball, a sheet thinnest along y; z for cloth-funnel, falling along -z; z for the
+# generated scene) and printed.
+#
 # 1. The clusters of cloth-ball's step (frame 92 to 93): leaf clusters in distinct colours,
 #    intermediate-cluster boundaries outlined, as in the paper's figures 4 and 5.
 ball=$scenes/cloth-ball/frames
@@ -28,21 +32,24 @@ topoccd render "$ball/cloth_ball92.ply" --step "$ball/cloth_ball93.ply" --color 
     --indexed --out docs/cloth-ball-clusters.png
 
 # 2. The contacts of cloth-funnel's step (frame 227 to 228), found by the whole-step query:
-#    the triangles involved in red (faded where the funnel's wall hides them), framed on them.
+#    the triangles involved in red (faded where the funnel's wall hides them), framed on them;
+#    the cloth's position at the end of the step outlined in blue.
 funnel=$scenes/cloth-funnel/frames
 pairs=$(mktemp "${TMPDIR:-/tmp}/topoccd-funnel-pairs.XXXXXX")
 trap 'rm -f "$pairs"' EXIT
 topoccd step "$funnel/227.ply" "$funnel/228.ply" --pairs "$pairs"
 topoccd render "$funnel/227.ply" --step "$funnel/228.ply" --color contacts --pairs "$pairs" \
-    --up z --camera 35,20 --fit contacts --indexed --out docs/cloth-funnel-contacts.png
+    --camera 35,20 --fit contacts --indexed --out docs/cloth-funnel-contacts.png
 
-# 3. The contacts of a fracture step: step 3 of the generated bunny-dragon scene (scale 0.05),
-#    where the bunny breaks pieces off the dragon; contacts computed by the whole-step query.
+# 3. The contacts of a fracture step: step 1 of the generated bunny-dragon scene (scale 0.05),
+#    the first that breaks pieces off the dragon, seen while the bunny's ears and the dragon's
+#    body are still whole: collisions in red, contacts along the fresh cracks (features joined
+#    through a split vertex) in orange; contacts computed by the whole-step query.
 scene=$(mktemp -d "${TMPDIR:-/tmp}/topoccd-bunny-dragon.XXXXXX")
 trap 'rm -f "$pairs"; rm -rf "$scene"' EXIT
 rmdir "$scene"
-topoccd gen bunny-dragon "$scene" --scale 0.05 --frames 5 --seed 1
-topoccd render "$scene/0003.ply" --step "$scene/0004.ply" --color contacts \
+topoccd gen bunny-dragon "$scene" --scale 0.05 --frames 3 --seed 1
+topoccd render "$scene/0001.ply" --step "$scene/0002.ply" --color contacts \
     --indexed --out docs/fracture-contacts.png
 
 ls -l docs/cloth-ball-clusters.png docs/cloth-funnel-contacts.png docs/fracture-contacts.png

@@ -353,17 +353,28 @@ fn average(method: &str, samples: &[Sample]) -> MethodRow {
     }
 }
 
-/// Prints the tables of one input as text.
+/// Prints the tables of one input as text, each column explained in a legend under its table.
 pub fn print_text(t: &InputTables) {
+    use crate::cmd_demo::{plural, thousands};
+    let triangles = if t.triangles[0] == t.triangles[1] {
+        plural(t.triangles[0], "triangle")
+    } else {
+        format!(
+            "{} to {} triangles",
+            thousands(t.triangles[0]),
+            thousands(t.triangles[1])
+        )
+    };
     println!(
-        "== {} ({} steps, {}..{} triangles){}",
+        "== {} ({}, {triangles}){}",
         t.input,
-        t.steps,
-        t.triangles[0],
-        t.triangles[1],
+        plural(t.steps, "step"),
         if t.agree { "" } else { "  METHODS DISAGREE" }
     );
-    println!("Table 1: average per step");
+    println!(
+        "Table 1: time and work per step (averages over {})",
+        plural(t.steps, "step")
+    );
     // Every phase any method has, in pipeline order.
     let phase_names: Vec<&str> = ["clustering", "merging", "build", "traverse", "narrow"]
         .into_iter()
@@ -375,23 +386,23 @@ pub fn print_text(t: &InputTables) {
         .collect();
     let mut header = format!("  {:<8}", "method");
     for p in &phase_names {
-        header.push_str(&format!(" {:>11}", format!("{p} ms")));
+        header.push_str(&format!(" {:>13}", format!("{p} ms")));
     }
     header.push_str(&format!(
-        " {:>11} {:>12} {:>12} {:>9}",
-        "total ms", "BV tests", "elem. tests", "contacts"
+        " {:>10} {:>12} {:>12} {:>13}",
+        "total ms", "BV tests", "elem. tests", "contacts/step"
     ));
     println!("{header}");
     for m in &t.methods {
         let mut line = format!("  {:<8}", m.method);
         for p in &phase_names {
             match m.seconds.iter().find(|s| s.0 == *p) {
-                Some(s) => line.push_str(&format!(" {:>11.2}", s.1 * 1e3)),
-                None => line.push_str(&format!(" {:>11}", "-")),
+                Some(s) => line.push_str(&format!(" {:>13.2}", s.1 * 1e3)),
+                None => line.push_str(&format!(" {:>13}", "-")),
             }
         }
         line.push_str(&format!(
-            " {:>11.2} {:>12.0} {:>12.0} {:>9.0}",
+            " {:>10.2} {:>12.0} {:>12.0} {:>13.1}",
             m.total * 1e3,
             m.bv_tests,
             m.elementary_tests,
@@ -399,22 +410,52 @@ pub fn print_text(t: &InputTables) {
         ));
         println!("{line}");
     }
-    if let Some(c) = &t.clusters {
+    println!("  What the columns mean:");
+    let has = |name: &str| t.methods.iter().any(|m| m.method == name);
+    if has("bvh") {
+        println!("    bvh: a bounding-volume hierarchy (a tree of boxes around the triangles) rebuilt every step");
+    }
+    if has("cluster") {
         println!(
-            "Table 2: triangles, leaf clusters (LC), intermediate clusters (IC), triangles per LC"
+            "    cluster: the paper's method: triangles grouped into clusters that stay valid \
+             over the step, a hierarchy per cluster"
+        );
+    }
+    if has("brute") {
+        println!("    brute: every pair of features tested, no hierarchy (the reference)");
+    }
+    for p in &phase_names {
+        let what = match *p {
+            "clustering" => "grouping the triangles into leaf clusters (cluster only)",
+            "merging" => "merging leaf clusters into intermediate clusters (cluster only)",
+            "build" => "building the bounding volumes and hierarchies",
+            "traverse" => "finding the pairs of bounding volumes that overlap",
+            "narrow" => "the exact tests of the candidate pairs",
+            _ => "",
+        };
+        println!("    {p} ms: milliseconds spent on {what}");
+    }
+    println!("    BV tests: bounding-volume overlap tests (cheap box-against-box checks)");
+    println!(
+        "    elem. tests: elementary tests, the exact continuous tests of a vertex against a \
+         triangle or an edge against an edge"
+    );
+    println!("    contacts/step: colliding pairs found per step (the same for every method)");
+    if let Some(c) = &t.clusters {
+        println!("Table 2: the cluster method's clusters (averages per step)");
+        println!(
+            "  {:.0} leaf clusters, {:.0} intermediate clusters, {:.1} triangles per leaf cluster, \
+             {:.0} leaf-cluster hierarchies built",
+            c.leaf, c.intermediate, c.triangles_per_leaf, c.lazy_bvhs
         );
         println!(
-            "  {}..{} triangles, LC {:.0}, IC {:.0}, ratio {:.1}, lazy BVHs {:.0}",
-            t.triangles[0],
-            t.triangles[1],
-            c.leaf,
-            c.intermediate,
-            c.triangles_per_leaf,
-            c.lazy_bvhs
+            "  Leaf clusters are groups of neighbouring triangles; intermediate clusters group \
+             leaf clusters. A leaf cluster's hierarchy is built only when another cluster comes \
+             near it (lazily)."
         );
     }
     if let Some(s) = t.speedup_cluster_over_bvh {
-        println!("Speedup of cluster over bvh: {s:.2}x");
+        println!("Speedup of cluster over bvh: {s:.2}x (bvh's total time / cluster's)");
     }
 }
 
@@ -436,7 +477,21 @@ pub fn run(args: &Args) -> Result<std::process::ExitCode> {
         if !args.json {
             print_text(&tables);
         }
-        series.push((tables.input.clone(), totals));
+        series.push(crate::plot::PlotInput {
+            name: tables.input.clone(),
+            per_step: totals,
+            phases: tables
+                .methods
+                .iter()
+                .map(|m| {
+                    m.seconds
+                        .iter()
+                        .copied()
+                        .filter(|s| s.0 != "total")
+                        .collect()
+                })
+                .collect(),
+        });
         all.push(tables);
     }
     if args.json {

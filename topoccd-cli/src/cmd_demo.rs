@@ -62,29 +62,165 @@ pub fn run(args: &Args) -> Result<()> {
         Ok::<(), anyhow::Error>(())
     })?;
     bar.finish_and_clear();
-    eprintln!(
-        "{}: {} frames, {}..{} triangles, {} topology changes, generated in {:.1} s",
-        args.scene,
-        summary.frames,
-        summary.triangles_first,
-        summary.triangles_last,
-        summary.topology_changes,
-        summary.seconds
+    let name = format!("{} (scale {}, seed {})", args.scene, args.scale, args.seed);
+    println!(
+        "{name}: {} generated in {:.1} s, {}.",
+        plural(summary.frames, "frame"),
+        summary.seconds,
+        plural(steps.len(), "step"),
+    );
+    println!(
+        "{}",
+        mesh_sentence(
+            &steps,
+            summary.topology_changes,
+            summary.vertices_first,
+            summary.vertices_last,
+            summary.pieces
+        )
     );
     let query = QueryArgs::default();
+    let options = query.options()?;
     let methods = [MethodArg::Bvh, MethodArg::Cluster, MethodArg::Brute];
-    let name = format!("{} (scale {}, seed {})", args.scene, args.scale, args.seed);
-    let (tables, _) = bench_source(
-        &name,
-        &Source::Memory(steps),
-        &methods,
-        &query.options()?,
-        &mut Ccd::new(),
-    )?;
+    let mut ccd = Ccd::new();
+    // What was detected, in plain words: the default method's contacts of every step.
+    let mut found = Found::default();
+    for (k, step) in steps.iter().enumerate() {
+        found.add(k, &ccd.query(step, topoccd::Method::Bvh, &options)?);
+    }
+    let (tables, _) = bench_source(&name, &Source::Memory(steps), &methods, &options, &mut ccd)?;
     print_text(&tables);
+    println!();
+    println!("{}", found.sentence());
     if !tables.agree {
         anyhow::bail!("the methods disagree (see above)");
     }
     println!("All three methods report the same pairs with the same times on every step.");
     Ok(())
+}
+
+/// `n` and `word`, with an `s` unless `n` is 1 (`1 step`, `2 steps`).
+pub fn plural(n: usize, word: &str) -> String {
+    format!("{} {word}{}", thousands(n), if n == 1 { "" } else { "s" })
+}
+
+/// `n` with commas between groups of three digits (`12,444`).
+pub fn thousands(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::with_capacity(digits.len() + digits.len() / 3);
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// What the steps' meshes are, in plain words: triangle counts, how many steps change the
+/// mesh and how, the pieces at the end.
+fn mesh_sentence(
+    steps: &[topoccd::Step<'static>],
+    changes: usize,
+    vertices_first: usize,
+    vertices_last: usize,
+    pieces: usize,
+) -> String {
+    let counts = steps.iter().map(|s| s.triangles().len());
+    let (lo, hi) = (counts.clone().min().unwrap_or(0), counts.max().unwrap_or(0));
+    let triangles = if lo == hi {
+        format!("{} throughout", plural(lo, "triangle"))
+    } else {
+        format!("{} to {} triangles", thousands(lo), thousands(hi))
+    };
+    let how = if lo == hi && vertices_last > vertices_first {
+        " (vertices are split, triangles are kept)"
+    } else {
+        ""
+    };
+    let changed = if changes == 0 {
+        "no step cuts or breaks the mesh".to_string()
+    } else {
+        format!(
+            "{} {} the mesh{how}",
+            plural(changes, "step"),
+            if changes == 1 {
+                "cuts or breaks"
+            } else {
+                "cut or break"
+            }
+        )
+    };
+    format!(
+        "{triangles}; {changed}; {} vertices at the start, {} at the end; {} at the end.",
+        thousands(vertices_first),
+        thousands(vertices_last),
+        plural(pieces, "separate piece")
+    )
+}
+
+/// The contacts found over the steps.
+#[derive(Default)]
+struct Found {
+    vf: usize,
+    ee: usize,
+    steps: usize,
+    with_contacts: usize,
+    earliest: Option<(f64, usize)>,
+}
+
+impl Found {
+    fn add(&mut self, k: usize, report: &topoccd::Report) {
+        self.steps += 1;
+        self.vf += report.vf.len();
+        self.ee += report.ee.len();
+        self.with_contacts += usize::from(!report.vf.is_empty() || !report.ee.is_empty());
+        let tois = report
+            .vf
+            .iter()
+            .map(|c| c.toi)
+            .chain(report.ee.iter().map(|c| c.toi));
+        if let Some(t) = tois.min_by(f64::total_cmp) {
+            if self.earliest.is_none_or(|(e, _)| t < e) {
+                self.earliest = Some((t, k));
+            }
+        }
+    }
+
+    /// One line: `Found N vertex-face and M edge-edge contacts over K steps; ...`.
+    fn sentence(&self) -> String {
+        let mut s = format!(
+            "Found {} and {} over {} ({} with at least one contact)",
+            plural(self.vf, "vertex-face contact"),
+            plural(self.ee, "edge-edge contact"),
+            plural(self.steps, "step"),
+            thousands(self.with_contacts)
+        );
+        match self.earliest {
+            Some((t, k)) => {
+                s.push_str(&format!(
+                "; the earliest at t={t:.4} of step {k}{} (t runs from 0 to 1 within each step).",
+                if t == 0.0 { ", touching at its start" } else { "" }
+            ))
+            }
+            None => s.push_str(": nothing touches."),
+        }
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plain_numbers() {
+        assert_eq!(thousands(0), "0");
+        assert_eq!(thousands(999), "999");
+        assert_eq!(thousands(12444), "12,444");
+        assert_eq!(thousands(1234567), "1,234,567");
+        assert_eq!(plural(1, "step"), "1 step");
+        assert_eq!(plural(2, "piece"), "2 pieces");
+        assert_eq!(plural(1000, "step"), "1,000 steps");
+    }
 }

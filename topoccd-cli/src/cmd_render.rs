@@ -15,18 +15,21 @@ use std::str::FromStr;
 use anyhow::{anyhow, bail, Context, Result};
 use topoccd::broad::cluster::{cluster, ClusterOptions};
 
+use crate::cmd_demo::plural;
 use crate::query_args::GrowthArg;
 use topoccd::io::{frame_number, read_mesh, sequence::step_between};
 use topoccd::math::DVec3;
 use topoccd::mesh::Topology;
 use topoccd::Step;
 
+use crate::render::annotate::{annotate, band_height, LegendEntry};
 use crate::render::camera::{UpAxis, View};
 use crate::render::contacts::{contact_triangles, read_pairs, Contact};
 use crate::render::encode::{encode_png, PngColors};
 use crate::render::paint::{
     connected_components, paint_clusters, paint_contacts, paint_objects, TriangleStyle,
 };
+use crate::render::palette::{self, categorical};
 use crate::render::{draw, supersampling, DrawOptions};
 
 /// Largest picture side, in pixels.
@@ -55,6 +58,79 @@ pub enum Fit {
     /// The triangles involved in contacts (needs --color contacts): they fill half of the
     /// picture, the mesh around them is clipped at its edges. The whole mesh if there are none.
     Contacts,
+}
+
+/// `--up`: an axis, or chosen from the data.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum UpArg {
+    /// Chosen from the data (see `--up`).
+    Auto,
+    /// `+x` up.
+    X,
+    /// `+y` up.
+    Y,
+    /// `+z` up.
+    Z,
+}
+
+/// The up axis `--up auto` picks for a mesh at `pos0` (and `pos1` at the step's end), with the
+/// reason in words:
+/// 1. a sheet-like mesh (its bounding box's thinnest side at most half the next one): the
+///    thinnest axis (a cloth lying flat, a floor);
+/// 2. otherwise, when the vertices' mean motion from t=0 to t=1 points down one axis (at
+///    least 80% of it along `-x`, `-y` or `-z`): that axis (things falling under gravity);
+/// 3. otherwise z, the convention of the shared scenes and of `topoccd gen`.
+pub fn auto_up(pos0: &[DVec3], pos1: &[DVec3]) -> (UpAxis, String) {
+    let axes = [(UpAxis::X, "x"), (UpAxis::Y, "y"), (UpAxis::Z, "z")];
+    let finite = pos0.iter().filter(|p| p.is_finite());
+    let (lo, hi) = finite.fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    if lo.x <= hi.x {
+        let extent = (hi - lo).to_array();
+        let mut order = [0usize, 1, 2];
+        order.sort_by(|&a, &b| extent[a].total_cmp(&extent[b]));
+        let (k, thinnest, next) = (order[0], extent[order[0]], extent[order[1]]);
+        if next > 0.0 && thinnest <= 0.5 * next {
+            return (
+                axes[k].0,
+                format!(
+                    "the mesh is a sheet, thinnest along {} ({thinnest:.3} against {next:.3})",
+                    axes[k].1
+                ),
+            );
+        }
+        let n = pos0.len().min(pos1.len());
+        if n > 0 {
+            let mean = (0..n)
+                .map(|i| pos1[i] - pos0[i])
+                .filter(|d| d.is_finite())
+                .fold(DVec3::ZERO, |a, d| a + d)
+                / n as f64;
+            let m = mean.to_array();
+            let (k, down) = m
+                .iter()
+                .copied()
+                .enumerate()
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .expect("three axes");
+            let largest = extent[order[2]];
+            if -down > 1e-9 * largest && -down >= 0.8 * mean.length() {
+                return (
+                    axes[k].0,
+                    format!(
+                        "the mesh falls along -{} (mean motion {:.3?})",
+                        axes[k].1, m
+                    ),
+                );
+            }
+        }
+    }
+    (
+        UpAxis::Z,
+        "no sheet and no fall: z, the convention of the shared scenes and of topoccd gen".into(),
+    )
 }
 
 /// `--camera AZIMUTH,ELEVATION`, in degrees.
@@ -142,9 +218,12 @@ pub struct Args {
     /// What the camera frames.
     #[arg(long, value_enum, default_value_t = Fit::Mesh)]
     fit: Fit,
-    /// World axis pointing up in the picture.
-    #[arg(long, value_enum, default_value_t = UpAxis::Y)]
-    up: UpAxis,
+    /// World axis pointing up in the picture. `auto` chooses it from the data: the axis along
+    /// which the mesh is thinnest when it is a sheet (thinner than a tenth of its largest
+    /// side); otherwise, with --step, the axis of the vertices' mean motion when one axis
+    /// carries most of it (falling under gravity); otherwise y. The choice is printed.
+    #[arg(long, value_enum, default_value_t = UpArg::Auto)]
+    up: UpArg,
     /// Picture size in pixels.
     #[arg(long, value_name = "WxH", default_value = "1024x768")]
     size: Size,
@@ -185,14 +264,25 @@ pub fn run(args: &Args) -> Result<ExitCode> {
     };
     let topo = Topology::new(step.triangles(), step.vertex_count());
     let faces = step.triangles().len();
+    let moves = args.step.is_some() && step.pos0() != step.pos1();
 
     let mut focus: Option<Vec<bool>> = None;
     let mut show_through: Option<Vec<bool>> = None;
-    let styles: Vec<TriangleStyle> = match args.color {
+    let mut legend: Vec<LegendEntry> = Vec::new();
+    let entry = |color: [u8; 3], label: String| LegendEntry {
+        color,
+        line: false,
+        label,
+    };
+    let (styles, what): (Vec<TriangleStyle>, &str) = match args.color {
         ColorMode::Objects => {
             let (component, count) = connected_components(step.triangles(), step.vertex_count());
             eprintln!("objects: {count} connected components over {faces} triangles");
-            paint_objects(&component)
+            legend.push(entry(
+                categorical(0),
+                format!("one colour per connected piece ({count})"),
+            ));
+            (paint_objects(&component), "connected pieces")
         }
         ColorMode::Clusters => {
             let options = ClusterOptions {
@@ -210,20 +300,33 @@ pub fn run(args: &Args) -> Result<ExitCode> {
                 s.triangles_per_leaf,
                 s.triangles_per_intermediate
             );
-            paint_clusters(&clustering, &topo)
+            legend.push(entry(
+                categorical(0),
+                format!("one colour per leaf cluster ({})", s.leaves),
+            ));
+            legend.push(LegendEntry {
+                color: palette::OUTLINE,
+                line: true,
+                label: format!(
+                    "boundaries of intermediate clusters ({}) and of the mesh",
+                    s.intermediates
+                ),
+            });
+            (paint_clusters(&clustering, &topo), "clusters")
         }
         ColorMode::Contacts => {
             let contacts: Vec<Contact> = match &args.pairs {
                 Some(path) => read_pairs(path, step.vertex_count(), faces)?,
-                // Without --pairs: the step's own contacts, from the whole-step query.
+                // Without --pairs: the step's own contacts, from the whole-step query, crack
+                // contacts included (they are told apart below).
                 None => {
-                    let report = topoccd::query(
-                        &step,
-                        topoccd::Method::default(),
-                        &topoccd::QueryOptions::default(),
-                    )?;
+                    let options = topoccd::QueryOptions {
+                        crack_filter: false,
+                        ..topoccd::QueryOptions::default()
+                    };
+                    let report = topoccd::query(&step, topoccd::Method::default(), &options)?;
                     eprintln!(
-                        "{} vf and {} ee contacts in the step",
+                        "{} vf and {} ee contacts in the step (crack contacts included)",
                         report.vf.len(),
                         report.ee.len()
                     );
@@ -240,31 +343,117 @@ pub fn run(args: &Args) -> Result<ExitCode> {
                     vf.chain(ee).collect()
                 }
             };
-            let involved = contact_triangles(&contacts, &topo, faces);
-            let styles = contact_styles(&contacts, &involved);
-            if args.fit == Fit::Contacts {
-                focus = Some(involved.clone());
+            let canon = canonical_vertices(step.parents(), step.vertex_count());
+            let (crack, real): (Vec<Contact>, Vec<Contact>) = contacts
+                .iter()
+                .partition(|c| is_crack_contact(c, &canon, step.triangles()));
+            let involved = contact_triangles(&real, &topo, faces);
+            let cracked = contact_triangles(&crack, &topo, faces);
+            let styles = contact_styles(&real, &involved);
+            eprintln!(
+                "crack contacts (features joined through a split vertex): {} of {}, involving \
+                 {} more triangles",
+                crack.len(),
+                contacts.len(),
+                cracked
+                    .iter()
+                    .zip(&involved)
+                    .filter(|&(&c, &r)| c && !r)
+                    .count()
+            );
+            let styles: Vec<TriangleStyle> = styles
+                .into_iter()
+                .zip(involved.iter().zip(&cracked))
+                .map(|(s, (&r, &c))| {
+                    if c && !r {
+                        TriangleStyle::plain(palette::CRACK)
+                    } else {
+                        s
+                    }
+                })
+                .collect();
+            let any: Vec<bool> = involved
+                .iter()
+                .zip(&cracked)
+                .map(|(&r, &c)| r || c)
+                .collect();
+            legend.push(entry(
+                palette::CONTACT,
+                format!("in a contact ({})", plural(real.len(), "pair")),
+            ));
+            if !crack.is_empty() {
+                legend.push(entry(
+                    palette::CRACK,
+                    format!(
+                        "in crack contacts only ({} joined through a split vertex, \
+                         touching by construction: not collisions)",
+                        plural(crack.len(), "pair")
+                    ),
+                ));
             }
-            show_through = Some(involved);
-            styles
+            legend.push(entry(palette::NEUTRAL, "no contact".into()));
+            if args.fit == Fit::Contacts {
+                focus = Some(if involved.contains(&true) {
+                    involved
+                } else {
+                    any.clone()
+                });
+            }
+            show_through = Some(any);
+            (styles, "contacts")
         }
     };
+    if moves {
+        legend.push(LegendEntry {
+            color: palette::GHOST,
+            line: true,
+            label: "outline at the end of the step (t=1)".into(),
+        });
+    }
+    if show_through.is_some() {
+        legend.push(entry(
+            palette::mix(palette::NEUTRAL, palette::CONTACT, 0.35),
+            "faded: behind nearer surfaces".into(),
+        ));
+    }
 
+    let (up, reason) = match args.up {
+        UpArg::Auto => auto_up(step.pos0(), step.pos1()),
+        UpArg::X => (UpAxis::X, "--up x".into()),
+        UpArg::Y => (UpAxis::Y, "--up y".into()),
+        UpArg::Z => (UpAxis::Z, "--up z".into()),
+    };
+    eprintln!("up axis: {} ({reason})", up_name(up));
     let view = View {
         azimuth_deg: args.camera.azimuth,
         elevation_deg: args.camera.elevation,
-        up: args.up,
+        up,
     };
     let Size { width, height } = args.size;
+    let band = band_height(&legend, width, height);
+    let mesh_height = height - band;
     let options = DrawOptions {
         view,
         width,
-        height,
-        samples: supersampling(width, height),
+        height: mesh_height,
+        samples: supersampling(width, mesh_height),
         focus: focus.as_deref(),
         show_through: show_through.as_deref(),
+        ghost: moves.then(|| step.pos1()),
     };
-    let picture = draw(step.pos0(), step.triangles(), &styles, &options);
+    let mesh_picture = draw(step.pos0(), step.triangles(), &styles, &options);
+    let mut picture = image::RgbImage::from_pixel(width, height, image::Rgb(palette::BACKGROUND));
+    image::imageops::replace(&mut picture, &mesh_picture, 0, i64::from(band));
+    let title = match &args.step {
+        Some(next) => format!(
+            "{} to {}: {what} at the start of the step (t=0), {} up",
+            file_name(&args.frame),
+            file_name(next),
+            up_name(up)
+        ),
+        None => format!("{}: {what}, {} up", file_name(&args.frame), up_name(up)),
+    };
+    annotate(&mut picture, band, &title, &legend);
     let colors = if args.indexed {
         PngColors::Indexed
     } else {
@@ -279,8 +468,8 @@ pub fn run(args: &Args) -> Result<ExitCode> {
 }
 
 /// Styles for `--color contacts` from a list of contacts (read from `--pairs`, or computed by a
-/// whole-step query) and the triangles they involve (see [`contact_triangles`]): those in red
-/// over grey. Prints the counts to stderr.
+/// whole-step query; crack contacts left out) and the triangles they involve (see
+/// [`contact_triangles`]): those in red over grey. Prints the counts to stderr.
 pub fn contact_styles(contacts: &[Contact], involved: &[bool]) -> Vec<TriangleStyle> {
     let faces = involved.len();
     let vf = contacts
@@ -293,6 +482,60 @@ pub fn contact_styles(contacts: &[Contact], involved: &[bool]) -> Vec<TriangleSt
         involved.iter().filter(|&&hit| hit).count()
     );
     paint_contacts(involved)
+}
+
+/// The name of an axis.
+fn up_name(up: UpAxis) -> &'static str {
+    match up {
+        UpAxis::X => "x",
+        UpAxis::Y => "y",
+        UpAxis::Z => "z",
+    }
+}
+
+/// The file name of a path, for titles.
+fn file_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
+
+/// Each vertex's original: a new vertex's parent (followed up to its root), itself otherwise.
+/// `parents` holds `[child, parent]` rows, as [`Step::parents`].
+pub fn canonical_vertices(parents: &[[u32; 2]], vertices: usize) -> Vec<u32> {
+    let mut canon: Vec<u32> = (0..vertices as u32).collect();
+    for &[child, parent] in parents {
+        if (child as usize) < vertices && (parent as usize) < vertices {
+            canon[child as usize] = parent;
+        }
+    }
+    // Follow chains (a copy of a copy), at most `vertices` links (cycles cannot loop forever).
+    for v in 0..vertices {
+        let mut root = canon[v];
+        for _ in 0..vertices {
+            let next = canon[root as usize];
+            if next == root {
+                break;
+            }
+            root = next;
+        }
+        canon[v] = root;
+    }
+    canon
+}
+
+/// Whether a contact is a crack contact: its two features share a vertex once every new
+/// vertex is identified with its parent (see [`canonical_vertices`]); such features touch by
+/// construction along a fresh cut or crack, and the library's crack filter drops them.
+pub fn is_crack_contact(contact: &Contact, canon: &[u32], triangles: &[[u32; 3]]) -> bool {
+    let c = |v: u32| canon.get(v as usize).copied().unwrap_or(v);
+    match *contact {
+        Contact::VertexFace { vertex, face, .. } => triangles
+            .get(face as usize)
+            .is_some_and(|f| f.iter().any(|&w| c(w) == c(vertex))),
+        Contact::EdgeEdge { a, b, .. } => a.iter().any(|&x| b.iter().any(|&y| c(x) == c(y))),
+    }
 }
 
 /// Refuses an output that is not a `.png` file or that is one of the input files.
@@ -364,5 +607,44 @@ mod tests {
         for bad in ["0x10", "10", "x", "-1x5", "9000x10", "8192x8192"] {
             assert!(bad.parse::<Size>().is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn auto_up_axis() {
+        let v = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+        // A sheet thinnest along z, along x, and a cube falling along -y, and a still cube.
+        let sheet = [v(0.0, 0.0, 0.0), v(4.0, 3.0, 0.1)];
+        assert_eq!(auto_up(&sheet, &sheet).0, UpAxis::Z);
+        let wall = [v(0.0, 0.0, 0.0), v(0.2, 3.0, 4.0)];
+        assert_eq!(auto_up(&wall, &wall).0, UpAxis::X);
+        let cube = [v(0.0, 0.0, 0.0), v(1.0, 1.0, 1.0)];
+        let fallen = cube.map(|p| p - DVec3::Y * 0.5);
+        let (up, why) = auto_up(&cube, &fallen);
+        assert_eq!(up, UpAxis::Y, "{why}");
+        // Rising is no fall: the default, z.
+        let risen = cube.map(|p| p + DVec3::Y * 0.5);
+        assert_eq!(auto_up(&cube, &risen).0, UpAxis::Z);
+        assert_eq!(auto_up(&cube, &cube).0, UpAxis::Z);
+        assert_eq!(auto_up(&[], &[]).0, UpAxis::Z);
+    }
+
+    #[test]
+    fn crack_contacts_share_a_vertex_through_the_parents() {
+        // Vertex 4 copies 1, vertex 5 copies 4 (a chain); triangle 0 = (0, 1, 2).
+        let canon = canonical_vertices(&[[4, 1], [5, 4]], 6);
+        assert_eq!(canon, [0, 1, 2, 3, 1, 1]);
+        let tris = [[0, 1, 2], [3, 4, 5]];
+        let vf = |vertex, face| Contact::VertexFace {
+            vertex,
+            face,
+            toi: 0.0,
+        };
+        assert!(is_crack_contact(&vf(5, 0), &canon, &tris));
+        assert!(!is_crack_contact(&vf(3, 0), &canon, &tris));
+        let ee = |a, b| Contact::EdgeEdge { a, b, toi: 0.0 };
+        assert!(is_crack_contact(&ee([4, 3], [1, 0]), &canon, &tris));
+        // 5 is a copy of 1, which neither 3, 2 nor 0 is.
+        assert!(!is_crack_contact(&ee([3, 2], [0, 5]), &canon, &tris));
+        assert!(!is_crack_contact(&ee([3, 2], [0, 1]), &canon, &tris));
     }
 }

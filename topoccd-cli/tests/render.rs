@@ -191,6 +191,10 @@ fn a_step_with_contacts_from_a_pairs_file() {
         s(&pairs),
         "--camera",
         "-20,-10",
+        // y up, as this test was written for: `--up auto` would pick x, as the second
+        // tetrahedron moves down x (a fall, for the heuristic) during the step.
+        "--up",
+        "y",
         "--size",
         "200x150",
         "--out",
@@ -320,4 +324,166 @@ fn bad_input_fails_with_a_message_naming_the_problem() {
     write(&broken, "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
     fails(&["render", s(&broken), "--out", s(&png)], s(&broken));
     assert!(!png.exists(), "no picture is written when the input is bad");
+}
+
+/// A unit square of two triangles in the plane z = `z`, cut along its diagonal 1-2 in the
+/// second frame (vertices 4 and 5 copy 1 and 2, the second triangle uses them): the two sides
+/// of the cut touch at t=0 (crack contacts), and the second triangle drops by `drop`.
+fn cut_square(dir: &TempDir, drop: f64) -> (PathBuf, PathBuf) {
+    let (t0, t1) = (dir.path("0000.obj"), dir.path("0001.obj"));
+    write(
+        &t0,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n",
+    );
+    write(
+        &t1,
+        &format!(
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 {d}\nv 1 0 {d}\nv 0 1 {d}\nf 1 2 3\nf 5 4 6\n",
+            d = -drop
+        ),
+    );
+    write(&dir.path("0001.parents"), "4 1\n5 2\n");
+    (t0, t1)
+}
+
+#[test]
+fn pictures_carry_a_title_and_a_legend_above_the_mesh() {
+    let dir = TempDir::new("legend");
+    let (t0, t1) = cut_square(&dir, 0.3);
+    let png = dir.path("legend.png");
+    let out = topoccd(&[
+        "render",
+        s(&t0),
+        "--step",
+        s(&t1),
+        "--color",
+        "contacts",
+        "--out",
+        s(&png),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let img = decode(&png);
+    // The band above the mesh: dark text (the title, the labels) and the swatches' colours.
+    let band = |keep: &dyn Fn([u8; 3]) -> bool| {
+        (0..90)
+            .flat_map(|y| (0..1024).map(move |x| (x, y)))
+            .filter(|&(x, y)| keep(img.get_pixel(x, y).0))
+            .count()
+    };
+    let dark = band(&|[r, g, b]| r < 90 && g < 90 && b < 90);
+    assert!(dark > 300, "{dark} dark text pixels in the band");
+    let crack_swatch = band(&|p| p == [240, 165, 20]);
+    let red_swatch = band(&|p| p == [220, 25, 20]);
+    assert!(
+        crack_swatch > 50 && red_swatch > 50,
+        "{crack_swatch} {red_swatch}"
+    );
+    // Small pictures are left as the mesh alone: no text over it.
+    let small = dir.path("small.png");
+    let out = topoccd(&[
+        "render",
+        s(&t0),
+        "--step",
+        s(&t1),
+        "--size",
+        "200x150",
+        "--out",
+        s(&small),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let img = decode(&small);
+    assert_eq!(count(&img, |[r, g, b]| r < 90 && g < 90 && b < 90), 0);
+}
+
+#[test]
+fn crack_contacts_are_coloured_apart_from_collisions_and_the_end_shows_as_a_ghost() {
+    let dir = TempDir::new("crack");
+    let (t0, t1) = cut_square(&dir, 0.3);
+    let png = dir.path("crack.png");
+    let out = topoccd(&[
+        "render",
+        s(&t0),
+        "--step",
+        s(&t1),
+        "--color",
+        "contacts",
+        "--size",
+        "300x200",
+        "--out",
+        s(&png),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("crack contacts (features joined through a split vertex): "),
+        "{err}"
+    );
+    assert!(!err.contains("split vertex): 0 of"), "{err}");
+    let img = decode(&png);
+    // Below the band: both triangles touch only along the cut, so they are in the crack colour
+    // (orange: red high, green middle, blue low), none in the collision red.
+    let mesh = |keep: &dyn Fn([u8; 3]) -> bool| {
+        (60..200)
+            .flat_map(|y| (0..300).map(move |x| (x, y)))
+            .filter(|&(x, y)| keep(img.get_pixel(x, y).0))
+            .count()
+    };
+    let orange = mesh(&|[r, g, b]| r > 120 && g > 50 && g < r && b < g / 2);
+    let red = mesh(&|[r, g, b]| r > 60 && g < 30 && b < 30);
+    assert!(orange > 500 && red == 0, "orange {orange}, red {red}");
+    // The dropped triangle's end position: a blue outline.
+    let blue = mesh(&|[r, g, b]| b > 150 && r < 120 && g < 160);
+    assert!(blue > 50, "{blue} ghost pixels");
+    // Without motion, no ghost.
+    let still = dir.path("still.png");
+    let out = topoccd(&[
+        "render",
+        s(&t0),
+        "--color",
+        "contacts",
+        "--size",
+        "300x200",
+        "--out",
+        s(&still),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let img = decode(&still);
+    assert_eq!(count(&img, |[r, g, b]| b > 150 && r < 120 && g < 160), 0);
+}
+
+#[test]
+fn the_up_axis_is_chosen_from_the_data() {
+    // A 4 x 1 sheet in the plane z = 0 (thinnest along z): auto picks z, and the sheet, seen
+    // from 25 degrees above its plane, is much wider than tall; with y forced, it faces the
+    // camera and looks much taller than it does lying down.
+    let dir = TempDir::new("up");
+    let sheet = dir.path("sheet.obj");
+    write(
+        &sheet,
+        "v 0 0 0\nv 4 0 0\nv 0 1 0\nv 4 1 0\nf 1 2 3\nf 2 4 3\n",
+    );
+    let height_of_drawing = |up: Option<&str>| {
+        let png = dir.path(&format!("up-{}.png", up.unwrap_or("auto")));
+        let mut args = vec!["render", s(&sheet), "--size", "300x200", "--out", s(&png)];
+        if let Some(up) = up {
+            args.extend(["--up", up]);
+        }
+        let out = topoccd(&args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let img = decode(&png);
+        let rows: Vec<u32> = (0..200)
+            .filter(|&y| (0..300).any(|x| img.get_pixel(x, y).0 != WHITE))
+            .collect();
+        (stderr(&out), rows.len())
+    };
+    let (err, auto) = height_of_drawing(None);
+    assert!(
+        err.contains("up axis: z (the mesh is a sheet, thinnest along z"),
+        "{err}"
+    );
+    let (err, z) = height_of_drawing(Some("z"));
+    assert!(err.contains("up axis: z (--up z)"), "{err}");
+    let (_, y) = height_of_drawing(Some("y"));
+    assert_eq!(auto, z);
+    assert!(2 * y > 3 * z, "rows drawn: {y} with y up, {z} with z up");
 }

@@ -14,6 +14,7 @@
 //! [`draw`] renders at a multiple of the requested size and averages each block of samples
 //! (supersampling), which smooths edges and outlines.
 
+pub mod annotate;
 pub mod camera;
 pub mod contacts;
 pub mod encode;
@@ -75,7 +76,16 @@ pub struct DrawOptions<'a> {
     /// Triangles `t` with `marked[t]` show through whatever hides them, faded (with opacity
     /// [`SHOW_THROUGH_OPACITY`]), so that they are seen wherever they are. `None`: none.
     pub show_through: Option<&'a [bool]>,
+    /// Another state of the same triangles (the step's end, t=1), drawn as a faint ghost: its
+    /// silhouette outlined in [`palette::GHOST`] over the picture, its area tinted where
+    /// nothing else is drawn. The camera frames both states. `None`: no ghost.
+    pub ghost: Option<&'a [DVec3]>,
 }
+
+/// Opacity of the ghost's tint where nothing else is drawn (see [`DrawOptions::ghost`]).
+pub const GHOST_FILL: f64 = 0.18;
+/// Opacity of the ghost's silhouette line.
+pub const GHOST_LINE: f64 = 0.85;
 
 /// Opacity of the triangles that show through nearer surfaces (see
 /// [`DrawOptions::show_through`]).
@@ -103,7 +113,15 @@ pub fn draw(
             .flat_map(move |(_, tri)| tri.iter().filter_map(move |&i| vertex(i)));
         points.collect::<Vec<DVec3>>()
     };
-    let all = used(&|_| true);
+    let mut all = used(&|_| true);
+    if let Some(ghost) = options.ghost {
+        let vertex = |i: u32| ghost.get(i as usize).copied();
+        all.extend(
+            triangles
+                .iter()
+                .flat_map(|tri| tri.iter().filter_map(|&i| vertex(i))),
+        );
+    }
     let whole = Camera::framing(all.iter().copied(), &options.view, sw, sh, camera::FILL_ALL);
     // Framing the focused triangles only ever zooms in.
     let camera = match options.focus.filter(|f| f.contains(&true)) {
@@ -133,6 +151,17 @@ pub fn draw(
         let mut hidden = Raster::new(sw, sh, palette::BACKGROUND);
         painter.draw(&mut hidden, &|t| marked.get(t) == Some(&true));
         raster.show_through(&hidden, SHOW_THROUGH_OPACITY);
+    }
+    if let Some(ghost) = options.ghost {
+        let ghost_styles = vec![TriangleStyle::plain(palette::GHOST); triangles.len()];
+        let ghost_painter = Painter {
+            positions: ghost,
+            styles: &ghost_styles,
+            ..painter
+        };
+        let mut shadow = Raster::new(sw, sh, palette::BACKGROUND);
+        ghost_painter.draw(&mut shadow, &|_| true);
+        raster.ghost_over(&shadow, palette::GHOST, GHOST_FILL, GHOST_LINE, k);
     }
     downsample(&raster, k, width, height)
 }
@@ -235,6 +264,7 @@ mod tests {
             samples: 2,
             focus: None,
             show_through: None,
+            ghost: None,
         };
         let a = draw(&p, &t, &styles, &options);
         let b = draw(&p, &t, &styles, &options);
@@ -270,6 +300,7 @@ mod tests {
             samples,
             focus: None,
             show_through: None,
+            ghost: None,
         };
         let img = draw(&p, &t, &styles, &options(side, 32, 1));
         assert_eq!(non_background(&img), 0);
@@ -313,6 +344,7 @@ mod tests {
             samples: 1,
             focus: Some(&marked),
             show_through: None,
+            ghost: None,
         };
         let img = draw(&p, &t, &styles, &options);
         let own = count_color(&img, shaded(&styles[0], &p, t[0], &front));

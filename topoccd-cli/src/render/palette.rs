@@ -10,6 +10,12 @@ pub const NEUTRAL: [u8; 3] = [205, 205, 200];
 /// Triangles involved in a contact.
 pub const CONTACT: [u8; 3] = [220, 25, 20];
 
+/// Triangles involved only in crack contacts: pairs of features joined through a split
+/// vertex (a new vertex and its parent), which touch by construction and are not collisions.
+pub const CRACK: [u8; 3] = [240, 165, 20];
+/// The mesh at the end of the step (t=1), drawn as a ghost outline.
+pub const GHOST: [u8; 3] = [40, 100, 210];
+
 /// Share of the light that reaches every surface, whatever its orientation, in `[0, 1]`.
 pub const AMBIENT: f64 = 0.35;
 

@@ -126,6 +126,54 @@ impl Raster {
         }
     }
 
+    /// Lays `ghost` (a raster of the same size: another state of the mesh, e.g. its end of
+    /// step) over this one: where only the ghost covers a pixel it is tinted with `color` at
+    /// opacity `fill` in `[0, 1]`; the ghost's silhouette (covered pixels within `radius`
+    /// pixels, along a row or a column, of an uncovered one) is drawn in `color` at opacity
+    /// `line` over everything. Deterministic.
+    pub fn ghost_over(
+        &mut self,
+        ghost: &Raster,
+        color: [u8; 3],
+        fill: f64,
+        line: f64,
+        radius: u32,
+    ) {
+        debug_assert_eq!((self.width, self.height), (ghost.width, ghost.height));
+        let (w, h) = (self.width as usize, self.height as usize);
+        let covered = |x: usize, y: usize| ghost.depth[y * w + x].is_finite();
+        let r = radius as usize;
+        let blend = |under: [u8; 3], alpha: f64| -> [u8; 3] {
+            std::array::from_fn(|k| {
+                let c = (1.0 - alpha) * f64::from(under[k]) + alpha * f64::from(color[k]);
+                c.round().clamp(0.0, 255.0) as u8
+            })
+        };
+        for y in 0..h {
+            for x in 0..w {
+                if !covered(x, y) {
+                    continue;
+                }
+                let i = y * w + x;
+                let edge = (1..=r).any(|d| {
+                    x < d
+                        || y < d
+                        || x + d >= w
+                        || y + d >= h
+                        || !covered(x - d, y)
+                        || !covered(x + d, y)
+                        || !covered(x, y - d)
+                        || !covered(x, y + d)
+                });
+                if edge {
+                    self.color[i] = blend(self.color[i], line);
+                } else if !self.depth[i].is_finite() {
+                    self.color[i] = blend(self.color[i], fill);
+                }
+            }
+        }
+    }
+
     /// Draws a triangle in `color` (and `outline` along its marked edges) where it is nearer
     /// than what is already drawn; on equal depth the earlier triangle stays. Either
     /// orientation is drawn. Triangles of zero area after snapping, and triangles with a
