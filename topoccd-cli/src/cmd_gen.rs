@@ -103,7 +103,7 @@ fn summary_line(s: &GenSummary, dir: &Path) -> String {
         .fold((usize::MAX, 0), |(lo, hi), &c| (lo.min(c), hi.max(c)));
     let mean = s.contacts.iter().sum::<usize>() as f64 / s.contacts.len().max(1) as f64;
     format!(
-        "{}: {} frames in {} in {:.1} s; triangles {} -> {}, vertices {} -> {}, {} of {} steps change the triangles, {} pieces; contacts per step min {} mean {:.0} max {}: {:?}, of which collisions (not along fresh cracks) {:?}",
+        "{}: {} frames in {} in {:.1} s; triangles {} -> {}, vertices {} -> {}, {} of {} steps change the triangles, {} piece{}; contacts per step min {} mean {:.0} max {}: {:?}, of which collisions (not along fresh cracks) {:?}",
         s.scene,
         s.frames,
         dir.display(),
@@ -115,6 +115,7 @@ fn summary_line(s: &GenSummary, dir: &Path) -> String {
         s.topology_changes,
         s.contacts.len(),
         s.pieces,
+        if s.pieces == 1 { "" } else { "s" },
         if s.contacts.is_empty() { 0 } else { min },
         mean,
         max,
