@@ -198,7 +198,7 @@ fn check_cluster(
             assert_eq!(ccd.validate_tree(), Ok(()), "{what}");
             candidate_sets(ccd, &earliest, &what);
             assert_eq!(earliest.earliest, reference.earliest, "{what}: earliest");
-            assert_earliest_pairs(reference, &earliest, options.narrow.tolerance, &what);
+            mesh_util::assert_earliest_pairs(reference, &earliest, options.narrow.tolerance, &what);
         }
     }
 }
@@ -588,22 +588,5 @@ fn cloth_ball_matches_the_bvh_method_and_the_ground_truth() {
         bvh.vf.len(),
         skipped.ee.len(),
         bvh.ee.len()
-    );
-}
-
-/// `Mode::Earliest` reports exactly the pairs of `Mode::All` whose time of impact is within the
-/// tolerance of the earliest, with the same times.
-fn assert_earliest_pairs(all: &Report, earliest: &Report, tolerance: f64, what: &str) {
-    let cut = all
-        .earliest_toi()
-        .map_or(f64::NEG_INFINITY, |t| t + tolerance);
-    let vf: Vec<_> = all.vf.iter().filter(|c| c.toi <= cut).copied().collect();
-    let ee: Vec<_> = all.ee.iter().filter(|c| c.toi <= cut).copied().collect();
-    assert_eq!(earliest.vf, vf, "{what}: the earliest vertex-face pairs");
-    assert_eq!(earliest.ee, ee, "{what}: the earliest edge-edge pairs");
-    assert_eq!(
-        earliest.contact_count() > 0,
-        all.earliest.is_some(),
-        "{what}"
     );
 }

@@ -3,6 +3,8 @@
 //! minimum separation; every feature pair tested at most once; the hierarchy validated after
 //! every build.
 
+mod mesh_util;
+
 use std::collections::HashSet;
 
 use topoccd::kdop::DopKind;
@@ -130,7 +132,7 @@ fn check_scene(kind: SceneKind, seed: u64, min_separation: f64, ccd: &mut Ccd) -
             "{what}: earliest ee candidate not in All's"
         );
         assert_eq!(earliest.earliest, oracle.earliest, "{what}: earliest");
-        assert_earliest_pairs(&oracle, &earliest, options.narrow.tolerance, &what);
+        mesh_util::assert_earliest_pairs(&oracle, &earliest, options.narrow.tolerance, &what);
     }
     oracle.contact_count()
 }
@@ -165,21 +167,4 @@ fn small_objects_match_the_oracle() {
 #[test]
 fn torn_sheets_match_the_oracle() {
     check_kind(SceneKind::TornSheet);
-}
-
-/// `Mode::Earliest` reports exactly the pairs of `Mode::All` whose time of impact is within the
-/// tolerance of the earliest, with the same times.
-fn assert_earliest_pairs(all: &Report, earliest: &Report, tolerance: f64, what: &str) {
-    let cut = all
-        .earliest_toi()
-        .map_or(f64::NEG_INFINITY, |t| t + tolerance);
-    let vf: Vec<_> = all.vf.iter().filter(|c| c.toi <= cut).copied().collect();
-    let ee: Vec<_> = all.ee.iter().filter(|c| c.toi <= cut).copied().collect();
-    assert_eq!(earliest.vf, vf, "{what}: the earliest vertex-face pairs");
-    assert_eq!(earliest.ee, ee, "{what}: the earliest edge-edge pairs");
-    assert_eq!(
-        earliest.contact_count() > 0,
-        all.earliest.is_some(),
-        "{what}"
-    );
 }

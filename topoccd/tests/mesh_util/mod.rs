@@ -8,7 +8,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::{PI, TAU};
 use topoccd::math::DVec3;
-use topoccd::Step;
+use topoccd::{Report, Step};
 
 /// A grid of `nu x nv` quads, two triangles each, mapped by `f0` at t=0 and `f1` at t=1 from
 /// `(u, v)` in `[0, 1]^2`. Triangles face `+(d/du x d/dv)`.
@@ -283,4 +283,21 @@ pub fn random_smooth(seed: u64) -> Step<'static> {
             move |u, v| warp(DVec3::new(u, v, 0.1 * (3.0 * u).sin())),
         )
     }
+}
+
+/// `Mode::Earliest` reports exactly the pairs of `Mode::All` whose time of impact is within the
+/// tolerance of the earliest, with the same times.
+pub fn assert_earliest_pairs(all: &Report, earliest: &Report, tolerance: f64, what: &str) {
+    let cut = all
+        .earliest_toi()
+        .map_or(f64::NEG_INFINITY, |t| t + tolerance);
+    let vf: Vec<_> = all.vf.iter().filter(|c| c.toi <= cut).copied().collect();
+    let ee: Vec<_> = all.ee.iter().filter(|c| c.toi <= cut).copied().collect();
+    assert_eq!(earliest.vf, vf, "{what}: the earliest vertex-face pairs");
+    assert_eq!(earliest.ee, ee, "{what}: the earliest edge-edge pairs");
+    assert_eq!(
+        earliest.contact_count() > 0,
+        all.earliest.is_some(),
+        "{what}"
+    );
 }
