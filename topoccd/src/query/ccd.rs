@@ -34,6 +34,9 @@ pub struct Ccd {
     /// With `record`, every candidate of the last query (for the crate's tests).
     recorded: Candidates,
     record: bool,
+    /// Whether the last Earliest query of the per-step BVH found its earliest contact late
+    /// (after the step's first `1 / EARLY`): the next one then skips the first pass.
+    late: bool,
     /// Buffer limits (candidate pairs) of a traversal task and of a sequential broad phase;
     /// `0` means the default ([`TASK_CHUNK`], [`CHUNK`]).
     limits: (usize, usize),
@@ -172,12 +175,17 @@ impl Ccd {
                 let ws = &mut self.ws;
                 let args = (&input, &ctx, record, task_chunk, ws);
                 let out = (&mut found, &mut totals, recorded);
-                match options.kdop {
-                    DopKind::K6 => bvh_query(&mut self.k6, args, out),
-                    DopKind::K14 => bvh_query(&mut self.k14, args, out),
-                    DopKind::K18 => bvh_query(&mut self.k18, args, out),
-                    DopKind::K26 => bvh_query(&mut self.k26, args, out),
+                let early = !self.late;
+                let (stats, late) = match options.kdop {
+                    DopKind::K6 => bvh_query(&mut self.k6, args, early, out),
+                    DopKind::K14 => bvh_query(&mut self.k14, args, early, out),
+                    DopKind::K18 => bvh_query(&mut self.k18, args, early, out),
+                    DopKind::K26 => bvh_query(&mut self.k26, args, early, out),
+                };
+                if options.mode == super::Mode::Earliest {
+                    self.late = late;
                 }
+                stats
             }
             Method::Brute | Method::Cluster => {
                 // A sequential broad phase, its buffer solved in parallel whenever it is full.
@@ -366,13 +374,17 @@ const EARLY: f64 = 256.0;
 /// own candidates in bounded buffers. Returns the broad phase's figures; the narrow phase's
 /// time is inside the traversal's (the two run interleaved on every thread).
 ///
-/// In [`Mode::Earliest`](super::Mode::Earliest) with `t_max > tau` (`tau = t_max / EARLY`), a
-/// first pass uses volumes swept over `[0, tau]` and solves every candidate over `[0, tau]`
-/// first. If it finds contacts whose earliest time `b` has `b + 2 tolerance <= tau`, the answer
+/// In [`Mode::Earliest`](super::Mode::Earliest) with `early` and `t_max > tau` (`tau = t_max /
+/// EARLY`), a first pass uses volumes swept over `[0, tau]` and solves every candidate over
+/// `[0, tau]` first. If it finds contacts whose earliest time `b` has `b + 2 tolerance <= tau`, the answer
 /// is complete: a pair whose first contact lies within the tolerance of `b` touches before
 /// `tau`, so its features' volumes over `[0, tau]` overlap and the first pass tested it.
 /// Otherwise the hierarchy is refitted to the whole step's volumes and traversed again, pruned
-/// with whatever the first pass found; pairs found twice are reported once.
+/// with whatever the first pass found; pairs found twice are reported once. The first pass
+/// pays when contacts are dense at the start of the step (resting contact) and costs a second
+/// traversal otherwise, so [`Ccd`] tries it only while the last Earliest query's contact came
+/// early (`early`); the answer is the same either way. Also returns whether this step's
+/// earliest contact came late (after `tau`, or none).
 fn bvh_query<const H: usize>(
     tree: &mut PerStepBvh<H>,
     (input, ctx, record, task_chunk, ws): (
@@ -382,12 +394,14 @@ fn bvh_query<const H: usize>(
         usize,
         &mut BvhWorkspace,
     ),
+    early: bool,
     (found, totals, recorded): (&mut Found, &mut Totals, &mut Candidates),
-) -> BroadStats {
+) -> (BroadStats, bool) {
     let options = ctx.options;
     let t_max = options.narrow.t_max;
     let tau = t_max / EARLY;
-    let two_pass = options.mode == super::Mode::Earliest && tau > 2.0 * options.narrow.tolerance;
+    let two_pass =
+        early && options.mode == super::Mode::Earliest && tau > 2.0 * options.narrow.tolerance;
     let mut build = tree.build(input, if two_pass { tau } else { t_max }, ws);
     let t = Instant::now();
     let mut bv_tests = traverse_pass(
@@ -415,11 +429,16 @@ fn bvh_query<const H: usize>(
             traverse += t.elapsed().as_secs_f64();
         }
     }
-    BroadStats {
+    let mut best = None;
+    lower(&mut best, found.vf.iter().map(|c| c.toi));
+    lower(&mut best, found.ee.iter().map(|c| c.toi));
+    let late = !best.is_some_and(|b| ctx.limit(Some(b)) <= tau);
+    let stats = BroadStats {
         bv_tests,
         build,
         traverse,
-    }
+    };
+    (stats, late)
 }
 
 /// One parallel traversal of the hierarchy as built or refitted, its tasks' candidates solved
