@@ -50,17 +50,19 @@ impl<const H: usize> PerStepBvh<H> {
     }
 
     /// Every overlapping pair of triangles, each once, to `pair(acc, a, b)` with one
-    /// accumulator per task (made by `make`), handed to `consume` in a fixed task order, batch
-    /// by batch. Returns the number of bounding-volume tests.
+    /// accumulator per task (made by `make`, finished by `finish` on the task's thread), handed
+    /// to `consume` in a fixed task order, batch by batch. Returns the number of bounding-volume tests.
     pub fn pairs<T: Send>(
         &self,
         ws: &mut BvhWorkspace,
         par: &ParOptions,
         make: impl Fn() -> T + Sync + Send,
         pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+        finish: impl Fn(&mut T) + Sync + Send,
         consume: impl FnMut(T),
     ) -> u64 {
-        self.bvh.par_self_pairs_with(ws, par, make, pair, consume)
+        self.bvh
+            .par_self_pairs_finished(ws, par, make, pair, finish, consume)
     }
 
     /// Checks the hierarchy of the last step against its leaves.

@@ -155,7 +155,30 @@ impl<V: BoundingVolume> Bvh<V> {
         }
         let small = self.nodes.len() < options.min_nodes;
         let nodes = &self.nodes[..];
-        par_run(nodes, nodes, t, 0, small, options, make, leaf_pair, consume)
+        par_run(nodes, nodes, t, 0, small, options, make, leaf_pair, |_| {}, consume)
+    }
+
+    /// [`Bvh::par_self_pairs_with`] with `finish(acc)` called on each task's accumulator on the
+    /// thread that ran the task, as soon as the task is done (e.g. to process what it buffered
+    /// in parallel), before `consume` receives it in task order.
+    pub fn par_self_pairs_finished<T: Send>(
+        &self,
+        ws: &mut BvhWorkspace,
+        options: &ParOptions,
+        make: impl Fn() -> T + Sync + Send,
+        leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+        finish: impl Fn(&mut T) + Sync + Send,
+        consume: impl FnMut(T),
+    ) -> u64 {
+        let t = &mut ws.tasks;
+        t.entries.clear();
+        t.found.clear();
+        if self.nodes.len() > 1 {
+            t.entries.push((0, 0));
+        }
+        let small = self.nodes.len() < options.min_nodes;
+        let nodes = &self.nodes[..];
+        par_run(nodes, nodes, t, 0, small, options, make, leaf_pair, finish, consume)
     }
 
     /// [`Bvh::tree_pairs`] on the current rayon thread pool, with per-task accumulators
@@ -217,7 +240,7 @@ impl<V: BoundingVolume> Bvh<V> {
             }
         }
         let small = na.len() < options.min_nodes && nb.len() < options.min_nodes;
-        par_run(na, nb, t, 1, small, options, make, leaf_pair, consume)
+        par_run(na, nb, t, 1, small, options, make, leaf_pair, |_| {}, consume)
     }
 }
 
@@ -235,6 +258,7 @@ fn par_run<V: BoundingVolume, T: Send>(
     options: &ParOptions,
     make: impl Fn() -> T + Sync + Send,
     leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+    finish: impl Fn(&mut T) + Sync + Send,
     mut consume: impl FnMut(T),
 ) -> u64 {
     while !small && !t.entries.is_empty() && t.entries.len() < options.min_tasks {
@@ -252,6 +276,7 @@ fn par_run<V: BoundingVolume, T: Send>(
     for &(x, y) in &t.found {
         leaf_pair(&mut first, x, y);
     }
+    finish(&mut first);
     consume(first);
     for batch in t.entries.chunks(options.batch.max(1)) {
         let done: Vec<(T, u64)> = batch
@@ -261,6 +286,7 @@ fn par_run<V: BoundingVolume, T: Send>(
                 stack.clear();
                 stack.push((a, b));
                 let tests = run(na, nb, stack, &mut |x, y| leaf_pair(&mut acc, x, y));
+                finish(&mut acc);
                 (acc, tests)
             })
             .collect();

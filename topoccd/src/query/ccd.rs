@@ -471,8 +471,8 @@ fn traverse_pass<const H: usize>(
             task.flush(ctx);
         }
     };
+    let finish = |task: &mut Task| task.flush(ctx);
     let consume = |mut task: Task| {
-        task.flush(ctx);
         let mut best = None;
         lower(&mut best, task.found.vf.iter().map(|c| c.toi));
         lower(&mut best, task.found.ee.iter().map(|c| c.toi));
@@ -488,5 +488,5 @@ fn traverse_pass<const H: usize>(
             recorded.ee.append(&mut r.ee);
         }
     };
-    tree.pairs(ws, &par, make, pair, consume)
+    tree.pairs(ws, &par, make, pair, finish, consume)
 }
