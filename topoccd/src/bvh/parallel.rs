@@ -147,15 +147,7 @@ impl<V: BoundingVolume> Bvh<V> {
         leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         consume: impl FnMut(T),
     ) -> u64 {
-        let t = &mut ws.tasks;
-        t.entries.clear();
-        t.found.clear();
-        if self.nodes.len() > 1 {
-            t.entries.push((0, 0));
-        }
-        let small = self.nodes.len() < options.min_nodes;
-        let nodes = &self.nodes[..];
-        par_run(nodes, nodes, t, 0, small, options, make, leaf_pair, |_| {}, consume)
+        self.par_self_pairs_finished(ws, options, make, leaf_pair, |_| {}, consume)
     }
 
     /// [`Bvh::par_self_pairs_with`] with `finish(acc)` called on each task's accumulator on the
