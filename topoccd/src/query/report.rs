@@ -124,9 +124,12 @@ pub struct Seconds {
     /// the clusters and the lazy hierarchies over leaf clusters' triangles, but not the
     /// clustering itself.
     pub build: f64,
-    /// Traversal (or sweep) down to the candidate feature pairs.
+    /// Traversal (or sweep) down to the candidate feature pairs. For
+    /// [`Method::Bvh`](crate::Method::Bvh) this includes the elementary tests, which its
+    /// traversal tasks run on their own candidates as they go.
     pub traverse: f64,
-    /// The elementary tests.
+    /// The elementary tests (for [`Method::Bvh`](crate::Method::Bvh), only the final sort and
+    /// selection: its tests run inside the traversal).
     pub narrow: f64,
     /// The whole query.
     pub total: f64,
