@@ -64,9 +64,10 @@ impl<V: BoundingVolume> Bvh<V> {
             self.nodes.clear();
             return;
         }
+        // Node indices are u32 with the top bit free (the traversals tag pairs with it).
         assert!(
-            leaves.len() < (u32::MAX / 2) as usize,
-            "too many leaves for u32 node indices"
+            leaves.len() <= 1 << 30,
+            "too many leaves for a hierarchy: at most 2^30"
         );
         let items = &mut ws.items;
         let item = |(i, l): (usize, &Leaf<V>)| (l.volume.center().to_array().map(key), i as u32);

@@ -141,7 +141,8 @@ impl<V: BoundingVolume> Bvh<V> {
 
 /// In the pairs on the stack of [`run`], marks a node of the second tree (whose index may
 /// equal the first's) so that the pair `(a, a | OTHER)` is not read as "a subtree against
-/// itself". A tree over fewer than `2^30` leaves never has this bit in a node index.
+/// itself". A tree has at most `2^30` leaves ([`Bvh::rebuild`] checks), so fewer than `2^31`
+/// nodes, and never has this bit in a node index.
 pub(super) const OTHER: u32 = 1 << 31;
 
 /// Where one step of the traversal puts its output: the node pairs still to descend, and the
