@@ -175,36 +175,33 @@ pub fn indices(obj: &Bound<'_, PyAny>, name: &str, cols: Option<usize>) -> PyRes
     }
     let (kind, dtype) = dtype_of(&array)?;
     match kind.as_str() {
-        "u" => {
-            let converted = contiguous(&array, "uint64", name)?;
-            let a = converted
-                .cast_into::<numpy::PyArrayDyn<u64>>()
-                .map_err(|_| input_error(format!("{name}: conversion to uint64 failed")))?;
-            let a = a
-                .try_readonly()
-                .map_err(|e| input_error(format!("{name}: cannot be read: {e}")))?;
-            let flat = a
-                .as_slice()
-                .map_err(|e| input_error(format!("{name}: {e}")))?;
-            to_u32(flat, cols, name)
-        }
-        "i" => {
-            let converted = contiguous(&array, "int64", name)?;
-            let a = converted
-                .cast_into::<numpy::PyArrayDyn<i64>>()
-                .map_err(|_| input_error(format!("{name}: conversion to int64 failed")))?;
-            let a = a
-                .try_readonly()
-                .map_err(|e| input_error(format!("{name}: cannot be read: {e}")))?;
-            let flat = a
-                .as_slice()
-                .map_err(|e| input_error(format!("{name}: {e}")))?;
-            to_u32(flat, cols, name)
-        }
+        "u" => with_flat_ints::<u64, _>(&array, "uint64", name, |f| to_u32(f, cols, name)),
+        "i" => with_flat_ints::<i64, _>(&array, "int64", name, |f| to_u32(f, cols, name)),
         _ => Err(input_error(format!(
             "{name} must hold integers (vertex indices), got dtype {dtype}"
         ))),
     }
+}
+
+/// Calls `read` on the values of an integer array converted once to `T` (numpy dtype
+/// `dtype`), flat, in C order.
+fn with_flat_ints<T: numpy::Element + Copy, R>(
+    array: &Bound<'_, PyUntypedArray>,
+    dtype: &str,
+    name: &str,
+    read: impl FnOnce(&[T]) -> PyResult<R>,
+) -> PyResult<R> {
+    let converted = contiguous(array, dtype, name)?;
+    let a = converted
+        .cast_into::<numpy::PyArrayDyn<T>>()
+        .map_err(|_| input_error(format!("{name}: conversion to {dtype} failed")))?;
+    let a = a
+        .try_readonly()
+        .map_err(|e| input_error(format!("{name}: cannot be read: {e}")))?;
+    let flat = a
+        .as_slice()
+        .map_err(|e| input_error(format!("{name}: {e}")))?;
+    read(flat)
 }
 
 /// Groups `[a, b, c, a, b, c, ...]` into `[[a, b, c], ...]`.
