@@ -62,21 +62,22 @@ pub(crate) fn candidates<const H: usize>(
     };
 
     // Vertex-face: the referenced vertices and the faces in one sweep.
-    let mut referenced = vec![false; features.vertex_box.len()];
+    let mut referenced = vec![false; features.boxes.vertex.len()];
     for t in tris {
         for &v in t {
             referenced[v as usize] = true;
         }
     }
     let mut items: Vec<Item> = features
-        .vertex_box
+        .boxes
+        .vertex
         .iter()
         .enumerate()
         .filter(|&(v, _)| referenced[v])
         .map(|(v, b)| item(b, 0, v))
         .chain(
             features
-                .face_box
+                .boxes.face
                 .iter()
                 .enumerate()
                 .map(|(f, b)| item(b, 1, f)),
@@ -84,8 +85,8 @@ pub(crate) fn candidates<const H: usize>(
         .collect();
     sort(&mut items);
     let bx = |it: &Item| match it.kind {
-        0 => &features.vertex_box[it.index as usize],
-        _ => &features.face_box[it.index as usize],
+        0 => &features.boxes.vertex[it.index as usize],
+        _ => &features.boxes.face[it.index as usize],
     };
     for (i, a) in items.iter().enumerate() {
         let a_box = bx(a);
@@ -118,14 +119,14 @@ pub(crate) fn candidates<const H: usize>(
     items.clear();
     items.extend(
         features
-            .edge_box
+            .boxes.edge
             .iter()
             .enumerate()
             .map(|(e, b)| item(b, 0, e)),
     );
     sort(&mut items);
     for (i, a) in items.iter().enumerate() {
-        let a_box = &features.edge_box[a.index as usize];
+        let a_box = &features.boxes.edge[a.index as usize];
         let reach = a_box.hi.x + sep;
         let [a0, a1] = edges[a.index as usize];
         for b in items[i + 1..].iter().take_while(|b| b.lo_x <= reach) {
@@ -134,7 +135,7 @@ pub(crate) fn candidates<const H: usize>(
                 continue;
             }
             tests += 1;
-            if a_box.near(&features.edge_box[b.index as usize], sep)
+            if a_box.near(&features.boxes.edge[b.index as usize], sep)
                 && filter.edge_edge([a0, a1], [b0, b1])
                 && volumes[edge_owner[a.index as usize] as usize]
                     .overlaps(&volumes[edge_owner[b.index as usize] as usize])

@@ -22,6 +22,8 @@ pub(crate) mod brute;
 pub(crate) mod bvh;
 pub mod cluster;
 
+use rayon::prelude::*;
+
 use crate::kdop::Kdop;
 use crate::mesh::features::Features;
 use crate::mesh::filter::PairFilter;
@@ -133,7 +135,8 @@ pub(crate) fn triangle_volumes_until<const H: usize>(
 ) {
     let (x0, x1) = (step.pos0(), step.pos1());
     out.clear();
-    out.extend(step.triangles().iter().map(|tri| {
+    // On the current rayon pool, in order.
+    out.par_extend(step.triangles().par_iter().with_min_len(1 << 12).map(|tri| {
         let [a, b, c] = tri.map(|i| i as usize);
         let (t0, t1) = ([x0[a], x0[b], x0[c]], [x1[a], x1[b], x1[c]]);
         Kdop::swept_triangle_until(&t0, &t1, t_max, inflation)

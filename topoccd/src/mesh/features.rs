@@ -11,9 +11,11 @@
 //! traversal visits each unordered triangle pair once, each feature pair is a candidate at most
 //! once. Nothing is lost: a feature lies inside its owner triangle's swept volume.
 
+use rayon::prelude::*;
+
 use super::filter::PairFilter;
 use super::{Step, Topology};
-use crate::math::DVec3;
+use crate::math::{DVec3, UNIT_ROUNDOFF};
 
 /// An axis-aligned box swept by a feature (or a set of triangles) over the step: a point
 /// moving linearly stays in the box of its two end positions. Exact: min and max do not round.
@@ -66,6 +68,64 @@ impl SweptBox {
     }
 }
 
+/// Items per piece of the parallel loops (on the current rayon pool; the results do not
+/// depend on the thread count).
+const PAR_LEN: usize = 1 << 13;
+
+/// The boxes swept by the features over `[0, t_max]`, the whole step or its start.
+#[derive(Clone, Debug, Default)]
+pub struct FeatureBoxes {
+    /// Swept box of each vertex (unreferenced ones included, though never used).
+    pub vertex: Vec<SweptBox>,
+    /// Swept box of each edge of `topo.edges`.
+    pub edge: Vec<SweptBox>,
+    /// Swept box of each triangle.
+    pub face: Vec<SweptBox>,
+}
+
+impl FeatureBoxes {
+    /// Recomputes the boxes swept over `[0, t_max]` (the whole step for `t_max >= 1` or NaN).
+    /// Over the whole step a box is exact (min and max do not round). Over `[0, t_max]` it
+    /// holds the positions at 0 and at `t_max`, the latter interpolated as `a + (b - a) t_max`
+    /// with three roundings, at most `5 u max(|a|, |b|)` per coordinate, so it is padded by
+    /// `8 u max(|a|, |b|)`.
+    pub fn sweep(&mut self, step: &Step, topo: &Topology, t_max: f64) {
+        let (x0, x1) = (step.pos0(), step.pos1());
+        let ends = x0.par_iter().zip(x1).with_min_len(PAR_LEN);
+        self.vertex.clear();
+        if t_max.is_nan() || t_max >= 1.0 {
+            self.vertex.par_extend(ends.map(|(a, b)| SweptBox {
+                lo: a.min(*b),
+                hi: a.max(*b),
+            }));
+        } else {
+            let t = t_max.max(0.0);
+            self.vertex.par_extend(ends.map(|(&a, &b)| {
+                let c = a + (b - a) * t;
+                let pad = 8.0 * UNIT_ROUNDOFF * a.abs().max(b.abs());
+                SweptBox {
+                    lo: a.min(c) - pad,
+                    hi: a.max(c) + pad,
+                }
+            }));
+        }
+        let vb = &self.vertex;
+        self.edge.clear();
+        self.edge.par_extend(
+            topo.edges
+                .par_iter()
+                .with_min_len(PAR_LEN)
+                .map(|&[i, j]| vb[i as usize].merge(&vb[j as usize])),
+        );
+        self.face.clear();
+        self.face
+            .par_extend(step.triangles().par_iter().with_min_len(PAR_LEN).map(|t| {
+                t.iter()
+                    .fold(SweptBox::EMPTY, |b, &v| b.merge(&vb[v as usize]))
+            }));
+    }
+}
+
 /// Per-step feature data, with buffers reused across steps.
 #[derive(Clone, Debug, Default)]
 pub struct Features {
@@ -74,12 +134,8 @@ pub struct Features {
     /// Per triangle: bit `k` set if it owns vertex `tri[k]`, bit `3 + k` if it owns edge
     /// `triangle_edges[k]`.
     pub owned: Vec<u8>,
-    /// Swept box of each vertex (unreferenced ones included, though never used).
-    pub vertex_box: Vec<SweptBox>,
-    /// Swept box of each edge of `topo.edges`.
-    pub edge_box: Vec<SweptBox>,
-    /// Swept box of each triangle.
-    pub face_box: Vec<SweptBox>,
+    /// The features' boxes swept over the whole step.
+    pub boxes: FeatureBoxes,
     /// Scratch: whether a vertex / edge has an owner yet.
     claimed: Vec<bool>,
 }
@@ -89,26 +145,7 @@ impl Features {
     pub fn update(&mut self, step: &Step) {
         let tris = step.triangles();
         self.topo = Topology::new(tris, step.vertex_count());
-        let (x0, x1) = (step.pos0(), step.pos1());
-        self.vertex_box.clear();
-        self.vertex_box
-            .extend(x0.iter().zip(x1).map(|(a, b)| SweptBox {
-                lo: a.min(*b),
-                hi: a.max(*b),
-            }));
-        let vb = &self.vertex_box;
-        self.edge_box.clear();
-        self.edge_box.extend(
-            self.topo
-                .edges
-                .iter()
-                .map(|&[i, j]| vb[i as usize].merge(&vb[j as usize])),
-        );
-        self.face_box.clear();
-        self.face_box.extend(tris.iter().map(|t| {
-            t.iter()
-                .fold(SweptBox::EMPTY, |b, &v| b.merge(&vb[v as usize]))
-        }));
+        self.boxes.sweep(step, &self.topo, 1.0);
 
         self.owned.clear();
         self.owned.resize(tris.len(), 0);
@@ -133,11 +170,13 @@ impl Features {
     }
 
     /// Appends the candidate feature pairs of the overlapping triangle pair `{a, b}` (`a != b`)
-    /// whose swept boxes come within `sep`: `(vertex, face)` to `vf`, `(edge, edge)` (indices
-    /// into `topo.edges`, smaller first) to `ee`. See the module documentation.
+    /// whose swept boxes (`boxes`, usually [`Features::boxes`]) come within `sep`:
+    /// `(vertex, face)` to `vf`, `(edge, edge)` (indices into `topo.edges`, smaller first) to
+    /// `ee`. See the module documentation.
     #[inline]
     pub fn triangle_pair(
         &self,
+        boxes: &FeatureBoxes,
         tris: &[[u32; 3]],
         a: u32,
         b: u32,
@@ -148,8 +187,8 @@ impl Features {
         debug_assert_ne!(a, b);
         let (ta, tb) = (tris[a as usize], tris[b as usize]);
         let (ma, mb) = (self.owned[a as usize], self.owned[b as usize]);
-        self.vertices_face(ta, ma, tb, b, filter, vf);
-        self.vertices_face(tb, mb, ta, a, filter, vf);
+        Self::vertices_face(boxes, ta, ma, tb, b, filter, vf);
+        Self::vertices_face(boxes, tb, mb, ta, a, filter, vf);
         if ma & 0o70 == 0 || mb & 0o70 == 0 {
             return;
         }
@@ -163,7 +202,7 @@ impl Features {
                 continue;
             }
             let [e0, e1] = edges[e as usize];
-            let e_box = &self.edge_box[e as usize];
+            let e_box = &boxes.edge[e as usize];
             for (j, &f) in eb.iter().enumerate() {
                 if mb & (8 << j) == 0 {
                     continue;
@@ -172,7 +211,7 @@ impl Features {
                 if e0 == f0 || e0 == f1 || e1 == f0 || e1 == f1 {
                     continue;
                 }
-                if e_box.near(&self.edge_box[f as usize], filter.sep)
+                if e_box.near(&boxes.edge[f as usize], filter.sep)
                     && filter.edge_edge([e0, e1], [f0, f1])
                 {
                     ee.push([e.min(f), e.max(f)]);
@@ -184,7 +223,7 @@ impl Features {
     /// The owned vertices of triangle `tv` (mask `mask`) against face `f` (vertices `tf`).
     #[inline]
     fn vertices_face(
-        &self,
+        boxes: &FeatureBoxes,
         tv: [u32; 3],
         mask: u8,
         tf: [u32; 3],
@@ -195,11 +234,11 @@ impl Features {
         if mask & 7 == 0 {
             return;
         }
-        let f_box = &self.face_box[f as usize];
+        let f_box = &boxes.face[f as usize];
         for (k, &v) in tv.iter().enumerate() {
             if mask & (1 << k) != 0
                 && !tf.contains(&v)
-                && self.vertex_box[v as usize].near(f_box, filter.sep)
+                && boxes.vertex[v as usize].near(f_box, filter.sep)
                 && filter.vertex_face(v, tf)
             {
                 vf.push([v, f]);

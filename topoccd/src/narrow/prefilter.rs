@@ -1,5 +1,7 @@
-//! A cheap conservative filter run before the elementary tests: the deforming non-penetration
-//! filter (Tang et al. 2010). It proves a pair separated when the vertex stays strictly on one
+//! A cheap conservative filter run before the elementary tests. It first looks for one fixed
+//! direction along which the features stay apart at both ends of the step, hence throughout
+//! (see `direction_separated`; this rejects most neighbours in a mesh). Then it runs the
+//! deforming non-penetration filter (Tang et al. 2010), which proves a pair separated when the vertex stays strictly on one
 //! side of the face's plane (or one edge on one side of the plane through the other edge
 //! parallel to both) during the whole step, farther than `min_separation`.
 //!
@@ -33,8 +35,60 @@ const DEPTH: u32 = 3;
 /// The four points of a pair (vertex and face corners, or edge ends) at t=0 and t=1.
 type Points = [[DVec3; 4]; 2];
 
-/// `true` when the pair provably stays farther apart than `sep` over the whole step: on every
-/// piece of the step, either the cubic `p . (a x b)` (each of `p, a, b` linear from `_0` at
+/// `true` when, along one fixed direction `d` (from the first feature's mean point over the
+/// step to the second's), the features' projections lie apart by more than `sep |d|` at t=0 and
+/// at t=1, on the same side. Then they do so during the whole step: each point's projection is
+/// linear in `t`, so the smallest projection of the one feature is concave in `t`, the largest
+/// of the other convex, and their difference, concave, stays above its smaller end value. The
+/// distance between the features is at least that difference over `|d|`.
+///
+/// Rounding: each computed projection is within `3 u |d|_1 M` of the exact one (`M` the
+/// largest coordinate), and the difference of two within `8 u |d|_1 M`; the test demands twice
+/// that more, and pads `|d|`. The direction itself needs no care: any `d` serves.
+///
+/// Over `[0, t_end]` (`t_end` a power of two at most 1), the second end is the interpolated
+/// position at `t_end`, off by at most `3 u M` per coordinate (the scaling by a power of two is
+/// exact): the margin grows to `48 u |d|_1 M`.
+#[inline]
+fn direction_separated(pts: &Points, split: usize, sep: f64, t_end: f64) -> bool {
+    let (mut first, mut second) = (DVec3::ZERO, DVec3::ZERO);
+    for (k, (&p0, &p1)) in pts[0].iter().zip(&pts[1]).enumerate() {
+        if k < split {
+            first += p0 + p1;
+        } else {
+            second += p0 + p1;
+        }
+    }
+    let d = second / (4 - split) as f64 - first / split as f64;
+    let coord = pts.iter().flatten().fold(0.0f64, |m, x| m.max(max_abs(*x)));
+    let rounding = if t_end < 1.0 { 48.0 } else { 16.0 };
+    let need = sep * d.length() * (1.0 + 4.0 * UNIT_ROUNDOFF)
+        + rounding * UNIT_ROUNDOFF * d.abs().element_sum() * coord
+        + UNDERFLOW_ERROR;
+    let last: [DVec3; 4] = if t_end < 1.0 {
+        std::array::from_fn(|k| lerp(pts[0][k], pts[1][k], t_end))
+    } else {
+        pts[1]
+    };
+    // Whether the second feature lies above the first along `d` at both ends, and below.
+    let (mut above, mut below) = (true, true);
+    for end in [&pts[0], &last] {
+        let mut lo = [f64::INFINITY; 2];
+        let mut hi = [f64::NEG_INFINITY; 2];
+        for (k, p) in end.iter().enumerate() {
+            let f = usize::from(k >= split);
+            let x = d.dot(*p);
+            lo[f] = lo[f].min(x);
+            hi[f] = hi[f].max(x);
+        }
+        above &= lo[1] - hi[0] > need;
+        below &= lo[0] - hi[1] > need;
+    }
+    above || below
+}
+
+/// `true` when the pair provably stays farther apart than `sep` over the whole step: apart
+/// along a fixed direction ([`direction_separated`]), or, on every piece of the step, either the cubic `p . (a x b)` (each of `p, a, b` linear from `_0` at
 /// t=0 to `_1` at t=1) keeps its sign beyond the margin, or the axis-aligned boxes of the
 /// features over that piece stay farther apart than `sep`.
 #[inline]
@@ -45,17 +99,30 @@ fn separated(
     sep: f64,
     pts: &Points,
     split: usize,
+    t_end: f64,
 ) -> bool {
-    let c = coplanarity(p, a, b);
+    let t_end = dyadic_end(t_end);
+    if direction_separated(pts, split, sep, t_end) {
+        return true;
+    }
+    let mut c = coplanarity(p, a, b);
     let pm = max_abs(p[0]).max(max_abs(p[1]));
     let am = max_abs(a[0]).max(max_abs(a[1]));
     let bm = max_abs(b[0]).max(max_abs(b[1]));
     let ab = am * bm;
     let cm = c.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    // Rounding of the triple products, then of up to DEPTH levels of halving.
+    // Rounding of the triple products, then of up to DEPTH levels of halving (and of the
+    // split at `t_end`, three levels of interpolation between values at most `cm`).
     let mut margin = COEFFICIENT_ERROR * UNIT_ROUNDOFF * pm * ab
-        + 4.0 * DEPTH as f64 * UNIT_ROUNDOFF * cm
+        + 4.0 * (DEPTH + 4) as f64 * UNIT_ROUNDOFF * cm
         + UNDERFLOW_ERROR;
+    if t_end < 1.0 {
+        // De Casteljau at `t_end`: the coefficients of the cubic on `[0, t_end]`.
+        let l = |x: f64, y: f64| x + (y - x) * t_end;
+        let (c01, c12, c23) = (l(c[0], c[1]), l(c[1], c[2]), l(c[2], c[3]));
+        let (c012, c123) = (l(c01, c12), l(c12, c23));
+        c = [c[0], c01, c012, l(c012, c123)];
+    }
     if sep > 0.0 {
         // The normal n(t) = a(t) x b(t), a quadratic: its Bernstein coefficients.
         let n00 = a[0].cross(b[0]);
@@ -70,10 +137,26 @@ fn separated(
         split,
         sep,
         margin,
-        // Each interpolated coordinate is within 3 u of the largest coordinate.
-        pad: 4.0 * UNIT_ROUNDOFF * coord,
+        // Each interpolated coordinate `a + (b - a) t` is within `5 u M` of the exact one
+        // (`M` the largest coordinate): two roundings of at most `2 u M`, one of `u M`.
+        pad: 8.0 * UNIT_ROUNDOFF * coord,
     };
-    piece.separated(c, 0.0, 1.0, 0)
+    piece.separated(c, 0.0, t_end, 0)
+}
+
+/// The smallest power of two at least `t` (1 for `t >= 1` or NaN, and at least `2^-900`), so
+/// that the pieces' ends `k t_end / 2^DEPTH` are exact and the cubic's coefficients on each
+/// piece describe exactly the piece whose boxes are tested.
+#[inline]
+fn dyadic_end(t: f64) -> f64 {
+    if !(t < 1.0) {
+        return 1.0;
+    }
+    let mut end = 1.0;
+    while end * 0.5 >= t && end > 1e-270 {
+        end *= 0.5;
+    }
+    end
 }
 
 /// The fixed data of the recursive check of one pair.
@@ -132,10 +215,10 @@ impl Piece<'_> {
     }
 }
 
-/// `true` when the vertex provably stays farther than `sep` (`>= 0`) from the face's plane,
-/// hence from the face, during the whole step.
+/// `true` when the vertex provably stays farther than `sep` (`>= 0`) from the face during the
+/// times `[0, t_end]` (clamped to the whole step; a little more may be looked at).
 #[inline]
-pub fn vf_separated(q: &VertexFace, sep: f64) -> bool {
+pub fn vf_separated(q: &VertexFace, sep: f64, t_end: f64) -> bool {
     separated(
         [q.v_t0 - q.f0_t0, q.v_t1 - q.f0_t1],
         [q.f1_t0 - q.f0_t0, q.f1_t1 - q.f0_t1],
@@ -146,13 +229,14 @@ pub fn vf_separated(q: &VertexFace, sep: f64) -> bool {
             [q.v_t1, q.f0_t1, q.f1_t1, q.f2_t1],
         ],
         1,
+        t_end,
     )
 }
 
-/// `true` when the edges' lines provably stay farther apart than `sep` (`>= 0`), hence the
-/// edges, during the whole step.
+/// `true` when the edges provably stay farther apart than `sep` (`>= 0`) during the times
+/// `[0, t_end]` (clamped to the whole step; a little more may be looked at).
 #[inline]
-pub fn ee_separated(q: &EdgeEdge, sep: f64) -> bool {
+pub fn ee_separated(q: &EdgeEdge, sep: f64, t_end: f64) -> bool {
     separated(
         [q.eb0_t0 - q.ea0_t0, q.eb0_t1 - q.ea0_t1],
         [q.ea1_t0 - q.ea0_t0, q.ea1_t1 - q.ea0_t1],
@@ -163,6 +247,7 @@ pub fn ee_separated(q: &EdgeEdge, sep: f64) -> bool {
             [q.ea0_t1, q.ea1_t1, q.eb0_t1, q.eb1_t1],
         ],
         2,
+        t_end,
     )
 }
 
@@ -183,11 +268,11 @@ mod tests {
 
     /// The smallest distance between sampled points of the two features over sampled times
     /// (an upper bound of their true smallest distance).
-    fn sampled_distance(q: &[DVec3; 8], vertex_face: bool) -> f64 {
+    fn sampled_distance(q: &[DVec3; 8], vertex_face: bool, t_end: f64) -> f64 {
         let n = 12;
         let mut best = f64::INFINITY;
         for k in 0..=32 {
-            let t = k as f64 / 32.0;
+            let t = t_end * k as f64 / 32.0;
             let x: [DVec3; 4] = std::array::from_fn(|i| lerp(q[i], q[i + 4], t));
             for i in 0..=n {
                 for j in 0..=n {
@@ -205,15 +290,16 @@ mod tests {
         best
     }
 
-    /// Whenever the filter rejects, sampled distances exceed `sep` and the solver finds no
-    /// contact either.
+    /// Whenever the filter rejects over `[0, t_end]`, sampled distances over that interval
+    /// exceed `sep` and the solver finds no contact there either.
     #[test]
     fn rejections_are_separated() {
         let mut rng = ChaCha8Rng::seed_from_u64(11);
         let (mut rejected, mut total) = (0, 0);
-        for sep in [0.0, 0.05] {
+        for (sep, t_end) in [(0.0, 1.0), (0.05, 1.0), (0.0, 0.3), (0.05, 0.01)] {
             let options = NarrowOptions {
                 min_separation: sep,
+                t_max: t_end,
                 ..NarrowOptions::default()
             };
             for _ in 0..3000 {
@@ -229,16 +315,16 @@ mod tests {
                 });
                 total += 2;
                 let vf = VertexFace::from_points(pts);
-                if vf_separated(&vf, sep) {
+                if vf_separated(&vf, sep, t_end) {
                     rejected += 1;
                     assert!(!vertex_face(&vf, &options).is_contact(), "{vf:?}");
-                    assert!(sampled_distance(&pts, true) > sep, "{vf:?}");
+                    assert!(sampled_distance(&pts, true, t_end) > sep, "{vf:?}");
                 }
                 let ee = EdgeEdge::from_points(pts);
-                if ee_separated(&ee, sep) {
+                if ee_separated(&ee, sep, t_end) {
                     rejected += 1;
                     assert!(!edge_edge(&ee, &options).is_contact(), "{ee:?}");
-                    assert!(sampled_distance(&pts, false) > sep, "{ee:?}");
+                    assert!(sampled_distance(&pts, false, t_end) > sep, "{ee:?}");
                 }
             }
         }
@@ -260,13 +346,20 @@ mod tests {
             f1_t1: DVec3::X,
             f2_t1: DVec3::Y,
         };
-        assert!(!vf_separated(&vf, 0.0));
+        assert!(!vf_separated(&vf, 0.0, 1.0));
+        // It crosses the face's plane at t = 0.5: apart before, not after (the interval is
+        // rounded up to a power of two).
+        assert!(vf_separated(&vf, 0.0, 0.2));
+        assert!(vf_separated(&vf, 0.0, 0.25));
+        assert!(!vf_separated(&vf, 0.0, 0.3));
+        assert!(!vf_separated(&vf, 0.0, 0.5));
+        assert!(!vf_separated(&vf, 0.0, 0.6));
         let above = VertexFace {
             v_t1: DVec3::new(0.2, 0.2, 0.1),
             ..vf
         };
-        assert!(vf_separated(&above, 0.0));
-        assert!(vf_separated(&above, 0.099));
-        assert!(!vf_separated(&above, 0.1));
+        assert!(vf_separated(&above, 0.0, 1.0));
+        assert!(vf_separated(&above, 0.099, 1.0));
+        assert!(!vf_separated(&above, 0.1, 1.0));
     }
 }

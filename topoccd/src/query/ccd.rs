@@ -13,7 +13,7 @@ use crate::broad::cluster::phase::ClusterPhase;
 use crate::broad::{brute, bvh::PerStepBvh, BroadInput, BroadStats, Candidates, Sink, CHUNK};
 use crate::bvh::{BvhWorkspace, ParOptions};
 use crate::kdop::DopKind;
-use crate::mesh::features::Features;
+use crate::mesh::features::{FeatureBoxes, Features};
 use crate::mesh::filter::PairFilter;
 use crate::mesh::Step;
 use crate::narrow::Certainty;
@@ -24,6 +24,9 @@ use crate::narrow::Certainty;
 #[derive(Clone, Debug, Default)]
 pub struct Ccd {
     features: Features,
+    /// The features' boxes over the start of the step, for the first pass of an Earliest
+    /// query (see [`bvh_query`]).
+    early_boxes: FeatureBoxes,
     canon: Vec<u32>,
     ws: BvhWorkspace,
     k6: PerStepBvh<3>,
@@ -173,14 +176,15 @@ impl Ccd {
             Method::Bvh => {
                 self.last_tree = Some((Method::Bvh, options.kdop));
                 let ws = &mut self.ws;
+                let early_boxes = &mut self.early_boxes;
                 let args = (&input, &ctx, record, task_chunk, ws);
                 let out = (&mut found, &mut totals, recorded);
                 let early = !self.late;
                 let (stats, late) = match options.kdop {
-                    DopKind::K6 => bvh_query(&mut self.k6, args, early, out),
-                    DopKind::K14 => bvh_query(&mut self.k14, args, early, out),
-                    DopKind::K18 => bvh_query(&mut self.k18, args, early, out),
-                    DopKind::K26 => bvh_query(&mut self.k26, args, early, out),
+                    DopKind::K6 => bvh_query(&mut self.k6, args, early_boxes, early, out),
+                    DopKind::K14 => bvh_query(&mut self.k14, args, early_boxes, early, out),
+                    DopKind::K18 => bvh_query(&mut self.k18, args, early_boxes, early, out),
+                    DopKind::K26 => bvh_query(&mut self.k26, args, early_boxes, early, out),
                 };
                 if options.mode == super::Mode::Earliest {
                     self.late = late;
@@ -375,8 +379,8 @@ const EARLY: f64 = 256.0;
 /// time is inside the traversal's (the two run interleaved on every thread).
 ///
 /// In [`Mode::Earliest`](super::Mode::Earliest) with `early` and `t_max > tau` (`tau = t_max /
-/// EARLY`), a first pass uses volumes swept over `[0, tau]` and solves every candidate over
-/// `[0, tau]` first. If it finds contacts whose earliest time `b` has `b + 2 tolerance <= tau`, the answer
+/// EARLY`), a first pass uses triangle volumes and feature boxes (`early_boxes`) swept over
+/// `[0, tau]` and solves every candidate over `[0, tau]` first. If it finds contacts whose earliest time `b` has `b + 2 tolerance <= tau`, the answer
 /// is complete: a pair whose first contact lies within the tolerance of `b` touches before
 /// `tau`, so its features' volumes over `[0, tau]` overlap and the first pass tested it.
 /// Otherwise the hierarchy is refitted to the whole step's volumes and traversed again, pruned
@@ -394,6 +398,7 @@ fn bvh_query<const H: usize>(
         usize,
         &mut BvhWorkspace,
     ),
+    early_boxes: &mut FeatureBoxes,
     early: bool,
     (found, totals, recorded): (&mut Found, &mut Totals, &mut Candidates),
 ) -> (BroadStats, bool) {
@@ -403,10 +408,19 @@ fn bvh_query<const H: usize>(
     let two_pass =
         early && options.mode == super::Mode::Earliest && tau > 2.0 * options.narrow.tolerance;
     let mut build = tree.build(input, if two_pass { tau } else { t_max }, ws);
+    let boxes = if two_pass {
+        let t = Instant::now();
+        early_boxes.sweep(input.step, &input.features.topo, tau);
+        build += t.elapsed().as_secs_f64();
+        &*early_boxes
+    } else {
+        &input.features.boxes
+    };
     let t = Instant::now();
     let mut bv_tests = traverse_pass(
         tree,
         (input, ctx, record, task_chunk, ws),
+        boxes,
         if two_pass { tau } else { f64::INFINITY },
         (found, totals, recorded),
     );
@@ -420,7 +434,13 @@ fn bvh_query<const H: usize>(
             build += tree.refit_whole_step(input);
             let t = Instant::now();
             let limit = ctx.limit(best);
-            bv_tests += traverse_pass(tree, (input, ctx, record, task_chunk, ws), limit, (found, totals, recorded));
+            bv_tests += traverse_pass(
+                tree,
+                (input, ctx, record, task_chunk, ws),
+                &input.features.boxes,
+                limit,
+                (found, totals, recorded),
+            );
             // A contact of the first pass is found again, with the same time.
             found.vf.sort_unstable_by_key(|c| (c.vertex, c.face));
             found.vf.dedup_by_key(|c| (c.vertex, c.face));
@@ -441,9 +461,9 @@ fn bvh_query<const H: usize>(
     (stats, late)
 }
 
-/// One parallel traversal of the hierarchy as built or refitted, its tasks' candidates solved
-/// with the limit `start` at first (lowered by what the batches find). Returns the
-/// bounding-volume tests.
+/// One parallel traversal of the hierarchy as built or refitted, the triangle pairs' features
+/// checked against `boxes`, the tasks' candidates solved with the limit `start` at first
+/// (lowered by what the batches find). Returns the bounding-volume tests.
 fn traverse_pass<const H: usize>(
     tree: &PerStepBvh<H>,
     (input, ctx, record, task_chunk, ws): (
@@ -453,6 +473,7 @@ fn traverse_pass<const H: usize>(
         usize,
         &mut BvhWorkspace,
     ),
+    boxes: &FeatureBoxes,
     start: f64,
     (found, totals, recorded): (&mut Found, &mut Totals, &mut Candidates),
 ) -> u64 {
@@ -466,7 +487,7 @@ fn traverse_pass<const H: usize>(
     };
     let make = || Task::new(f64::from_bits(limit.load(Ordering::Acquire)), record);
     let pair = |task: &mut Task, a: u32, b: u32| {
-        features.triangle_pair(tris, a, b, filter, &mut task.buf.vf, &mut task.buf.ee);
+        features.triangle_pair(boxes, tris, a, b, filter, &mut task.buf.vf, &mut task.buf.ee);
         if task.buf.len() >= task_chunk {
             task.flush(ctx);
         }

@@ -62,7 +62,8 @@ fn vf_contact(
     limit: f64,
 ) -> Option<VfContact> {
     let q = vf_query(step, pair);
-    if vf_separated(&q, options.narrow.min_separation) {
+    let t_end = limit.min(options.narrow.t_max);
+    if vf_separated(&q, options.narrow.min_separation, t_end) {
         return None;
     }
     let (toi, certainty) = pruned(&options.narrow, limit, |o| vertex_face(&q, o))?;
@@ -85,7 +86,8 @@ fn ee_contact(
     let (a, b) = (edges[e as usize], edges[f as usize]);
     debug_assert!(a < b);
     let q = ee_query(step, a, b);
-    if ee_separated(&q, options.narrow.min_separation) {
+    let t_end = limit.min(options.narrow.t_max);
+    if ee_separated(&q, options.narrow.min_separation, t_end) {
         return None;
     }
     let (toi, certainty) = pruned(&options.narrow, limit, |o| edge_edge(&q, o))?;
