@@ -169,7 +169,7 @@ impl Features {
         }
     }
 
-    /// Appends the candidate feature pairs of the overlapping triangle pair `{a, b}` (`a != b`)
+    /// Appends the candidate feature pairs of the overlapping triangle pair `[a, b]` (`a != b`)
     /// whose swept boxes (`boxes`, usually [`Features::boxes`]) come within `sep`:
     /// `(vertex, face)` to `vf`, `(edge, edge)` (indices into `topo.edges`, smaller first) to
     /// `ee`. See the module documentation.
@@ -178,8 +178,7 @@ impl Features {
         &self,
         boxes: &FeatureBoxes,
         tris: &[[u32; 3]],
-        a: u32,
-        b: u32,
+        [a, b]: [u32; 2],
         filter: &PairFilter<'_>,
         vf: &mut Vec<[u32; 2]>,
         ee: &mut Vec<[u32; 2]>,

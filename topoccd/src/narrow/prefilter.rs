@@ -149,7 +149,7 @@ fn separated(
 /// piece describe exactly the piece whose boxes are tested.
 #[inline]
 fn dyadic_end(t: f64) -> f64 {
-    if !(t < 1.0) {
+    if t.is_nan() || t >= 1.0 {
         return 1.0;
     }
     let mut end = 1.0;

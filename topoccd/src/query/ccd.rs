@@ -487,7 +487,7 @@ fn traverse_pass<const H: usize>(
     };
     let make = || Task::new(f64::from_bits(limit.load(Ordering::Acquire)), record);
     let pair = |task: &mut Task, a: u32, b: u32| {
-        features.triangle_pair(boxes, tris, a, b, filter, &mut task.buf.vf, &mut task.buf.ee);
+        features.triangle_pair(boxes, tris, [a, b], filter, &mut task.buf.vf, &mut task.buf.ee);
         if task.buf.len() >= task_chunk {
             task.flush(ctx);
         }

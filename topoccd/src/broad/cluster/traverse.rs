@@ -146,7 +146,7 @@ pub(crate) fn candidates<const H: usize>(
         let buf = &mut sink.buf;
         input
             .features
-            .triangle_pair(&input.features.boxes, input.triangles, a, b, input.filter, &mut buf.vf, &mut buf.ee);
+            .triangle_pair(&input.features.boxes, input.triangles, [a, b], input.filter, &mut buf.vf, &mut buf.ee);
         sink.check();
     };
 
