@@ -15,6 +15,9 @@ pub enum MethodArg {
     /// The paper's method: clusters proved free of self-contact, a hierarchy over them, lazy
     /// hierarchies over the leaf clusters' triangles.
     Cluster,
+    /// bvh on steps below 100,000 triangles, cluster on larger ones (the method that ran is
+    /// in the JSON's `stats.method`).
+    Auto,
 }
 
 impl From<MethodArg> for Method {
@@ -23,6 +26,7 @@ impl From<MethodArg> for Method {
             MethodArg::Bvh => Method::Bvh,
             MethodArg::Brute => Method::Brute,
             MethodArg::Cluster => Method::Cluster,
+            MethodArg::Auto => Method::Auto,
         }
     }
 }

@@ -19,11 +19,11 @@ pub struct Keywords<'a> {
     pub crack_filter: bool,
 }
 
-/// The method by name: `brute`, `bvh` or `cluster`.
+/// The method by name: `brute`, `bvh`, `cluster` or `auto`.
 pub fn method(name: &str) -> PyResult<Method> {
     name.parse::<Method>().map_err(|_| {
         options_error(format!(
-            "method must be 'bvh', 'cluster' or 'brute', got {name:?}"
+            "method must be 'bvh', 'cluster', 'brute' or 'auto', got {name:?}"
         ))
     })
 }

@@ -41,7 +41,8 @@ use crate::errors::input_error;
 ///     earliest (tuple or None): the pair attaining it, ``("vf", vertex, face, toi)`` or
 ///         ``("ee", a0, a1, b0, b1, toi)``.
 ///     unresolved (int): contacts whose certainty is not 0.
-///     stats (dict): work counters: ``bv_tests``, ``vf_tests``, ``ee_tests``,
+///     stats (dict): ``method`` (the method that ran: what ``"auto"`` chose), and work
+///         counters: ``bv_tests``, ``vf_tests``, ``ee_tests``,
 ///         ``peak_candidates`` (the most candidate pairs buffered at once), ``vertices``,
 ///         ``triangles``, and ``cluster`` (a dict, ``method="cluster"`` only).
 ///     seconds (dict): wall time of each phase: ``build``, ``traverse``, ``narrow``,
@@ -249,6 +250,7 @@ fn stats(py: Python<'_>, r: &LibReport, facts: &StepFacts) -> PyResult<Py<PyDict
     let d = PyDict::new(py);
     d.set_item("vertices", facts.vertices)?;
     d.set_item("triangles", facts.triangles)?;
+    d.set_item("method", s.method.to_string())?;
     d.set_item("bv_tests", s.bv_tests)?;
     d.set_item("vf_tests", s.vf_tests)?;
     d.set_item("ee_tests", s.ee_tests)?;

@@ -61,6 +61,7 @@ pub use narrow::NarrowOptions;
 pub use query::{
     query, Ccd, Certainty, ClusterFigures, ClusterGrowth, Contact, EeContact, EeGeometry, Method,
     Mode, OptionsError, QueryOptions, Report, Seconds, Stats, VfContact, VfGeometry,
+    AUTO_CLUSTER_TRIANGLES,
 };
 
 /// The README's examples, run as doctests.

@@ -21,7 +21,7 @@ __all__ = [
 __version__: str
 
 _Path = Union[str, "os.PathLike[str]"]
-_Method = Literal["bvh", "cluster", "brute"]
+_Method = Literal["bvh", "cluster", "brute", "auto"]
 _Mode = Literal["all", "earliest"]
 _Growth = Literal["certificate", "paper"]
 _StepArrays = Tuple[

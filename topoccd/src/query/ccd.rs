@@ -146,6 +146,7 @@ impl Ccd {
         options: &QueryOptions,
     ) -> Result<Report, OptionsError> {
         options.validate()?;
+        let method = method.resolve(step.triangles().len());
         let start = Instant::now();
         let sep = options.narrow.min_separation;
         self.features.update(step);
@@ -191,7 +192,7 @@ impl Ccd {
                 }
                 stats
             }
-            Method::Brute | Method::Cluster => {
+            Method::Brute | Method::Cluster | Method::Auto => {
                 // A sequential broad phase, its buffer solved in parallel whenever it is full.
                 let mut best = None;
                 let mut flush = |c: &Candidates| {
@@ -259,6 +260,7 @@ impl Ccd {
             earliest,
             unresolved,
             stats: Stats {
+                method,
                 bv_tests,
                 vf_tests: totals.vf_tests,
                 ee_tests: totals.ee_tests,

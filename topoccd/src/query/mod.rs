@@ -20,7 +20,7 @@ mod report;
 #[cfg(feature = "internals")]
 pub use ccd::CandidatePairs;
 pub use ccd::{query, Ccd};
-pub use options::{ClusterGrowth, Method, Mode, OptionsError, QueryOptions};
+pub use options::{ClusterGrowth, Method, Mode, OptionsError, QueryOptions, AUTO_CLUSTER_TRIANGLES};
 pub use report::{
     Certainty, ClusterFigures, Contact, EeContact, EeGeometry, Report, Seconds, Stats, VfContact,
     VfGeometry,

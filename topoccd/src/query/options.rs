@@ -36,19 +36,48 @@ pub enum Method {
     /// triangles only when that cluster's volume overlaps another's. Feature pairs inside one
     /// intermediate cluster are never tested. See [`QueryOptions::growth`].
     Cluster,
+    /// [`Method::Bvh`] or [`Method::Cluster`], chosen for each step by [`Method::resolve`]
+    /// from its size; [`Stats::method`](crate::Stats::method) tells which ran.
+    Auto,
+}
+
+/// [`Method::Auto`] runs [`Method::Cluster`] on steps with at least this many triangles, and
+/// [`Method::Bvh`] on smaller ones. Below it the clustering costs about what it saves; above,
+/// the certified clusters skip most neighbouring pairs and the cluster method is 2-3 times
+/// faster (the README's table 1).
+pub const AUTO_CLUSTER_TRIANGLES: usize = 100_000;
+
+impl Method {
+    /// The method that runs on a step of `triangles` triangles: itself, except for
+    /// [`Method::Auto`] (see [`AUTO_CLUSTER_TRIANGLES`]).
+    ///
+    /// ```
+    /// use topoccd::Method;
+    /// assert_eq!(Method::Auto.resolve(10_000), Method::Bvh);
+    /// assert_eq!(Method::Auto.resolve(1_000_000), Method::Cluster);
+    /// assert_eq!(Method::Brute.resolve(1_000_000), Method::Brute);
+    /// ```
+    pub fn resolve(self, triangles: usize) -> Method {
+        match self {
+            Method::Auto if triangles >= AUTO_CLUSTER_TRIANGLES => Method::Cluster,
+            Method::Auto => Method::Bvh,
+            m => m,
+        }
+    }
 }
 
 impl std::str::FromStr for Method {
     type Err = String;
 
-    /// `"brute"`, `"bvh"` or `"cluster"`.
+    /// `"brute"`, `"bvh"`, `"cluster"` or `"auto"`.
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s {
             "brute" => Ok(Method::Brute),
             "bvh" => Ok(Method::Bvh),
             "cluster" => Ok(Method::Cluster),
+            "auto" => Ok(Method::Auto),
             _ => Err(format!(
-                "unknown method {s:?} (expected brute, bvh or cluster)"
+                "unknown method {s:?} (expected brute, bvh, cluster or auto)"
             )),
         }
     }
@@ -60,6 +89,7 @@ impl std::fmt::Display for Method {
             Method::Brute => "brute",
             Method::Bvh => "bvh",
             Method::Cluster => "cluster",
+            Method::Auto => "auto",
         })
     }
 }

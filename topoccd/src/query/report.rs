@@ -144,6 +144,8 @@ pub struct Seconds {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Stats {
+    /// The method that ran (what [`Method::Auto`](crate::Method::Auto) chose).
+    pub method: crate::Method,
     /// Bounding-volume overlap tests: k-DOP node pairs in [`Method::Bvh`](crate::Method::Bvh)
     /// (in [`Method::Cluster`](crate::Method::Cluster): of the cluster hierarchy and of the
     /// lazy hierarchies), box pairs of the sweep in [`Method::Brute`](crate::Method::Brute).
