@@ -126,14 +126,32 @@ impl FeatureBoxes {
     }
 }
 
+/// What [`Features::triangle_pair`] reads of one triangle, in one cache line: its vertices,
+/// and the vertices and edges it owns, listed first.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(align(64))]
+pub struct OwnedFeatures {
+    /// The triangle's vertices.
+    pub vertices: [u32; 3],
+    /// The vertices it owns: `owned_vertices[..vertex_count]`.
+    pub owned_vertices: [u32; 3],
+    /// The edges it owns (indices into `topo.edges`): `owned_edges[..edge_count]`.
+    pub owned_edges: [u32; 3],
+    /// The end vertices of each owned edge.
+    pub edge_ends: [[u32; 2]; 3],
+    /// How many vertices it owns.
+    pub vertex_count: u8,
+    /// How many edges it owns.
+    pub edge_count: u8,
+}
+
 /// Per-step feature data, with buffers reused across steps.
 #[derive(Clone, Debug, Default)]
 pub struct Features {
     /// Edges and incidences.
     pub topo: Topology,
-    /// Per triangle: bit `k` set if it owns vertex `tri[k]`, bit `3 + k` if it owns edge
-    /// `triangle_edges[k]`.
-    pub owned: Vec<u8>,
+    /// Per triangle: its vertices and the features it owns.
+    pub owned: Vec<OwnedFeatures>,
     /// The features' boxes swept over the whole step.
     pub boxes: FeatureBoxes,
     /// Scratch: whether a vertex / edge has an owner yet.
@@ -148,22 +166,27 @@ impl Features {
         self.boxes.sweep(step, &self.topo, 1.0);
 
         self.owned.clear();
-        self.owned.resize(tris.len(), 0);
+        self.owned.resize(tris.len(), OwnedFeatures::default());
         self.claimed.clear();
         self.claimed.resize(step.vertex_count(), false);
-        for (t, tri) in tris.iter().enumerate() {
-            for (k, &v) in tri.iter().enumerate() {
+        for (o, tri) in self.owned.iter_mut().zip(tris) {
+            o.vertices = *tri;
+            for &v in tri {
                 if !std::mem::replace(&mut self.claimed[v as usize], true) {
-                    self.owned[t] |= 1 << k;
+                    o.owned_vertices[o.vertex_count as usize] = v;
+                    o.vertex_count += 1;
                 }
             }
         }
         self.claimed.clear();
         self.claimed.resize(self.topo.edges.len(), false);
-        for (t, edges) in self.topo.triangle_edges.iter().enumerate() {
-            for (k, &e) in edges.iter().enumerate() {
+        for (o, edges) in self.owned.iter_mut().zip(&self.topo.triangle_edges) {
+            for &e in edges {
                 if !std::mem::replace(&mut self.claimed[e as usize], true) {
-                    self.owned[t] |= 8 << k;
+                    let k = o.edge_count as usize;
+                    o.owned_edges[k] = e;
+                    o.edge_ends[k] = self.topo.edges[e as usize];
+                    o.edge_count += 1;
                 }
             }
         }
@@ -177,36 +200,19 @@ impl Features {
     pub fn triangle_pair(
         &self,
         boxes: &FeatureBoxes,
-        tris: &[[u32; 3]],
         [a, b]: [u32; 2],
         filter: &PairFilter<'_>,
         vf: &mut Vec<[u32; 2]>,
         ee: &mut Vec<[u32; 2]>,
     ) {
         debug_assert_ne!(a, b);
-        let (ta, tb) = (tris[a as usize], tris[b as usize]);
-        let (ma, mb) = (self.owned[a as usize], self.owned[b as usize]);
-        Self::vertices_face(boxes, ta, ma, tb, b, filter, vf);
-        Self::vertices_face(boxes, tb, mb, ta, a, filter, vf);
-        if ma & 0o70 == 0 || mb & 0o70 == 0 {
-            return;
-        }
-        let (ea, eb) = (
-            &self.topo.triangle_edges[a as usize],
-            &self.topo.triangle_edges[b as usize],
-        );
-        let edges = &self.topo.edges;
-        for (i, &e) in ea.iter().enumerate() {
-            if ma & (8 << i) == 0 {
-                continue;
-            }
-            let [e0, e1] = edges[e as usize];
+        let (oa, ob) = (&self.owned[a as usize], &self.owned[b as usize]);
+        Self::vertices_face(boxes, oa, ob.vertices, b, filter, vf);
+        Self::vertices_face(boxes, ob, oa.vertices, a, filter, vf);
+        let (na, nb) = (oa.edge_count as usize, ob.edge_count as usize);
+        for (&e, &[e0, e1]) in oa.owned_edges[..na].iter().zip(&oa.edge_ends[..na]) {
             let e_box = &boxes.edge[e as usize];
-            for (j, &f) in eb.iter().enumerate() {
-                if mb & (8 << j) == 0 {
-                    continue;
-                }
-                let [f0, f1] = edges[f as usize];
+            for (&f, &[f0, f1]) in ob.owned_edges[..nb].iter().zip(&ob.edge_ends[..nb]) {
                 if e0 == f0 || e0 == f1 || e1 == f0 || e1 == f1 {
                     continue;
                 }
@@ -219,24 +225,23 @@ impl Features {
         }
     }
 
-    /// The owned vertices of triangle `tv` (mask `mask`) against face `f` (vertices `tf`).
+    /// The vertices owned by `ov` against face `f` (vertices `tf`).
     #[inline]
     fn vertices_face(
         boxes: &FeatureBoxes,
-        tv: [u32; 3],
-        mask: u8,
+        ov: &OwnedFeatures,
         tf: [u32; 3],
         f: u32,
         filter: &PairFilter<'_>,
         vf: &mut Vec<[u32; 2]>,
     ) {
-        if mask & 7 == 0 {
+        let n = ov.vertex_count as usize;
+        if n == 0 {
             return;
         }
         let f_box = &boxes.face[f as usize];
-        for (k, &v) in tv.iter().enumerate() {
-            if mask & (1 << k) != 0
-                && !tf.contains(&v)
+        for &v in &ov.owned_vertices[..n] {
+            if !tf.contains(&v)
                 && boxes.vertex[v as usize].near(f_box, filter.sep)
                 && filter.vertex_face(v, tf)
             {

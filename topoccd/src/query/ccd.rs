@@ -479,7 +479,6 @@ fn traverse_pass<const H: usize>(
     start: f64,
     (found, totals, recorded): (&mut Found, &mut Totals, &mut Candidates),
 ) -> u64 {
-    let tris = input.step.triangles();
     let (features, filter) = (input.features, input.filter);
     // The limit of the batches handed over so far (f64 bits; only lowered between batches).
     let limit = AtomicU64::new(start.to_bits());
@@ -489,7 +488,7 @@ fn traverse_pass<const H: usize>(
     };
     let make = || Task::new(f64::from_bits(limit.load(Ordering::Acquire)), record);
     let pair = |task: &mut Task, a: u32, b: u32| {
-        features.triangle_pair(boxes, tris, [a, b], filter, &mut task.buf.vf, &mut task.buf.ee);
+        features.triangle_pair(boxes, [a, b], filter, &mut task.buf.vf, &mut task.buf.ee);
         if task.buf.len() >= task_chunk {
             task.flush(ctx);
         }

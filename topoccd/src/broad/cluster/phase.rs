@@ -74,7 +74,6 @@ impl ClusterPhase {
         cluster_into(input.step, topo, &options, &mut self.ws, &mut self.clustering);
         let traversal = Inputs {
             clustering: &self.clustering,
-            triangles: input.step.triangles(),
             features: input.features,
             filter: input.filter,
             trust: !self.distrust,

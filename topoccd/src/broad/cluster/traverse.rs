@@ -120,8 +120,6 @@ pub(crate) struct Counts {
 pub(crate) struct Inputs<'a> {
     /// The step's clustering.
     pub clustering: &'a Clustering,
-    /// The step's triangles.
-    pub triangles: &'a [[u32; 3]],
     /// Features and ownership.
     pub features: &'a Features,
     /// The pair filter (with the minimum separation).
@@ -146,7 +144,7 @@ pub(crate) fn candidates<const H: usize>(
         let buf = &mut sink.buf;
         input
             .features
-            .triangle_pair(&input.features.boxes, input.triangles, [a, b], input.filter, &mut buf.vf, &mut buf.ee);
+            .triangle_pair(&input.features.boxes, [a, b], input.filter, &mut buf.vf, &mut buf.ee);
         sink.check();
     };
 
