@@ -101,7 +101,9 @@ def default_inputs(scenes):
 
 def run_once(binary, inp, method, earliest, threads, timeout):
     """Runs one query; returns (record dict or None, peak KB or None, wall seconds, error)."""
-    cmd = [binary, "--threads", str(threads)] + inp.args + ["--method", method, "--json"]
+    # "default": no --method, so each build runs its own default method.
+    chosen = [] if method == "default" else ["--method", method]
+    cmd = [binary, "--threads", str(threads)] + inp.args + chosen + ["--json"]
     if earliest:
         cmd.append("--earliest")
     timer = shutil.which("time") and os.path.exists("/usr/bin/time")
@@ -172,6 +174,8 @@ def summarize(runs):
         cvf + cee if isinstance(cvf, int) and isinstance(cee, int) else None
     )
     s["earliest"] = rec.get("earliest_toi")
+    # The method that ran (builds that report it): what "default" or "auto" chose.
+    s["ran"] = field(rec, "stats", "method") or rec.get("method")
     peaks = [r[1] for r in ok if r[1] is not None]
     s["peak_mb"] = max(peaks) / 1024 if peaks else None
     s["wall"] = statistics.median(r[2] for r in ok)
@@ -202,7 +206,9 @@ def main():
     ap.add_argument("--new", required=True, help="the new topoccd binary")
     ap.add_argument("--base", required=True, help="the base topoccd binary to compare with")
     ap.add_argument("--scenes", help="with no inputs: also every generated sequence in this folder")
-    ap.add_argument("--methods", default="bvh,cluster,brute", help="comma-separated (default: all)")
+    ap.add_argument("--methods", default="bvh,cluster,brute",
+                    help="comma-separated (default: bvh,cluster,brute); 'default' runs each build's "
+                         "default method (no --method), 'auto' needs a build that knows it")
     ap.add_argument("--threads", default="1,2", help="comma-separated thread counts (default 1,2)")
     ap.add_argument("--modes", default="all,earliest", help="all, earliest or both (default)")
     ap.add_argument("--reps", type=int, default=3, help="repetitions of each pair of runs (default 3)")
@@ -257,8 +263,11 @@ def main():
             print(f"| {inp.name} | {num(inp.triangles)} | {method} | {mode} | {th} | {note} |||||||||")
             continue
         cells = [pair(sb[ph], sn[ph], ms) for ph in PHASES]
+        shown = method
+        if method in ("default", "auto"):
+            shown = f"{method} ({sb.get('ran') or DASH} / {sn.get('ran') or DASH})"
         print("| " + " | ".join([
-            inp.name, num(inp.triangles), method, mode, str(th), *cells,
+            inp.name, num(inp.triangles), shown, mode, str(th), *cells,
             ratio(sb["total"], sn["total"]),
             pair(sb["candidates"], sn["candidates"], num),
             pair(sb["contacts"], sn["contacts"], num) if mode == "all"

@@ -21,6 +21,7 @@ pub enum Mode {
 /// elementary tests, so all report the same contacts.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 #[non_exhaustive]
 pub enum Method {
     /// The oracle: every vertex-face and edge-edge pair whose swept axis-aligned boxes come
