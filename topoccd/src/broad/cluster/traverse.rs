@@ -11,12 +11,19 @@
 //!    sub-trees against each other; a single-leaf cluster's volume against the other's
 //!    sub-tree; nothing more when both have one leaf, their volumes were just tested).
 //! 3. For each such leaf pair `{a, b}`: the overlapping triangle pairs, from the two leaf
-//!    clusters' triangle hierarchies, each built the first time its leaf cluster is needed and
-//!    at most once per step. A leaf cluster of at most [`DIRECT`] triangles gets no hierarchy:
-//!    its triangles' volumes are tested directly against the other leaf's triangles or tree.
+//!    clusters' triangle hierarchies, built (in parallel, each once per step) for the leaf
+//!    clusters that some leaf pair needs. A leaf cluster of at most [`DIRECT`] triangles gets
+//!    no hierarchy: its triangles' volumes are tested directly against the other leaf's
+//!    triangles or tree.
 //! 4. A leaf cluster without a certificate would be tested against itself, and the leaf pairs
 //!    inside its intermediate cluster too (the clustering of this crate certifies every leaf,
 //!    so this never runs, but it is not assumed).
+//!
+//! Steps 1, 2 and 4 list the leaf pairs (and uncertified leaves) sequentially; step 3 runs them
+//! as parallel tasks of consecutive items, fixed by the number of items alone
+//! ([`TrianglePairs`]), each task's triangle pairs going to the query's narrow phase on the
+//! task's thread, the tasks' results handed over in task order: the same candidates and the
+//! same report for any thread count.
 //!
 //! # Soundness: a skipped pair never touches
 //! *Which pairs are skipped.* By the ownership scheme a vertex-face pair `(v, f)` is a
@@ -70,17 +77,22 @@
 
 use std::time::Instant;
 
-use crate::bvh::BvhWorkspace;
-use super::{Clustering, LeafCertificate};
+use rayon::prelude::*;
 
 use super::tree::{ClusterTree, NONE};
-use crate::mesh::features::Features;
-use crate::broad::Sink;
-use crate::mesh::filter::PairFilter;
+use super::{Clustering, LeafCertificate};
+use crate::broad::TaskPairs;
+use crate::bvh::{BvhWorkspace, ParOptions};
 
 /// Leaf clusters of at most this many triangles get no lazy hierarchy: their triangles'
 /// volumes are tested directly against the other leaf cluster's triangles (or its hierarchy).
 pub(crate) const DIRECT: usize = 4;
+
+/// The triangle pairs of step 3 (and 4) run as parallel tasks of consecutive work items (leaf
+/// pairs), at least this many items a task, and about this many tasks at most: the tasks
+/// depend on the number of items alone, never on the thread count.
+const TASK_ITEMS: usize = 8;
+const MAX_TASKS: usize = 1024;
 
 /// Whether a leaf cluster's certificate proves it free of self-contact. Written as an
 /// exhaustive match so that a new kind of certificate must be classified here.
@@ -95,10 +107,16 @@ fn certified(certificate: LeafCertificate) -> bool {
 pub(crate) struct PairScratch {
     /// Overlapping pairs of intermediate clusters.
     ic_pairs: Vec<(u32, u32)>,
-    /// Overlapping pairs of leaf clusters to test.
-    leaf_pairs: Vec<(u32, u32)>,
+    /// The work items of step 3: overlapping pairs `(a, b)`, `a != b`, of leaf clusters to
+    /// test, and `(l, l)` for a leaf cluster without certificate, tested against itself
+    /// (step 4).
+    items: Vec<(u32, u32)>,
     /// Whether each intermediate cluster is certified (all its leaves are).
     ic_certified: Vec<bool>,
+    /// Leaf clusters that need a lazy hierarchy, increasing.
+    needed: Vec<u32>,
+    /// Per leaf cluster: whether it is in `needed`.
+    marked: Vec<bool>,
 }
 
 /// What the traversal did.
@@ -110,7 +128,7 @@ pub(crate) struct Counts {
     pub lazy_bvhs: usize,
     /// Leaf pairs whose triangles were tested.
     pub leaf_pairs: u64,
-    /// Leaf clusters tested against themselves (no certificate).
+    /// Leaf clusters tested for self-contact because they carry no certificate.
     pub uncertified_leaves: usize,
     /// Time spent building the lazy hierarchies, in seconds.
     pub lazy_seconds: f64,
@@ -120,35 +138,23 @@ pub(crate) struct Counts {
 pub(crate) struct Inputs<'a> {
     /// The step's clustering.
     pub clustering: &'a Clustering,
-    /// The step's triangles.
-    pub triangles: &'a [[u32; 3]],
-    /// Features and ownership.
-    pub features: &'a Features,
-    /// The pair filter (with the minimum separation).
-    pub filter: &'a PairFilter<'a>,
     /// `false` treats every leaf cluster as uncertified (every pair is then tested: a check
     /// of the traversal itself, used by the tests).
     pub trust: bool,
 }
 
-/// Hands the candidate feature pairs of the step to `sink` (see the module
-/// documentation); `tree` must have been built for this step and clustering.
-pub(crate) fn candidates<const H: usize>(
+/// Steps 1, 2 and 4 of the traversal (see the module documentation) down to the work items of
+/// step 3, into `scratch`, and the lazy hierarchies these need, built in parallel. `tree` must
+/// have been built for this step and clustering. Returns the counts so far (with the
+/// bounding-volume tests of steps 1 and 2).
+pub(crate) fn prepare<const H: usize>(
     tree: &mut ClusterTree<H>,
     input: &Inputs<'_>,
     scratch: &mut PairScratch,
     ws: &mut BvhWorkspace,
-    sink: &mut Sink<'_>,
 ) -> Counts {
     let c = input.clustering;
     let mut counts = Counts::default();
-    let mut emit = |a: u32, b: u32| {
-        let buf = &mut sink.buf;
-        input
-            .features
-            .triangle_pair(input.triangles, a, b, input.filter, &mut buf.vf, &mut buf.ee);
-        sink.check();
-    };
 
     // Certificates: an intermediate cluster is certified when all its leaves are.
     scratch.ic_certified.clear();
@@ -167,8 +173,8 @@ pub(crate) fn candidates<const H: usize>(
     counts.bv_tests += tree
         .top
         .self_pairs(ws, |i, j| ic_pairs.push((i.min(j), i.max(j))));
-    scratch.leaf_pairs.clear();
-    let leaf_pairs = &mut scratch.leaf_pairs;
+    scratch.items.clear();
+    let items = &mut scratch.items;
     for &(i, j) in &scratch.ic_pairs {
         let (si, sj) = (tree.sub_of_ic[i as usize], tree.sub_of_ic[j as usize]);
         let (li, lj) = (
@@ -177,22 +183,20 @@ pub(crate) fn candidates<const H: usize>(
         );
         counts.bv_tests += match (si == NONE, sj == NONE) {
             (true, true) => {
-                leaf_pairs.push((li[0], lj[0]));
+                items.push((li[0], lj[0]));
                 0
             }
             (true, false) => {
                 let v = &tree.leaf[li[0] as usize].volume;
-                tree.sub(j)
-                    .volume_leaves(v, ws, |b| leaf_pairs.push((li[0], b)))
+                tree.sub(j).volume_leaves(v, ws, |b| items.push((li[0], b)))
             }
             (false, true) => {
                 let v = &tree.leaf[lj[0] as usize].volume;
-                tree.sub(i)
-                    .volume_leaves(v, ws, |a| leaf_pairs.push((a, lj[0])))
+                tree.sub(i).volume_leaves(v, ws, |a| items.push((a, lj[0])))
             }
             (false, false) => tree
                 .sub(i)
-                .tree_pairs(tree.sub(j), ws, |a, b| leaf_pairs.push((a, b))),
+                .tree_pairs(tree.sub(j), ws, |a, b| items.push((a, b))),
         };
     }
     // Step 4: leaf pairs inside an intermediate cluster without certificate.
@@ -200,85 +204,135 @@ pub(crate) fn candidates<const H: usize>(
         if !ok && tree.sub_of_ic[i] != NONE {
             counts.bv_tests += tree
                 .sub(i as u32)
-                .self_pairs(ws, |a, b| leaf_pairs.push((a, b)));
+                .self_pairs(ws, |a, b| items.push((a, b)));
         }
     }
+    counts.leaf_pairs = items.len() as u64;
+    // Step 4: leaf clusters without certificate, against themselves.
+    for (l, leaf) in c.leaves.iter().enumerate() {
+        if (input.trust && certified(leaf.certificate)) || leaf.triangles.len() < 2 {
+            continue;
+        }
+        counts.uncertified_leaves += 1;
+        items.push((l as u32, l as u32));
+    }
 
-    // Step 3: triangle pairs of each leaf pair.
-    counts.leaf_pairs = scratch.leaf_pairs.len() as u64;
-    for &(a, b) in &scratch.leaf_pairs {
+    // The lazy hierarchies: every leaf cluster of more than `DIRECT` triangles in an item.
+    let t = Instant::now();
+    scratch.marked.clear();
+    scratch.marked.resize(c.leaves.len(), false);
+    for &(a, b) in items.iter() {
+        for l in [a, b] {
+            if c.leaves[l as usize].triangles.len() > DIRECT {
+                scratch.marked[l as usize] = true;
+            }
+        }
+    }
+    scratch.needed.clear();
+    scratch.needed.extend(
+        (0..c.leaves.len() as u32).filter(|&l| scratch.marked[l as usize]),
+    );
+    tree.build_lazies(c, &scratch.needed);
+    counts.lazy_bvhs = scratch.needed.len();
+    counts.lazy_seconds = t.elapsed().as_secs_f64();
+    counts
+}
+
+/// The triangle pairs of the work items prepared by [`prepare`], as a source of parallel
+/// tasks ([`TaskPairs`]).
+pub(crate) struct TrianglePairs<'a, const H: usize> {
+    pub tree: &'a ClusterTree<H>,
+    pub clustering: &'a Clustering,
+    pub scratch: &'a PairScratch,
+}
+
+impl<const H: usize> TrianglePairs<'_, H> {
+    /// Step 3 (and 4) for one work item: every overlapping pair of triangles to `emit`.
+    /// Returns the bounding-volume tests.
+    fn item(&self, (a, b): (u32, u32), ws: &mut BvhWorkspace, emit: &mut impl FnMut(u32, u32)) -> u64 {
+        let (tree, c) = (self.tree, self.clustering);
+        let mut tests = 0;
+        if a == b {
+            let tris = c.leaf_triangles(a as usize);
+            if tris.len() <= DIRECT {
+                for (k, &x) in tris.iter().enumerate() {
+                    for &y in &tris[k + 1..] {
+                        tests += 1;
+                        if tree.tri[x as usize].overlaps(&tree.tri[y as usize]) {
+                            emit(x, y);
+                        }
+                    }
+                }
+            } else {
+                tests += tree.lazy(a).self_pairs(ws, emit);
+            }
+            return tests;
+        }
         let (mut a, mut b) = (a, b);
         let (mut ta, mut tb) = (c.leaf_triangles(a as usize), c.leaf_triangles(b as usize));
         if ta.len() > tb.len() {
             (a, b, ta, tb) = (b, a, tb, ta);
         }
-        debug_assert_ne!(a, b);
         if ta.len() <= DIRECT {
             if tb.len() <= DIRECT {
                 for &x in ta {
                     let vx = &tree.tri[x as usize];
                     for &y in tb {
-                        counts.bv_tests += 1;
+                        tests += 1;
                         if vx.overlaps(&tree.tri[y as usize]) {
                             emit(x, y);
                         }
                     }
                 }
             } else {
-                ensure(tree, c, b, ws, &mut counts);
+                let lazy = tree.lazy(b);
                 for &x in ta {
                     let vx = &tree.tri[x as usize];
-                    counts.bv_tests += tree.lazy(b).volume_leaves(vx, ws, |y| emit(x, y));
+                    tests += lazy.volume_leaves(vx, ws, |y| emit(x, y));
                 }
             }
         } else {
-            ensure(tree, c, a, ws, &mut counts);
-            ensure(tree, c, b, ws, &mut counts);
-            counts.bv_tests += tree.lazy(a).tree_pairs(tree.lazy(b), ws, &mut emit);
+            tests += tree.lazy(a).tree_pairs(tree.lazy(b), ws, &mut *emit);
         }
+        tests
     }
-
-    // Step 4: leaf clusters without certificate, against themselves.
-    for (l, leaf) in c.leaves.iter().enumerate() {
-        if input.trust && certified(leaf.certificate) {
-            continue;
-        }
-        let tris = c.leaf_triangles(l);
-        if tris.len() < 2 {
-            continue;
-        }
-        counts.uncertified_leaves += 1;
-        if tris.len() <= DIRECT {
-            for (k, &x) in tris.iter().enumerate() {
-                for &y in &tris[k + 1..] {
-                    counts.bv_tests += 1;
-                    if tree.tri[x as usize].overlaps(&tree.tri[y as usize]) {
-                        emit(x, y);
-                    }
-                }
-            }
-        } else {
-            ensure(tree, c, l as u32, ws, &mut counts);
-            counts.bv_tests += tree.lazy(l as u32).self_pairs(ws, &mut emit);
-        }
-    }
-    counts
 }
 
-/// Builds leaf cluster `leaf`'s triangle hierarchy if not built yet, timing and counting it.
-#[inline]
-fn ensure<const H: usize>(
-    tree: &mut ClusterTree<H>,
-    c: &Clustering,
-    leaf: u32,
-    ws: &mut BvhWorkspace,
-    counts: &mut Counts,
-) {
-    if tree.has_lazy(leaf) {
-        return;
+impl<const H: usize> TaskPairs for TrianglePairs<'_, H> {
+    /// Runs the work items as tasks of consecutive items (their number depends on the items
+    /// alone), batch by batch on the rayon pool, each task's accumulator finished on its
+    /// thread and handed to `consume` in task order.
+    fn pairs<T: Send>(
+        &self,
+        _ws: &mut BvhWorkspace,
+        par: &ParOptions,
+        make: impl Fn() -> T + Sync + Send,
+        pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+        finish: impl Fn(&mut T) + Sync + Send,
+        mut consume: impl FnMut(T),
+    ) -> u64 {
+        let items = &self.scratch.items[..];
+        let per_task = items.len().div_ceil(MAX_TASKS).max(TASK_ITEMS);
+        let tasks: Vec<&[(u32, u32)]> = items.chunks(per_task).collect();
+        let mut bv_tests = 0;
+        for batch in tasks.chunks(par.batch.max(1)) {
+            let done: Vec<(T, u64)> = batch
+                .par_iter()
+                .map_init(BvhWorkspace::default, |ws, task| {
+                    let mut acc = make();
+                    let mut tests = 0;
+                    for &item in task.iter() {
+                        tests += self.item(item, ws, &mut |x, y| pair(&mut acc, x, y));
+                    }
+                    finish(&mut acc);
+                    (acc, tests)
+                })
+                .collect();
+            for (acc, tests) in done {
+                consume(acc);
+                bv_tests += tests;
+            }
+        }
+        bv_tests
     }
-    let t = Instant::now();
-    tree.ensure_lazy(c, leaf, ws);
-    counts.lazy_seconds += t.elapsed().as_secs_f64();
-    counts.lazy_bvhs += 1;
 }
