@@ -73,7 +73,26 @@ pub struct DiskBuilder {
     direction: DVec3,
     centre: [DVec3; 2],
     subdivisions: u32,
+    /// Per triangle: the patch stamp under which [`DiskBuilder::try_add`] found hypothesis 1
+    /// to hold (the direction is fixed for a patch, so the test need not be repeated when a
+    /// refused triangle is offered again).
+    normal_passed: Vec<u32>,
+    /// Generation of the pair (patch, centre): bumped whenever either changes.
+    centre_gen: u32,
+    /// Per edge: the generation of `star_bits`.
+    star_gen: Vec<u32>,
+    /// Per edge: the star tests of [`DiskBuilder::try_add`] known under `star_gen`, for each
+    /// direction (see [`STAR_KNOWN`], [`STAR_HOLDS`]): the test is a function of the directed
+    /// edge, the direction and the centre alone, so its result is reused, never recomputed
+    /// differently.
+    star_bits: Vec<u8>,
 }
+
+/// In `star_bits`: the star test of the edge from its smaller to its larger vertex is known
+/// (shift left by 2 for the other direction).
+const STAR_KNOWN: u8 = 0b01;
+/// In `star_bits`: that test holds.
+const STAR_HOLDS: u8 = 0b10;
 
 const COUNT_MASK: u8 = 0b11;
 const FORWARD: u8 = 0b100;
@@ -96,17 +115,28 @@ impl DiskBuilder {
             self.edge_stamp.resize(topo.edges.len(), 0);
             self.edge_state.resize(topo.edges.len(), 0);
         }
+        if self.star_gen.len() != topo.edges.len() {
+            self.star_gen.clear();
+            self.star_gen.resize(topo.edges.len(), 0);
+            self.star_bits.resize(topo.edges.len(), 0);
+        }
         if self.vertex_stamp.len() != vertex_count {
             self.vertex_stamp.clear();
             self.vertex_stamp.resize(vertex_count, 0);
+        }
+        if self.normal_passed.len() != topo.triangle_edges.len() {
+            self.normal_passed.clear();
+            self.normal_passed.resize(topo.triangle_edges.len(), 0);
         }
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
             // Wrapped around: old stamps could alias the new one. Clear everything once.
             self.edge_stamp.iter_mut().for_each(|s| *s = 0);
             self.vertex_stamp.iter_mut().for_each(|s| *s = 0);
+            self.normal_passed.iter_mut().for_each(|s| *s = 0);
             self.stamp = 1;
         }
+        self.next_centre_gen();
         self.boundary.clear();
         self.fresh_from = 0;
         self.fresh_vertices.clear();
@@ -117,6 +147,36 @@ impl DiskBuilder {
         self.direction = direction;
         self.centre = centre;
         self.subdivisions = subdivisions;
+    }
+
+    /// A new generation for the star tests' memory (the patch or its centre changed).
+    fn next_centre_gen(&mut self) {
+        self.centre_gen = self.centre_gen.wrapping_add(1);
+        if self.centre_gen == 0 {
+            self.star_gen.iter_mut().for_each(|s| *s = 0);
+            self.centre_gen = 1;
+        }
+    }
+
+    /// Hypothesis 4 for the new boundary edge `e` directed `a -> b`, around the current
+    /// centre: [`star_around`], computed at most once per directed edge and generation.
+    fn star_holds(&mut self, e: usize, a: u32, b: u32, x0: &[DVec3], x1: &[DVec3]) -> bool {
+        if self.star_gen[e] != self.centre_gen {
+            self.star_gen[e] = self.centre_gen;
+            self.star_bits[e] = 0;
+        }
+        let shift = if a < b { 0 } else { 2 };
+        let bits = self.star_bits[e] >> shift;
+        if bits & STAR_KNOWN != 0 {
+            return bits & STAR_HOLDS != 0;
+        }
+        let (a, b) = (a as usize, b as usize);
+        let holds = star_around(self.direction, [x0[a], x1[a]], [x0[b], x1[b]], self.centre)
+            .positive(self.subdivisions)
+            == Verdict::Holds;
+        let found = STAR_KNOWN | if holds { STAR_HOLDS } else { 0 };
+        self.star_bits[e] |= found << shift;
+        holds
     }
 
     /// Vertices that the last [`DiskBuilder::extend`] added to the patch (equation 4's
@@ -258,15 +318,14 @@ impl DiskBuilder {
         if shared == 0 || shared + new_vertices != 2 {
             return Err(DiskFailure::Topology);
         }
-        if !self.faces_direction(tri, x0, x1) {
-            return Err(DiskFailure::Normal);
+        if self.normal_passed[t as usize] != self.stamp {
+            if !self.faces_direction(tri, x0, x1) {
+                return Err(DiskFailure::Normal);
+            }
+            self.normal_passed[t as usize] = self.stamp;
         }
         for k in (0..3).filter(|&k| !is_shared[k]) {
-            let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
-            let (pa, pb) = ([x0[a], x1[a]], [x0[b], x1[b]]);
-            if star_around(self.direction, pa, pb, self.centre).positive(self.subdivisions)
-                != Verdict::Holds
-            {
+            if !self.star_holds(edges[k] as usize, tri[k], tri[(k + 1) % 3], x0, x1) {
                 return Err(DiskFailure::Star);
             }
         }
@@ -308,10 +367,10 @@ impl DiskBuilder {
     ) -> Result<(), DiskFailure> {
         self.end_batch();
         let old = self.centre;
-        self.centre = centre;
+        self.set_centre(centre);
         let checked = self.check_boundary(step, topo, true);
         if checked.is_err() {
-            self.centre = old;
+            self.set_centre(old);
         }
         checked
     }
@@ -386,6 +445,7 @@ impl DiskBuilder {
     /// Replaces the star centre (for another [`DiskBuilder::check_boundary`] with `all_edges`).
     pub fn set_centre(&mut self, centre: [DVec3; 2]) {
         self.centre = centre;
+        self.next_centre_gen();
     }
 
     /// The boundary edge `e` directed as its one patch triangle traverses it.
