@@ -10,7 +10,6 @@ use super::{
 };
 use crate::math::DVec3;
 use crate::mesh::{Step, Topology};
-use std::ops::Range;
 
 /// Marker of a triangle not yet in any leaf cluster.
 pub(super) const UNASSIGNED: u32 = u32::MAX;
@@ -60,35 +59,21 @@ pub(super) fn corners(step: &Step, t: u32) -> ([DVec3; 3], [DVec3; 3]) {
     )
 }
 
-/// Whether triangle `t` lies in the chunk whose first triangle is `first` (and whose leaf of
-/// each triangle is `leaf_of`) and is in no leaf cluster yet.
-#[inline]
-pub(super) fn free_in(leaf_of: &[u32], first: u32, t: u32) -> bool {
-    leaf_of
-        .get(t.wrapping_sub(first) as usize)
-        .is_some_and(|&l| l == UNASSIGNED)
-}
-
-/// Grows the leaf clusters of the chunk `triangles` of `step` into `out` (whose leaf fields
-/// must be empty), seeds by increasing triangle index; a leaf takes triangles of the chunk
-/// only. Fills `out.leaf_of_triangle` (indexed from `triangles.start`, leaf ids local to the
-/// chunk), `out.leaves`, `out.leaf_triangles` (triangle ids of the whole step),
+/// Grows the leaf clusters of `step` into `out` (whose leaf fields must be empty), seeds by
+/// increasing triangle index. Fills `out.leaf_of_triangle`, `out.leaves`, `out.leaf_triangles`,
 /// `out.ring_starts`, `out.last_ring_vertices` and the leaf counters of `stats`.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn grow_leaves(
     step: &Step,
     topo: &Topology,
     options: &ClusterOptions,
-    triangles: Range<u32>,
     scratch: &mut LeafScratch,
     disk: &mut DiskBuilder,
     out: &mut Clustering,
     stats: &mut ClusterStats,
 ) {
     let n = step.triangles().len();
-    let first_triangle = triangles.start;
     out.leaf_of_triangle.clear();
-    out.leaf_of_triangle.resize(triangles.len(), UNASSIGNED);
+    out.leaf_of_triangle.resize(n, UNASSIGNED);
     if scratch.tri_stamp.len() != n {
         scratch.tri_stamp.clear();
         scratch.tri_stamp.resize(n, 0);
@@ -96,14 +81,14 @@ pub(super) fn grow_leaves(
         scratch.refused.resize(n, 0);
     }
     let grow = options.min_separation == 0.0;
-    for seed in triangles {
-        if !free_in(&out.leaf_of_triangle, first_triangle, seed) {
+    for seed in 0..n as u32 {
+        if out.leaf_of_triangle[seed as usize] != UNASSIGNED {
             continue;
         }
         let id = out.leaves.len() as u32;
         let first = out.leaf_triangles.len();
         let ring_first = out.ring_starts.len();
-        out.leaf_of_triangle[(seed - first_triangle) as usize] = id;
+        out.leaf_of_triangle[seed as usize] = id;
         out.leaf_triangles.push(seed);
         out.ring_starts.push(first as u32);
 
@@ -136,19 +121,10 @@ pub(super) fn grow_leaves(
                 .and_then(|()| disk.check_boundary(step, topo, false))
             {
                 Err(f) => GrowthStop::Certificate(f),
-                Ok(()) if options.phi_filter || options.rings == RingGrowth::Whole => grow_rings(
-                    step,
-                    topo,
-                    options,
-                    observation,
-                    scratch,
-                    disk,
-                    out,
-                    (first_triangle, id),
-                ),
-                Ok(()) => {
-                    grow_partial_rings(step, topo, scratch, disk, out, (first_triangle, id))
+                Ok(()) if options.phi_filter || options.rings == RingGrowth::Whole => {
+                    grow_rings(step, topo, options, observation, scratch, disk, out, id)
                 }
+                Ok(()) => grow_partial_rings(step, topo, scratch, disk, out, id),
             }
         };
         let partial = grow && !options.phi_filter && options.rings == RingGrowth::Partial;
@@ -165,7 +141,7 @@ pub(super) fn grow_leaves(
                     // Fall back to the seed alone; the released triangles all come after the
                     // seed (it is the lowest-numbered free triangle), so later seeds take them.
                     for &t in &out.leaf_triangles[first + 1..] {
-                        out.leaf_of_triangle[(t - first_triangle) as usize] = UNASSIGNED;
+                        out.leaf_of_triangle[t as usize] = UNASSIGNED;
                     }
                     out.leaf_triangles.truncate(first + 1);
                     out.ring_starts.truncate(ring_first + 1);
@@ -226,14 +202,14 @@ fn grow_rings(
     scratch: &mut LeafScratch,
     disk: &mut DiskBuilder,
     out: &mut Clustering,
-    (first, id): (u32, u32),
+    id: u32,
 ) -> GrowthStop {
     loop {
         let stamp = scratch.next_stamp();
         scratch.ring.clear();
         for &v in &scratch.frontier {
             for &t in topo.triangles_of(v) {
-                if free_in(&out.leaf_of_triangle, first, t)
+                if out.leaf_of_triangle[t as usize] == UNASSIGNED
                     && scratch.tri_stamp[t as usize] != stamp
                 {
                     scratch.tri_stamp[t as usize] = stamp;
@@ -272,7 +248,7 @@ fn grow_rings(
         }
         out.ring_starts.push(out.leaf_triangles.len() as u32);
         for &t in &scratch.ring {
-            out.leaf_of_triangle[(t - first) as usize] = id;
+            out.leaf_of_triangle[t as usize] = id;
             out.leaf_triangles.push(t);
         }
         debug_assert_eq!(
@@ -299,7 +275,7 @@ fn grow_partial_rings(
     scratch: &mut LeafScratch,
     disk: &mut DiskBuilder,
     out: &mut Clustering,
-    (first, id): (u32, u32),
+    id: u32,
 ) -> GrowthStop {
     let leaf = scratch.next_leaf_stamp();
     scratch.retry.clear();
@@ -307,7 +283,7 @@ fn grow_partial_rings(
         let stamp = scratch.next_stamp();
         scratch.ring.clear();
         let free = |t: u32, s: &LeafScratch| {
-            free_in(&out.leaf_of_triangle, first, t) && s.refused[t as usize] != leaf
+            out.leaf_of_triangle[t as usize] == UNASSIGNED && s.refused[t as usize] != leaf
         };
         for i in 0..scratch.retry.len() {
             let t = scratch.retry[i];
@@ -341,7 +317,7 @@ fn grow_partial_rings(
                 match disk.try_add(step, topo, t) {
                     Ok(()) => {
                         added = true;
-                        out.leaf_of_triangle[(t - first) as usize] = id;
+                        out.leaf_of_triangle[t as usize] = id;
                         out.leaf_triangles.push(t);
                     }
                     Err(f) => {

@@ -29,60 +29,40 @@ fn swept_box(step: &Step, triangles: &[u32], margin: f64) -> SweptBox {
     }
 }
 
-/// Scratch memory of the merge, reused across chunks and steps.
-#[derive(Clone, Debug, Default)]
-pub(super) struct MergeScratch {
-    pairs: Vec<(u32, u32)>,
-    offsets: Vec<u32>,
-    adjacent: Vec<u32>,
-    geometry: Vec<LeafGeometry>,
-    members: Vec<u32>,
-}
-
-/// Leaf adjacency (sharing an edge) inside the chunk whose first triangle is `first`, as CSR
-/// into `s`: neighbours of leaf `i` are `s.adjacent[s.offsets[i]..s.offsets[i + 1]]`,
-/// increasing. Two triangles share an edge when both contain its two vertices.
+/// Leaf adjacency (sharing an edge) as CSR: neighbours of leaf `i` are
+/// `adjacent[offsets[i]..offsets[i + 1]]`, increasing.
 fn leaf_adjacency(
-    step: &Step,
     topo: &Topology,
     leaf_of_triangle: &[u32],
-    first: u32,
     leaves: usize,
-    s: &mut MergeScratch,
-) {
-    s.pairs.clear();
-    let tris = step.triangles();
-    for (i, &l) in leaf_of_triangle.iter().enumerate() {
-        let t = first + i as u32;
-        let tri = tris[t as usize];
-        for k in 0..3 {
-            let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            for &u in topo.triangles_of(a) {
-                let Some(&m) = leaf_of_triangle.get(u.wrapping_sub(first) as usize) else {
-                    continue;
-                };
-                if m != l && tris[u as usize].contains(&b) {
-                    s.pairs.push((l, m));
-                }
+) -> (Vec<u32>, Vec<u32>) {
+    let mut first_leaf = vec![UNASSIGNED; topo.edges.len()];
+    let mut pairs: Vec<(u32, u32)> = Vec::new();
+    for (t, edges) in topo.triangle_edges.iter().enumerate() {
+        let l = leaf_of_triangle[t];
+        for &e in edges {
+            let f = &mut first_leaf[e as usize];
+            if *f == UNASSIGNED {
+                *f = l;
+            } else if *f != l {
+                pairs.push((*f, l));
+                pairs.push((l, *f));
             }
         }
     }
-    s.pairs.sort_unstable();
-    s.pairs.dedup();
-    s.offsets.clear();
-    s.offsets.resize(leaves + 1, 0);
-    for &(a, _) in &s.pairs {
-        s.offsets[a as usize + 1] += 1;
+    pairs.sort_unstable();
+    pairs.dedup();
+    let mut offsets = vec![0u32; leaves + 1];
+    for &(a, _) in &pairs {
+        offsets[a as usize + 1] += 1;
     }
     for i in 0..leaves {
-        s.offsets[i + 1] += s.offsets[i];
+        offsets[i + 1] += offsets[i];
     }
-    s.adjacent.clear();
-    s.adjacent.extend(s.pairs.iter().map(|&(_, b)| b));
+    (offsets, pairs.into_iter().map(|(_, b)| b).collect())
 }
 
 /// Per-leaf data of the merge: boxes, observation point of equation 5.
-#[derive(Clone, Debug)]
 struct LeafGeometry {
     /// `B_i`: the whole leaf.
     whole: SweptBox,
@@ -92,9 +72,9 @@ struct LeafGeometry {
     observation: [DVec3; 2],
 }
 
-fn leaf_geometry(step: &Step, c: &Clustering, margin: f64, out: &mut Vec<LeafGeometry>) {
-    out.clear();
-    out.extend((0..c.leaves.len()).map(|i| {
+fn leaf_geometry(step: &Step, c: &Clustering, margin: f64) -> Vec<LeafGeometry> {
+    (0..c.leaves.len())
+        .map(|i| {
             let leaf = &c.leaves[i];
             let tris = c.leaf_triangles(i);
             let last = c.last_ring(i);
@@ -113,20 +93,16 @@ fn leaf_geometry(step: &Step, c: &Clustering, margin: f64, out: &mut Vec<LeafGeo
                 core: swept_box(step, core, margin),
                 observation,
             }
-        }));
+        })
+        .collect()
 }
 
-/// Builds the intermediate clusters of a chunk into `out` from its leaves (grown by
-/// [`grow_leaves`](super::leaf::grow_leaves) over the chunk whose first triangle is `first`).
-/// Intermediate clusters take leaves of the chunk only; their ids are local to it.
-#[allow(clippy::too_many_arguments)]
+/// Builds the intermediate clusters into `out` from its leaves.
 pub(super) fn merge_leaves(
     step: &Step,
     topo: &Topology,
     options: &ClusterOptions,
-    first: u32,
     disk: &mut DiskBuilder,
-    scratch: &mut MergeScratch,
     out: &mut Clustering,
     stats: &mut ClusterStats,
 ) {
@@ -135,22 +111,17 @@ pub(super) fn merge_leaves(
     out.intermediate_of_leaf.resize(leaves, UNASSIGNED);
     let merging =
         options.merge && options.min_separation == 0.0 && options.max_intermediate_leaves > 1;
-    if merging {
-        leaf_adjacency(step, topo, &out.leaf_of_triangle, first, leaves, scratch);
-        leaf_geometry(step, out, options.min_separation, &mut scratch.geometry);
+    let (offsets, adjacent) = if merging {
+        leaf_adjacency(topo, &out.leaf_of_triangle, leaves)
     } else {
-        scratch.offsets.clear();
-        scratch.offsets.resize(leaves + 1, 0);
-        scratch.adjacent.clear();
-        scratch.geometry.clear();
-    }
-    let MergeScratch {
-        offsets,
-        adjacent,
-        geometry,
-        members,
-        ..
-    } = scratch;
+        (vec![0; leaves + 1], Vec::new())
+    };
+    let geometry = if merging {
+        leaf_geometry(step, out, options.min_separation)
+    } else {
+        Vec::new()
+    };
+    let mut members: Vec<u32> = Vec::new();
     for start in 0..leaves as u32 {
         if out.intermediate_of_leaf[start as usize] != UNASSIGNED {
             continue;
@@ -170,7 +141,7 @@ pub(super) fn merge_leaves(
                     continue;
                 }
                 if can_merge(
-                    step, topo, options, disk, out, geometry, members, next, stats,
+                    step, topo, options, disk, out, &geometry, &members, next, stats,
                 ) {
                     out.intermediate_of_leaf[next as usize] = id;
                     members.push(next);
@@ -180,7 +151,7 @@ pub(super) fn merge_leaves(
             break;
         }
         let first = out.intermediate_leaves.len();
-        out.intermediate_leaves.extend_from_slice(members);
+        out.intermediate_leaves.extend_from_slice(&members);
         let triangle_count = members
             .iter()
             .map(|&l| out.leaves[l as usize].triangles.len())

@@ -67,15 +67,6 @@
 //! holds for all `t` because the winding number is an integer that varies continuously while no
 //! `g` vanishes (by 4 `pi(c(t))` never meets `J(t)`).
 //!
-//! # Chunks
-//! The triangles are split into chunks of [`CHUNK_TRIANGLES`] consecutive indices (the last
-//! one shorter), a split that depends on the triangle count alone. Leaf clusters grow inside a
-//! chunk, "free" below meaning free *and in the seed's chunk*; intermediate clusters merge
-//! leaves of one chunk. So the chunks are clustered independently, in parallel on the rayon
-//! pool, and concatenated in chunk order: the clustering is the same for any thread count.
-//! Every certificate below is about a set of triangles, wherever they come from, so the chunks
-//! change nothing of the guarantee (they only stop some leaves from growing further).
-//!
 //! # Leaf clusters
 //! A leaf grows from a seed (the lowest-numbered free triangle) by rings: `T1` = free triangles
 //! incident to the seed's vertices, `T(k+1)` = free triangles incident to the new vertices of
@@ -130,59 +121,13 @@ pub use types::{
 };
 
 use crate::mesh::{Step, Topology};
-use rayon::prelude::*;
-use std::sync::Mutex;
 use std::time::Instant;
-
-/// Triangles per chunk of the clustering: leaf clusters grow inside one chunk of consecutive
-/// triangle indices, intermediate clusters merge the leaves of one chunk, and the chunks are
-/// clustered independently on the rayon pool. The chunks depend on the triangle count alone,
-/// so the clustering is the same for any number of threads.
-pub const CHUNK_TRIANGLES: usize = 4096;
-
-/// The scratch memory one clustering task works with (one per running task, reused).
-#[derive(Clone, Debug, Default)]
-struct TaskScratch {
-    disk: DiskBuilder,
-    leaf: leaf::LeafScratch,
-    merge: merge::MergeScratch,
-}
 
 /// Scratch memory of [`cluster_with`], reused across steps to avoid reallocation.
 #[derive(Clone, Debug, Default)]
 pub struct ClusterWorkspace {
-    /// Idle task scratch, taken by the tasks of a clustering and given back.
-    idle: Vec<TaskScratch>,
-    /// The clustering of each chunk, leaf and intermediate ids local to the chunk.
-    chunks: Vec<Clustering>,
-}
-
-/// A [`TaskScratch`] taken from the idle ones (or new), given back when dropped.
-struct Lent<'a> {
-    scratch: Option<TaskScratch>,
-    idle: &'a Mutex<Vec<TaskScratch>>,
-}
-
-impl<'a> Lent<'a> {
-    fn take(idle: &'a Mutex<Vec<TaskScratch>>) -> Self {
-        let scratch = idle.lock().unwrap_or_else(|e| e.into_inner()).pop();
-        Self {
-            scratch: Some(scratch.unwrap_or_default()),
-            idle,
-        }
-    }
-
-    fn get(&mut self) -> &mut TaskScratch {
-        self.scratch.get_or_insert_with(TaskScratch::default)
-    }
-}
-
-impl Drop for Lent<'_> {
-    fn drop(&mut self) {
-        if let Some(s) = self.scratch.take() {
-            self.idle.lock().unwrap_or_else(|e| e.into_inner()).push(s);
-        }
-    }
+    disk: DiskBuilder,
+    leaf: leaf::LeafScratch,
 }
 
 /// Clusters the triangles of one step (see the [module documentation](self) for the guarantee).
@@ -239,68 +184,22 @@ pub fn cluster_into(
     debug_assert_eq!(topo.triangle_edges.len(), step.triangles().len());
     out.clear();
     let out = &mut *out;
-    let n = step.triangles().len();
-    let chunk_len = CHUNK_TRIANGLES;
-    let chunk_count = n.div_ceil(chunk_len);
-    if workspace.chunks.len() < chunk_count {
-        workspace.chunks.resize_with(chunk_count, Clustering::default);
-    }
-    let chunks = &mut workspace.chunks[..chunk_count];
-    let idle = Mutex::new(std::mem::take(&mut workspace.idle));
-    let range = |k: usize| (k * chunk_len) as u32..(n.min((k + 1) * chunk_len)) as u32;
-    let started = Instant::now();
-    chunks
-        .par_iter_mut()
-        .with_max_len(1)
-        .enumerate()
-        .for_each(|(k, chunk)| {
-            let mut lent = Lent::take(&idle);
-            let s = lent.get();
-            chunk.clear();
-            let mut stats = ClusterStats::default();
-            leaf::grow_leaves(
-                step,
-                topo,
-                options,
-                range(k),
-                &mut s.leaf,
-                &mut s.disk,
-                chunk,
-                &mut stats,
-            );
-            chunk.stats = stats;
-        });
-    let grown = Instant::now();
-    chunks
-        .par_iter_mut()
-        .with_max_len(1)
-        .enumerate()
-        .for_each(|(k, chunk)| {
-            let mut lent = Lent::take(&idle);
-            let s = lent.get();
-            let mut stats = chunk.stats;
-            let first = range(k).start;
-            merge::merge_leaves(
-                step,
-                topo,
-                options,
-                first,
-                &mut s.disk,
-                &mut s.merge,
-                chunk,
-                &mut stats,
-            );
-            chunk.stats = stats;
-        });
-    workspace.idle = idle.into_inner().unwrap_or_else(|e| e.into_inner());
     let mut stats = ClusterStats::default();
-    for chunk in chunks.iter() {
-        append_chunk(out, chunk);
-        stats.absorb(&chunk.stats);
-    }
+    let started = Instant::now();
+    leaf::grow_leaves(
+        step,
+        topo,
+        options,
+        &mut workspace.leaf,
+        &mut workspace.disk,
+        out,
+        &mut stats,
+    );
+    let grown = Instant::now();
+    merge::merge_leaves(step, topo, options, &mut workspace.disk, out, &mut stats);
     stats.clustering_seconds = (grown - started).as_secs_f64();
     stats.merging_seconds = grown.elapsed().as_secs_f64();
-    stats.triangles = n;
+    stats.triangles = step.triangles().len();
     stats.leaves = out.leaves.len();
     stats.intermediates = out.intermediates.len();
     if stats.leaves > 0 {
@@ -311,46 +210,3 @@ pub fn cluster_into(
     }
     out.stats = stats;
 }
-
-/// Appends the clustering of the next chunk to `out`, its ids and ranges shifted past what
-/// `out` already holds.
-fn append_chunk(out: &mut Clustering, chunk: &Clustering) {
-    let shift = |r: &std::ops::Range<usize>, by: usize| r.start + by..r.end + by;
-    let leaf_base = out.leaves.len();
-    let tri_base = out.leaf_triangles.len();
-    let ring_base = out.ring_starts.len();
-    let bar_base = out.last_ring_vertices.len();
-    let ic_base = out.intermediates.len();
-    let member_base = out.intermediate_leaves.len();
-    out.leaf_of_triangle
-        .extend(chunk.leaf_of_triangle.iter().map(|&l| l + leaf_base as u32));
-    out.leaves.extend(chunk.leaves.iter().map(|l| LeafCluster {
-        triangles: shift(&l.triangles, tri_base),
-        rings: shift(&l.rings, ring_base),
-        last_ring_vertices: shift(&l.last_ring_vertices, bar_base),
-        ..l.clone()
-    }));
-    out.leaf_triangles.extend_from_slice(&chunk.leaf_triangles);
-    out.ring_starts
-        .extend(chunk.ring_starts.iter().map(|&s| s + tri_base as u32));
-    out.last_ring_vertices
-        .extend_from_slice(&chunk.last_ring_vertices);
-    out.intermediates
-        .extend(chunk.intermediates.iter().map(|ic| IntermediateCluster {
-            leaves: shift(&ic.leaves, member_base),
-            triangle_count: ic.triangle_count,
-        }));
-    out.intermediate_leaves.extend(
-        chunk
-            .intermediate_leaves
-            .iter()
-            .map(|&l| l + leaf_base as u32),
-    );
-    out.intermediate_of_leaf.extend(
-        chunk
-            .intermediate_of_leaf
-            .iter()
-            .map(|&i| i + ic_base as u32),
-    );
-}
-

@@ -82,17 +82,36 @@ use rayon::prelude::*;
 use super::tree::{ClusterTree, NONE};
 use super::{Clustering, LeafCertificate};
 use crate::broad::TaskPairs;
-use crate::bvh::{BvhWorkspace, ParOptions};
+use crate::bvh::{BvhWorkspace, Node, ParOptions};
 
 /// Leaf clusters of at most this many triangles get no lazy hierarchy: their triangles'
 /// volumes are tested directly against the other leaf cluster's triangles (or its hierarchy).
 pub(crate) const DIRECT: usize = 4;
 
-/// The triangle pairs of step 3 (and 4) run as parallel tasks of consecutive work items (leaf
-/// pairs), at least this many items a task, and about this many tasks at most: the tasks
-/// depend on the number of items alone, never on the thread count.
-const TASK_ITEMS: usize = 8;
-const MAX_TASKS: usize = 1024;
+/// The triangle pairs of step 3 (and 4) run as parallel tasks of consecutive work items
+/// (leaf pairs) of about equal estimated cost ([`item_cost`]): about `MAX_TASKS` tasks, each
+/// of cost at least `MIN_TASK_COST` unless it is the last. The tasks depend on the items
+/// alone, never on the thread count.
+const MAX_TASKS: u64 = 512;
+const MIN_TASK_COST: u64 = 16;
+
+/// A leaf pair whose smaller leaf cluster has at least this many triangles is split into
+/// pairs of nodes of the two lazy hierarchies, descended breadth-first until there are at
+/// least `SPLIT_PAIRS` of them (or only leaf pairs are left): one big leaf pair can hold much
+/// of a step's work (many candidates where two big leaves touch).
+const SPLIT_TRIANGLES: usize = 256;
+const SPLIT_PAIRS: usize = 32;
+
+/// One unit of work of step 3: leaf clusters `a` and `b` (`a == b`: an uncertified leaf
+/// against itself), whole when `na` is [`NONE`], else the overlapping pair of nodes `na` of
+/// `a`'s lazy hierarchy and `nb` of `b`'s.
+#[derive(Clone, Copy, Debug)]
+struct Work {
+    a: u32,
+    b: u32,
+    na: u32,
+    nb: u32,
+}
 
 /// Whether a leaf cluster's certificate proves it free of self-contact. Written as an
 /// exhaustive match so that a new kind of certificate must be classified here.
@@ -113,6 +132,15 @@ pub(crate) struct PairScratch {
     items: Vec<(u32, u32)>,
     /// Whether each intermediate cluster is certified (all its leaves are).
     ic_certified: Vec<bool>,
+    /// The work of step 3: the items, big leaf pairs split into node pairs.
+    work: Vec<Work>,
+    /// The estimated cost of each unit of `work`.
+    work_cost: Vec<u64>,
+    /// Ends of the tasks in `work`, increasing (the last is `work.len()`).
+    task_ends: Vec<usize>,
+    /// Scratch: node pairs of the split.
+    pending: Vec<(u32, u32)>,
+    next: Vec<(u32, u32)>,
     /// Leaf clusters that need a lazy hierarchy, increasing.
     needed: Vec<u32>,
     /// Per leaf cluster: whether it is in `needed`.
@@ -235,7 +263,90 @@ pub(crate) fn prepare<const H: usize>(
     tree.build_lazies(c, &scratch.needed);
     counts.lazy_bvhs = scratch.needed.len();
     counts.lazy_seconds = t.elapsed().as_secs_f64();
+
+    // The work: big leaf pairs split into node pairs.
+    scratch.work.clear();
+    scratch.work_cost.clear();
+    for &(a, b) in scratch.items.iter() {
+        let cost = item_cost(c, a, b);
+        let (na, nb) = (
+            c.leaves[a as usize].triangles.len(),
+            c.leaves[b as usize].triangles.len(),
+        );
+        if a == b || na.min(nb) < SPLIT_TRIANGLES {
+            scratch.work.push(Work { a, b, na: NONE, nb: NONE });
+            scratch.work_cost.push(cost);
+            continue;
+        }
+        let (xa, xb) = (tree.lazy(a).nodes(), tree.lazy(b).nodes());
+        counts.bv_tests += 1;
+        if !xa[0].volume.overlaps(&xb[0].volume) {
+            continue;
+        }
+        let (pending, next) = (&mut scratch.pending, &mut scratch.next);
+        pending.clear();
+        pending.push((0, 0));
+        while pending.len() < SPLIT_PAIRS {
+            next.clear();
+            let mut descended = false;
+            for &(x, y) in pending.iter() {
+                let (kx, ky) = (xa[x as usize].children(), xb[y as usize].children());
+                if kx.is_none() && ky.is_none() {
+                    next.push((x, y));
+                    continue;
+                }
+                descended = true;
+                for i in kx.unwrap_or([x, NONE]).into_iter().filter(|&i| i != NONE) {
+                    for j in ky.unwrap_or([y, NONE]).into_iter().filter(|&j| j != NONE) {
+                        counts.bv_tests += 1;
+                        if xa[i as usize].volume.overlaps(&xb[j as usize].volume) {
+                            next.push((i, j));
+                        }
+                    }
+                }
+            }
+            std::mem::swap(pending, next);
+            if !descended {
+                break;
+            }
+        }
+        let share = cost / pending.len().max(1) as u64 + 1;
+        for &(x, y) in pending.iter() {
+            scratch.work.push(Work { a, b, na: x, nb: y });
+            scratch.work_cost.push(share);
+        }
+    }
+
+    // The tasks: consecutive units of work of about equal cost.
+    let total: u64 = scratch.work_cost.iter().sum();
+    let target = total.div_ceil(MAX_TASKS).max(MIN_TASK_COST);
+    scratch.task_ends.clear();
+    let mut acc = 0;
+    for (k, &cost) in scratch.work_cost.iter().enumerate() {
+        acc += cost;
+        if acc >= target {
+            scratch.task_ends.push(k + 1);
+            acc = 0;
+        }
+    }
+    if scratch.task_ends.last() != Some(&scratch.work.len()) && !scratch.work.is_empty() {
+        scratch.task_ends.push(scratch.work.len());
+    }
     counts
+}
+
+/// A rough estimate of the work of item `(a, b)` (the traversal and the narrow phase of its
+/// triangle pairs), in arbitrary units: for the task split only.
+fn item_cost(c: &Clustering, a: u32, b: u32) -> u64 {
+    let (na, nb) = (
+        c.leaves[a as usize].triangles.len() as u64,
+        c.leaves[b as usize].triangles.len() as u64,
+    );
+    if a == b {
+        4 + na
+    } else {
+        4 + na.min(nb)
+    }
 }
 
 /// The triangle pairs of the work items prepared by [`prepare`], as a source of parallel
@@ -249,8 +360,18 @@ pub(crate) struct TrianglePairs<'a, const H: usize> {
 impl<const H: usize> TrianglePairs<'_, H> {
     /// Step 3 (and 4) for one work item: every overlapping pair of triangles to `emit`.
     /// Returns the bounding-volume tests.
-    fn item(&self, (a, b): (u32, u32), ws: &mut BvhWorkspace, emit: &mut impl FnMut(u32, u32)) -> u64 {
+    fn work(
+        &self,
+        w: &Work,
+        (ws, stack): &mut (BvhWorkspace, Vec<(u32, u32)>),
+        emit: &mut impl FnMut(u32, u32),
+    ) -> u64 {
         let (tree, c) = (self.tree, self.clustering);
+        let (a, b) = (w.a, w.b);
+        if w.na != NONE {
+            let (xa, xb) = (tree.lazy(a).nodes(), tree.lazy(b).nodes());
+            return node_pairs(xa, xb, (w.na, w.nb), stack, emit);
+        }
         let mut tests = 0;
         if a == b {
             let tris = c.leaf_triangles(a as usize);
@@ -311,18 +432,24 @@ impl<const H: usize> TaskPairs for TrianglePairs<'_, H> {
         finish: impl Fn(&mut T) + Sync + Send,
         mut consume: impl FnMut(T),
     ) -> u64 {
-        let items = &self.scratch.items[..];
-        let per_task = items.len().div_ceil(MAX_TASKS).max(TASK_ITEMS);
-        let tasks: Vec<&[(u32, u32)]> = items.chunks(per_task).collect();
+        let work = &self.scratch.work[..];
+        let mut start = 0;
+        let tasks: Vec<&[Work]> = (self.scratch.task_ends.iter())
+            .map(|&end| {
+                let task = &work[start..end];
+                start = end;
+                task
+            })
+            .collect();
         let mut bv_tests = 0;
         for batch in tasks.chunks(par.batch.max(1)) {
             let done: Vec<(T, u64)> = batch
                 .par_iter()
-                .map_init(BvhWorkspace::default, |ws, task| {
+                .map_init(Default::default, |ws, task| {
                     let mut acc = make();
                     let mut tests = 0;
-                    for &item in task.iter() {
-                        tests += self.item(item, ws, &mut |x, y| pair(&mut acc, x, y));
+                    for work in task.iter() {
+                        tests += self.work(work, ws, &mut |x, y| pair(&mut acc, x, y));
                     }
                     finish(&mut acc);
                     (acc, tests)
@@ -335,4 +462,35 @@ impl<const H: usize> TaskPairs for TrianglePairs<'_, H> {
         }
         bv_tests
     }
+}
+
+/// Every overlapping pair of leaves under the overlapping nodes `start` of the tree `xa` and
+/// of the tree `xb` (leaf ids: triangles) to `emit`, each once. Returns the overlap tests.
+fn node_pairs<V: crate::bvh::BoundingVolume>(
+    xa: &[Node<V>],
+    xb: &[Node<V>],
+    start: (u32, u32),
+    stack: &mut Vec<(u32, u32)>,
+    emit: &mut impl FnMut(u32, u32),
+) -> u64 {
+    let mut tests = 0;
+    stack.clear();
+    stack.push(start);
+    while let Some((x, y)) = stack.pop() {
+        let (nx, ny) = (&xa[x as usize], &xb[y as usize]);
+        let (kx, ky) = (nx.children(), ny.children());
+        if let (Some(i), Some(j)) = (nx.leaf(), ny.leaf()) {
+            emit(i, j);
+            continue;
+        }
+        for i in kx.unwrap_or([x, NONE]).into_iter().filter(|&i| i != NONE) {
+            for j in ky.unwrap_or([y, NONE]).into_iter().filter(|&j| j != NONE) {
+                tests += 1;
+                if xa[i as usize].volume.overlaps(&xb[j as usize].volume) {
+                    stack.push((i, j));
+                }
+            }
+        }
+    }
+    tests
 }

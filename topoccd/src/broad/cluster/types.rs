@@ -150,15 +150,6 @@ pub struct DiskFailureCounts {
 }
 
 impl DiskFailureCounts {
-    /// Adds the counts of `other`.
-    pub(super) fn absorb(&mut self, other: &Self) {
-        self.normal += other.normal;
-        self.non_manifold += other.non_manifold;
-        self.topology += other.topology;
-        self.star += other.star;
-        self.winding += other.winding;
-    }
-
     /// Counts one failure.
     pub fn record(&mut self, failure: DiskFailure) {
         match failure {
@@ -208,23 +199,6 @@ pub struct ClusterStats {
     pub clustering_seconds: f64,
     /// Wall time of the merging into intermediate clusters, in seconds.
     pub merging_seconds: f64,
-}
-
-impl ClusterStats {
-    /// Adds the counters of `other` (a chunk's) to these; the totals, ratios and timings are
-    /// left alone.
-    pub(super) fn absorb(&mut self, other: &Self) {
-        self.stops_exhausted += other.stops_exhausted;
-        self.stops_phi += other.stops_phi;
-        self.stops_certificate += other.stops_certificate;
-        self.disk_failures.absorb(&other.disk_failures);
-        self.merged_by_ring += other.merged_by_ring;
-        self.merged_by_union += other.merged_by_union;
-        self.merge_rejected_size += other.merge_rejected_size;
-        self.merge_rejected_box += other.merge_rejected_box;
-        self.merge_rejected_phi += other.merge_rejected_phi;
-        self.merge_rejected_certificate += other.merge_rejected_certificate;
-    }
 }
 
 /// The clustering of one step. Triangle, leaf and intermediate ids index the arrays below.
