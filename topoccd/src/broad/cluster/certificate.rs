@@ -25,6 +25,7 @@
 use crate::narrow::bernstein::{normal_along, star_around, Verdict};
 use crate::math::{max_abs, DVec3, UNIT_ROUNDOFF};
 use crate::mesh::{Step, Topology};
+use rayon::prelude::*;
 
 /// Which hypothesis of the disk theorem a patch failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -73,10 +74,12 @@ pub struct DiskBuilder {
     direction: DVec3,
     centre: [DVec3; 2],
     subdivisions: u32,
-    /// Per triangle: the patch stamp under which [`DiskBuilder::try_add`] found hypothesis 1
-    /// to hold (the direction is fixed for a patch, so the test need not be repeated when a
-    /// refused triangle is offered again).
-    normal_passed: Vec<u32>,
+    /// Per triangle: the patch stamp under which hypothesis 1 was computed for it by
+    /// [`DiskBuilder::try_add`] (the direction is fixed for a
+    /// patch, so the test need not be repeated when a refused triangle is offered again)...
+    normal_gen: Vec<u32>,
+    /// ... and whether it holds.
+    normal_ok: Vec<bool>,
     /// Generation of the pair (patch, centre): bumped whenever either changes.
     centre_gen: u32,
     /// Per edge: the generation of `star_bits`.
@@ -87,6 +90,10 @@ pub struct DiskBuilder {
     /// differently.
     star_bits: Vec<u8>,
 }
+
+/// Boundaries of at least this many edges are checked in parallel
+/// ([`DiskBuilder::check_boundary`]).
+pub const PARALLEL_TESTS: usize = 256;
 
 /// In `star_bits`: the star test of the edge from its smaller to its larger vertex is known
 /// (shift left by 2 for the other direction).
@@ -124,16 +131,17 @@ impl DiskBuilder {
             self.vertex_stamp.clear();
             self.vertex_stamp.resize(vertex_count, 0);
         }
-        if self.normal_passed.len() != topo.triangle_edges.len() {
-            self.normal_passed.clear();
-            self.normal_passed.resize(topo.triangle_edges.len(), 0);
+        if self.normal_gen.len() != topo.triangle_edges.len() {
+            self.normal_gen.clear();
+            self.normal_gen.resize(topo.triangle_edges.len(), 0);
+            self.normal_ok.resize(topo.triangle_edges.len(), false);
         }
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
             // Wrapped around: old stamps could alias the new one. Clear everything once.
             self.edge_stamp.iter_mut().for_each(|s| *s = 0);
             self.vertex_stamp.iter_mut().for_each(|s| *s = 0);
-            self.normal_passed.iter_mut().for_each(|s| *s = 0);
+            self.normal_gen.iter_mut().for_each(|s| *s = 0);
             self.stamp = 1;
         }
         self.next_centre_gen();
@@ -170,14 +178,30 @@ impl DiskBuilder {
         if bits & STAR_KNOWN != 0 {
             return bits & STAR_HOLDS != 0;
         }
-        let (a, b) = (a as usize, b as usize);
-        let holds = star_around(self.direction, [x0[a], x1[a]], [x0[b], x1[b]], self.centre)
-            .positive(self.subdivisions)
-            == Verdict::Holds;
-        let found = STAR_KNOWN | if holds { STAR_HOLDS } else { 0 };
-        self.star_bits[e] |= found << shift;
+        let holds = self.star_test(a, b, x0, x1);
+        self.remember_star(e, a < b, holds);
         holds
     }
+
+    /// The star test of the edge `a -> b` around the current centre, computed.
+    fn star_test(&self, a: u32, b: u32, x0: &[DVec3], x1: &[DVec3]) -> bool {
+        let (a, b) = (a as usize, b as usize);
+        star_around(self.direction, [x0[a], x1[a]], [x0[b], x1[b]], self.centre)
+            .positive(self.subdivisions)
+            == Verdict::Holds
+    }
+
+    /// Stores the star test of edge `e` in the direction `forward`.
+    fn remember_star(&mut self, e: usize, forward: bool, holds: bool) {
+        if self.star_gen[e] != self.centre_gen {
+            self.star_gen[e] = self.centre_gen;
+            self.star_bits[e] = 0;
+        }
+        let shift = if forward { 0 } else { 2 };
+        let found = STAR_KNOWN | if holds { STAR_HOLDS } else { 0 };
+        self.star_bits[e] |= found << shift;
+    }
+
 
     /// Vertices that the last [`DiskBuilder::extend`] added to the patch (equation 4's
     /// `V-bar` when the batch is a ring).
@@ -318,11 +342,12 @@ impl DiskBuilder {
         if shared == 0 || shared + new_vertices != 2 {
             return Err(DiskFailure::Topology);
         }
-        if self.normal_passed[t as usize] != self.stamp {
-            if !self.faces_direction(tri, x0, x1) {
-                return Err(DiskFailure::Normal);
-            }
-            self.normal_passed[t as usize] = self.stamp;
+        if self.normal_gen[t as usize] != self.stamp {
+            self.normal_gen[t as usize] = self.stamp;
+            self.normal_ok[t as usize] = self.faces_direction(tri, x0, x1);
+        }
+        if !self.normal_ok[t as usize] {
+            return Err(DiskFailure::Normal);
         }
         for k in (0..3).filter(|&k| !is_shared[k]) {
             if !self.star_holds(edges[k] as usize, tri[k], tri[(k + 1) % 3], x0, x1) {
@@ -390,21 +415,29 @@ impl DiskBuilder {
         let from = if all_edges { 0 } else { self.fresh_from };
         let (x0, x1) = (step.pos0(), step.pos1());
         let v = self.direction;
-        for &e in &self.boundary[from..] {
+        let star = |&e: &u32| {
             let [a, b] = self.directed(topo, e);
             let pa = [x0[a as usize], x1[a as usize]];
             let pb = [x0[b as usize], x1[b as usize]];
-            if star_around(v, pa, pb, self.centre).positive(self.subdivisions) != Verdict::Holds {
-                return Err(DiskFailure::Star);
-            }
+            star_around(v, pa, pb, self.centre).positive(self.subdivisions) == Verdict::Holds
+        };
+        let fresh = &self.boundary[from..];
+        let stars = if fresh.len() >= PARALLEL_TESTS {
+            fresh.par_iter().with_min_len(64).all(star)
+        } else {
+            fresh.iter().all(star)
+        };
+        if !stars {
+            return Err(DiskFailure::Star);
         }
         // Winding number at t = 0. Each projected angle theta_e is in (0, pi) (the star test
         // holds); its computed value is off by at most `bound` (below), so the sum decides the
         // winding number when the total error stays under pi.
         let vv = v.dot(v);
         let c0 = self.centre[0];
-        let (mut sum, mut error) = (0.0f64, 0.0f64);
-        for &e in &self.boundary {
+        // The angle of each boundary edge and the bound on its error, `None` when too close to
+        // the centre to bound.
+        let angle = |&e: &u32| {
             let [a, b] = self.directed(topo, e);
             let (pa, pb) = (x0[a as usize] - c0, x0[b as usize] - c0);
             // (x, y) is |V|^2 times the projected (dot, cross) pair, up to the factor |V| ~ 1 on y.
@@ -414,11 +447,24 @@ impl DiskBuilder {
             let r = x.hypot(y);
             // Also rejects a NaN r.
             if r.partial_cmp(&(4.0 * e_xy)) != Some(std::cmp::Ordering::Greater) {
-                return Err(DiskFailure::Winding);
+                return None;
             }
-            sum += y.atan2(x);
             // Direction error of a vector perturbed by at most sqrt(2) e_xy, plus atan2's own.
-            error += 4.0 * e_xy / r + 4.0 * UNIT_ROUNDOFF;
+            Some((y.atan2(x), 4.0 * e_xy / r + 4.0 * UNIT_ROUNDOFF))
+        };
+        let (mut sum, mut error) = (0.0f64, 0.0f64);
+        // Summed in boundary order either way, so the same sums for any thread count.
+        let mut add = |term: Option<(f64, f64)>| {
+            let (theta, bound) = term.ok_or(DiskFailure::Winding)?;
+            sum += theta;
+            error += bound;
+            Ok(())
+        };
+        if self.boundary.len() >= PARALLEL_TESTS {
+            let terms: Vec<_> = self.boundary.par_iter().with_min_len(64).map(angle).collect();
+            terms.into_iter().try_for_each(&mut add)?;
+        } else {
+            self.boundary.iter().map(angle).try_for_each(&mut add)?;
         }
         let n = self.boundary.len() as f64;
         error += 2.0 * n * UNIT_ROUNDOFF * sum.abs();
