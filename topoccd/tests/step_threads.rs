@@ -38,15 +38,17 @@ fn same_report_on_one_and_several_threads() {
                     mode,
                     ..QueryOptions::default()
                 };
-                let one = run_with(1, || query(&step, Method::Bvh, &options).unwrap());
-                let four = run_with(4, || query(&step, Method::Bvh, &options).unwrap());
-                assert_eq!(
-                    key(&one),
-                    key(&four),
-                    "{} seed {seed} {mode:?}",
-                    kind.name()
-                );
-                assert!(one.contact_count() > 0 || mode == Mode::Earliest);
+                for method in [Method::Bvh, Method::Cluster] {
+                    let one = run_with(1, || query(&step, method, &options).unwrap());
+                    let four = run_with(4, || query(&step, method, &options).unwrap());
+                    assert_eq!(
+                        key(&one),
+                        key(&four),
+                        "{} seed {seed} {mode:?} {method}",
+                        kind.name()
+                    );
+                    assert!(one.contact_count() > 0 || mode == Mode::Earliest);
+                }
             }
         }
     }

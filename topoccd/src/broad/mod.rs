@@ -24,6 +24,7 @@ pub mod cluster;
 
 use rayon::prelude::*;
 
+use crate::bvh::{BvhWorkspace, ParOptions};
 use crate::kdop::Kdop;
 use crate::mesh::features::Features;
 use crate::mesh::filter::PairFilter;
@@ -103,6 +104,43 @@ impl<'f> Sink<'f> {
         }
         self.buf.clear();
     }
+}
+
+/// A broad phase whose overlapping triangle pairs come from parallel tasks: `pair(acc, a, b)`
+/// for every triangle pair to test, each once, with one accumulator per task (made by
+/// `make`, finished by `finish` on the task's thread), handed to `consume` in a fixed task
+/// order, batch by batch ([`ParOptions::batch`]). The tasks, and what each receives, depend
+/// on the input alone, never on the thread count. Returns the bounding-volume tests.
+pub(crate) trait TaskPairs {
+    fn pairs<T: Send>(
+        &self,
+        ws: &mut BvhWorkspace,
+        par: &ParOptions,
+        make: impl Fn() -> T + Sync + Send,
+        pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+        finish: impl Fn(&mut T) + Sync + Send,
+        consume: impl FnMut(T),
+    ) -> u64;
+}
+
+impl<const H: usize> TaskPairs for bvh::PerStepBvh<H> {
+    fn pairs<T: Send>(
+        &self,
+        ws: &mut BvhWorkspace,
+        par: &ParOptions,
+        make: impl Fn() -> T + Sync + Send,
+        pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+        finish: impl Fn(&mut T) + Sync + Send,
+        consume: impl FnMut(T),
+    ) -> u64 {
+        bvh::PerStepBvh::pairs(self, ws, par, make, pair, finish, consume)
+    }
+}
+
+/// What consumes the triangle pairs of a [`TaskPairs`] broad phase (the query's narrow
+/// phase, run inside the tasks). Returns the bounding-volume tests.
+pub(crate) trait PairRunner {
+    fn run(&mut self, source: &impl TaskPairs, ws: &mut BvhWorkspace) -> u64;
 }
 
 /// What a broad phase did.

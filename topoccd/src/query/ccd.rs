@@ -10,7 +10,10 @@ use super::narrow_phase::{self, lower, Context, Found};
 use super::report::{Report, Seconds, Stats};
 use super::{ClusterGrowth, Method, OptionsError, QueryOptions};
 use crate::broad::cluster::phase::ClusterPhase;
-use crate::broad::{brute, bvh::PerStepBvh, BroadInput, BroadStats, Candidates, Sink, CHUNK};
+use crate::broad::{
+    brute, bvh::PerStepBvh, BroadInput, BroadStats, Candidates, PairRunner, Sink, TaskPairs,
+    CHUNK,
+};
 use crate::bvh::{BvhWorkspace, ParOptions};
 use crate::kdop::DopKind;
 use crate::mesh::features::{FeatureBoxes, Features};
@@ -91,6 +94,29 @@ impl Task {
             r.ee.extend_from_slice(&self.buf.ee);
         }
         self.buf.clear();
+    }
+}
+
+/// Runs the tasks of the cluster method's traversal ([`traverse_pass`], over the whole step).
+struct Runner<'r, 'a, 's> {
+    input: &'r BroadInput<'a, 's>,
+    ctx: &'r Context<'a, 's>,
+    record: bool,
+    task_chunk: usize,
+    found: &'r mut Found,
+    totals: &'r mut Totals,
+    recorded: &'r mut Candidates,
+}
+
+impl PairRunner for Runner<'_, '_, '_> {
+    fn run(&mut self, source: &impl TaskPairs, ws: &mut BvhWorkspace) -> u64 {
+        traverse_pass(
+            source,
+            (self.input, self.ctx, self.record, self.task_chunk, ws),
+            &self.input.features.boxes,
+            f64::INFINITY,
+            (self.found, self.totals, self.recorded),
+        )
     }
 }
 
@@ -192,7 +218,31 @@ impl Ccd {
                 }
                 stats
             }
-            Method::Brute | Method::Cluster | Method::Auto => {
+            Method::Cluster => {
+                // The parallel traversal's tasks solve their own candidates, as for the
+                // per-step hierarchy.
+                self.last_tree = Some((Method::Cluster, options.kdop));
+                let paper = options.growth == ClusterGrowth::Paper;
+                let mut runner = Runner {
+                    input: &input,
+                    ctx: &ctx,
+                    record,
+                    task_chunk,
+                    found: &mut found,
+                    totals: &mut totals,
+                    recorded,
+                };
+                let (stats, figures) = self.cluster.candidates(
+                    &input,
+                    options.kdop,
+                    paper,
+                    &mut self.ws,
+                    &mut runner,
+                );
+                cluster = Some(figures);
+                stats
+            }
+            Method::Brute | Method::Auto => {
                 // A sequential broad phase, its buffer solved in parallel whenever it is full.
                 let mut best = None;
                 let mut flush = |c: &Candidates| {
@@ -205,7 +255,7 @@ impl Ccd {
                     narrow += t.elapsed().as_secs_f64();
                 };
                 let mut sink = Sink::new(chunk, &mut flush);
-                let mut stats = if method == Method::Brute {
+                let mut stats = {
                     let sink = &mut sink;
                     match options.kdop {
                         DopKind::K6 => brute::candidates::<3>(&input, &mut Vec::new(), sink),
@@ -213,14 +263,6 @@ impl Ccd {
                         DopKind::K18 => brute::candidates::<9>(&input, &mut Vec::new(), sink),
                         DopKind::K26 => brute::candidates::<13>(&input, &mut Vec::new(), sink),
                     }
-                } else {
-                    self.last_tree = Some((Method::Cluster, options.kdop));
-                    let paper = options.growth == ClusterGrowth::Paper;
-                    let (stats, figures) =
-                        self.cluster
-                            .candidates(&input, options.kdop, paper, &mut self.ws, &mut sink);
-                    cluster = Some(figures);
-                    stats
                 };
                 let t = Instant::now();
                 sink.flush_now();
@@ -463,11 +505,12 @@ fn bvh_query<const H: usize>(
     (stats, late)
 }
 
-/// One parallel traversal of the hierarchy as built or refitted, the triangle pairs' features
-/// checked against `boxes`, the tasks' candidates solved with the limit `start` at first
-/// (lowered by what the batches find). Returns the bounding-volume tests.
-fn traverse_pass<const H: usize>(
-    tree: &PerStepBvh<H>,
+/// One parallel traversal of the hierarchy as built or refitted (or of the cluster method's
+/// tasks), the triangle pairs' features checked against `boxes`, the tasks' candidates solved
+/// with the limit `start` at first (lowered by what the batches find). Returns the
+/// bounding-volume tests.
+fn traverse_pass(
+    tree: &impl TaskPairs,
     (input, ctx, record, task_chunk, ws): (
         &BroadInput<'_, '_>,
         &Context<'_, '_>,

@@ -125,11 +125,13 @@ pub struct Seconds {
     /// clustering itself.
     pub build: f64,
     /// Traversal (or sweep) down to the candidate feature pairs. For
-    /// [`Method::Bvh`](crate::Method::Bvh) this includes the elementary tests, which its
-    /// traversal tasks run on their own candidates as they go.
+    /// [`Method::Bvh`](crate::Method::Bvh) and [`Method::Cluster`](crate::Method::Cluster)
+    /// this includes the elementary tests, which their traversal tasks run on their own
+    /// candidates as they go.
     pub traverse: f64,
-    /// The elementary tests (for [`Method::Bvh`](crate::Method::Bvh), only the final sort and
-    /// selection: its tests run inside the traversal).
+    /// The elementary tests (for [`Method::Bvh`](crate::Method::Bvh) and
+    /// [`Method::Cluster`](crate::Method::Cluster), only the final sort and selection: their
+    /// tests run inside the traversal).
     pub narrow: f64,
     /// The whole query.
     pub total: f64,

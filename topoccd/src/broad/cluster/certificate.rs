@@ -25,6 +25,7 @@
 use crate::narrow::bernstein::{normal_along, star_around, Verdict};
 use crate::math::{max_abs, DVec3, UNIT_ROUNDOFF};
 use crate::mesh::{Step, Topology};
+use rayon::prelude::*;
 
 /// Which hypothesis of the disk theorem a patch failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -73,7 +74,32 @@ pub struct DiskBuilder {
     direction: DVec3,
     centre: [DVec3; 2],
     subdivisions: u32,
+    /// Per triangle: the patch stamp under which hypothesis 1 was computed for it by
+    /// [`DiskBuilder::try_add`] (the direction is fixed for a
+    /// patch, so the test need not be repeated when a refused triangle is offered again)...
+    normal_gen: Vec<u32>,
+    /// ... and whether it holds.
+    normal_ok: Vec<bool>,
+    /// Generation of the pair (patch, centre): bumped whenever either changes.
+    centre_gen: u32,
+    /// Per edge: the generation of `star_bits`.
+    star_gen: Vec<u32>,
+    /// Per edge: the star tests of [`DiskBuilder::try_add`] known under `star_gen`, for each
+    /// direction (see [`STAR_KNOWN`], [`STAR_HOLDS`]): the test is a function of the directed
+    /// edge, the direction and the centre alone, so its result is reused, never recomputed
+    /// differently.
+    star_bits: Vec<u8>,
 }
+
+/// Boundaries of at least this many edges are checked in parallel
+/// ([`DiskBuilder::check_boundary`]).
+pub const PARALLEL_TESTS: usize = 256;
+
+/// In `star_bits`: the star test of the edge from its smaller to its larger vertex is known
+/// (shift left by 2 for the other direction).
+const STAR_KNOWN: u8 = 0b01;
+/// In `star_bits`: that test holds.
+const STAR_HOLDS: u8 = 0b10;
 
 const COUNT_MASK: u8 = 0b11;
 const FORWARD: u8 = 0b100;
@@ -96,17 +122,29 @@ impl DiskBuilder {
             self.edge_stamp.resize(topo.edges.len(), 0);
             self.edge_state.resize(topo.edges.len(), 0);
         }
+        if self.star_gen.len() != topo.edges.len() {
+            self.star_gen.clear();
+            self.star_gen.resize(topo.edges.len(), 0);
+            self.star_bits.resize(topo.edges.len(), 0);
+        }
         if self.vertex_stamp.len() != vertex_count {
             self.vertex_stamp.clear();
             self.vertex_stamp.resize(vertex_count, 0);
+        }
+        if self.normal_gen.len() != topo.triangle_edges.len() {
+            self.normal_gen.clear();
+            self.normal_gen.resize(topo.triangle_edges.len(), 0);
+            self.normal_ok.resize(topo.triangle_edges.len(), false);
         }
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
             // Wrapped around: old stamps could alias the new one. Clear everything once.
             self.edge_stamp.iter_mut().for_each(|s| *s = 0);
             self.vertex_stamp.iter_mut().for_each(|s| *s = 0);
+            self.normal_gen.iter_mut().for_each(|s| *s = 0);
             self.stamp = 1;
         }
+        self.next_centre_gen();
         self.boundary.clear();
         self.fresh_from = 0;
         self.fresh_vertices.clear();
@@ -118,6 +156,52 @@ impl DiskBuilder {
         self.centre = centre;
         self.subdivisions = subdivisions;
     }
+
+    /// A new generation for the star tests' memory (the patch or its centre changed).
+    fn next_centre_gen(&mut self) {
+        self.centre_gen = self.centre_gen.wrapping_add(1);
+        if self.centre_gen == 0 {
+            self.star_gen.iter_mut().for_each(|s| *s = 0);
+            self.centre_gen = 1;
+        }
+    }
+
+    /// Hypothesis 4 for the new boundary edge `e` directed `a -> b`, around the current
+    /// centre: [`star_around`], computed at most once per directed edge and generation.
+    fn star_holds(&mut self, e: usize, a: u32, b: u32, x0: &[DVec3], x1: &[DVec3]) -> bool {
+        if self.star_gen[e] != self.centre_gen {
+            self.star_gen[e] = self.centre_gen;
+            self.star_bits[e] = 0;
+        }
+        let shift = if a < b { 0 } else { 2 };
+        let bits = self.star_bits[e] >> shift;
+        if bits & STAR_KNOWN != 0 {
+            return bits & STAR_HOLDS != 0;
+        }
+        let holds = self.star_test(a, b, x0, x1);
+        self.remember_star(e, a < b, holds);
+        holds
+    }
+
+    /// The star test of the edge `a -> b` around the current centre, computed.
+    fn star_test(&self, a: u32, b: u32, x0: &[DVec3], x1: &[DVec3]) -> bool {
+        let (a, b) = (a as usize, b as usize);
+        star_around(self.direction, [x0[a], x1[a]], [x0[b], x1[b]], self.centre)
+            .positive(self.subdivisions)
+            == Verdict::Holds
+    }
+
+    /// Stores the star test of edge `e` in the direction `forward`.
+    fn remember_star(&mut self, e: usize, forward: bool, holds: bool) {
+        if self.star_gen[e] != self.centre_gen {
+            self.star_gen[e] = self.centre_gen;
+            self.star_bits[e] = 0;
+        }
+        let shift = if forward { 0 } else { 2 };
+        let found = STAR_KNOWN | if holds { STAR_HOLDS } else { 0 };
+        self.star_bits[e] |= found << shift;
+    }
+
 
     /// Vertices that the last [`DiskBuilder::extend`] added to the patch (equation 4's
     /// `V-bar` when the batch is a ring).
@@ -258,15 +342,15 @@ impl DiskBuilder {
         if shared == 0 || shared + new_vertices != 2 {
             return Err(DiskFailure::Topology);
         }
-        if !self.faces_direction(tri, x0, x1) {
+        if self.normal_gen[t as usize] != self.stamp {
+            self.normal_gen[t as usize] = self.stamp;
+            self.normal_ok[t as usize] = self.faces_direction(tri, x0, x1);
+        }
+        if !self.normal_ok[t as usize] {
             return Err(DiskFailure::Normal);
         }
         for k in (0..3).filter(|&k| !is_shared[k]) {
-            let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
-            let (pa, pb) = ([x0[a], x1[a]], [x0[b], x1[b]]);
-            if star_around(self.direction, pa, pb, self.centre).positive(self.subdivisions)
-                != Verdict::Holds
-            {
+            if !self.star_holds(edges[k] as usize, tri[k], tri[(k + 1) % 3], x0, x1) {
                 return Err(DiskFailure::Star);
             }
         }
@@ -308,10 +392,10 @@ impl DiskBuilder {
     ) -> Result<(), DiskFailure> {
         self.end_batch();
         let old = self.centre;
-        self.centre = centre;
+        self.set_centre(centre);
         let checked = self.check_boundary(step, topo, true);
         if checked.is_err() {
-            self.centre = old;
+            self.set_centre(old);
         }
         checked
     }
@@ -331,21 +415,29 @@ impl DiskBuilder {
         let from = if all_edges { 0 } else { self.fresh_from };
         let (x0, x1) = (step.pos0(), step.pos1());
         let v = self.direction;
-        for &e in &self.boundary[from..] {
+        let star = |&e: &u32| {
             let [a, b] = self.directed(topo, e);
             let pa = [x0[a as usize], x1[a as usize]];
             let pb = [x0[b as usize], x1[b as usize]];
-            if star_around(v, pa, pb, self.centre).positive(self.subdivisions) != Verdict::Holds {
-                return Err(DiskFailure::Star);
-            }
+            star_around(v, pa, pb, self.centre).positive(self.subdivisions) == Verdict::Holds
+        };
+        let fresh = &self.boundary[from..];
+        let stars = if fresh.len() >= PARALLEL_TESTS {
+            fresh.par_iter().with_min_len(64).all(star)
+        } else {
+            fresh.iter().all(star)
+        };
+        if !stars {
+            return Err(DiskFailure::Star);
         }
         // Winding number at t = 0. Each projected angle theta_e is in (0, pi) (the star test
         // holds); its computed value is off by at most `bound` (below), so the sum decides the
         // winding number when the total error stays under pi.
         let vv = v.dot(v);
         let c0 = self.centre[0];
-        let (mut sum, mut error) = (0.0f64, 0.0f64);
-        for &e in &self.boundary {
+        // The angle of each boundary edge and the bound on its error, `None` when too close to
+        // the centre to bound.
+        let angle = |&e: &u32| {
             let [a, b] = self.directed(topo, e);
             let (pa, pb) = (x0[a as usize] - c0, x0[b as usize] - c0);
             // (x, y) is |V|^2 times the projected (dot, cross) pair, up to the factor |V| ~ 1 on y.
@@ -355,11 +447,24 @@ impl DiskBuilder {
             let r = x.hypot(y);
             // Also rejects a NaN r.
             if r.partial_cmp(&(4.0 * e_xy)) != Some(std::cmp::Ordering::Greater) {
-                return Err(DiskFailure::Winding);
+                return None;
             }
-            sum += y.atan2(x);
             // Direction error of a vector perturbed by at most sqrt(2) e_xy, plus atan2's own.
-            error += 4.0 * e_xy / r + 4.0 * UNIT_ROUNDOFF;
+            Some((y.atan2(x), 4.0 * e_xy / r + 4.0 * UNIT_ROUNDOFF))
+        };
+        let (mut sum, mut error) = (0.0f64, 0.0f64);
+        // Summed in boundary order either way, so the same sums for any thread count.
+        let mut add = |term: Option<(f64, f64)>| {
+            let (theta, bound) = term.ok_or(DiskFailure::Winding)?;
+            sum += theta;
+            error += bound;
+            Ok(())
+        };
+        if self.boundary.len() >= PARALLEL_TESTS {
+            let terms: Vec<_> = self.boundary.par_iter().with_min_len(64).map(angle).collect();
+            terms.into_iter().try_for_each(&mut add)?;
+        } else {
+            self.boundary.iter().map(angle).try_for_each(&mut add)?;
         }
         let n = self.boundary.len() as f64;
         error += 2.0 * n * UNIT_ROUNDOFF * sum.abs();
@@ -386,6 +491,7 @@ impl DiskBuilder {
     /// Replaces the star centre (for another [`DiskBuilder::check_boundary`] with `all_edges`).
     pub fn set_centre(&mut self, centre: [DVec3; 2]) {
         self.centre = centre;
+        self.next_centre_gen();
     }
 
     /// The boundary edge `e` directed as its one patch triangle traverses it.

@@ -24,9 +24,26 @@ pub(super) struct LeafScratch {
     /// Per triangle: the leaf stamp of the leaf whose `V` it failed (never retried there).
     refused: Vec<u32>,
     leaf_stamp: u32,
-    /// Candidates of the current pass and those refused in it (partial rings).
+    /// Candidates of the current round and those refused in it (partial rings).
     pending: Vec<u32>,
     retry: Vec<u32>,
+    /// Per candidate of the round (by position in `pending`): where it stands.
+    entry: Vec<Entry>,
+    /// Per triangle: its position in `pending` (valid for the round's candidates).
+    position: Vec<u32>,
+}
+
+/// Where a candidate of a round of partial growth stands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Entry {
+    /// To be offered in the current pass (never offered, or its neighbourhood changed since).
+    Untried,
+    /// Refused for this reason, nothing around it changed since.
+    Refused(DiskFailure),
+    /// In the patch.
+    Joined,
+    /// Refused for the normal cone: never again for this leaf.
+    Dropped,
 }
 
 impl LeafScratch {
@@ -79,6 +96,8 @@ pub(super) fn grow_leaves(
         scratch.tri_stamp.resize(n, 0);
         scratch.refused.clear();
         scratch.refused.resize(n, 0);
+        scratch.position.clear();
+        scratch.position.resize(n, 0);
     }
     let grow = options.min_separation == 0.0;
     for seed in 0..n as u32 {
@@ -309,34 +328,66 @@ fn grow_partial_rings(
         let mut first_failure = None;
         let mut recentred = false;
         std::mem::swap(&mut scratch.pending, &mut scratch.ring);
+        // The passes over the round's candidates, in order, each over those the passes
+        // before refused. A refused candidate is offered again only once a triangle sharing
+        // one of its vertices has joined (or the centre moved): until then `try_add` would
+        // refuse it again for the same reason, as its answer depends only on its vertices'
+        // and edges' membership in the patch, the direction and the centre. So the
+        // decisions are those of offering every refused candidate in every pass.
+        let pending = &scratch.pending;
+        scratch.entry.clear();
+        scratch.entry.resize(pending.len(), Entry::Untried);
+        for (k, &t) in pending.iter().enumerate() {
+            scratch.position[t as usize] = k as u32;
+        }
+        let (mut remaining, mut star_refused) = (pending.len(), 0usize);
         loop {
             let mut added = false;
-            let mut star_failed = false;
-            scratch.retry.clear();
-            for &t in &scratch.pending {
+            for (k, &t) in pending.iter().enumerate() {
+                if scratch.entry[k] != Entry::Untried {
+                    continue;
+                }
                 match disk.try_add(step, topo, t) {
                     Ok(()) => {
                         added = true;
+                        scratch.entry[k] = Entry::Joined;
+                        remaining -= 1;
                         out.leaf_of_triangle[t as usize] = id;
                         out.leaf_triangles.push(t);
+                        // Its neighbours among the refused candidates may now fit.
+                        for &v in &step.triangles()[t as usize] {
+                            for &u in topo.triangles_of(v) {
+                                if scratch.tri_stamp[u as usize] != stamp {
+                                    continue;
+                                }
+                                let j = scratch.position[u as usize] as usize;
+                                if let Entry::Refused(f) = scratch.entry[j] {
+                                    star_refused -= usize::from(f == DiskFailure::Star);
+                                    scratch.entry[j] = Entry::Untried;
+                                }
+                            }
+                        }
                     }
                     Err(f) => {
                         first_failure.get_or_insert(f);
                         if f == DiskFailure::Normal {
                             scratch.refused[t as usize] = leaf;
+                            scratch.entry[k] = Entry::Dropped;
+                            remaining -= 1;
                         } else {
-                            star_failed |= f == DiskFailure::Star;
-                            scratch.retry.push(t);
+                            star_refused += usize::from(f == DiskFailure::Star);
+                            scratch.entry[k] = Entry::Refused(f);
                         }
                     }
                 }
             }
-            std::mem::swap(&mut scratch.pending, &mut scratch.retry);
-            if scratch.pending.is_empty() {
+            if remaining == 0 {
                 break;
             }
             if !added {
-                if !star_failed || recentred {
+                // Every remaining candidate was refused in this pass, by `try_add` or, its
+                // neighbourhood unchanged, for the reason it was refused before.
+                if star_refused == 0 || recentred {
                     break;
                 }
                 recentred = true;
@@ -346,10 +397,23 @@ fn grow_partial_rings(
                 {
                     break;
                 }
+                // Another centre: every star test may change.
+                for e in scratch.entry.iter_mut() {
+                    if let Entry::Refused(_) = e {
+                        *e = Entry::Untried;
+                    }
+                }
+                star_refused = 0;
             }
         }
-        // What this round refused (but not for the normal cone) is retried next round.
-        std::mem::swap(&mut scratch.pending, &mut scratch.retry);
+        // What this round refused (but not for the normal cone) is retried next round, in
+        // order.
+        scratch.retry.clear();
+        for (k, &t) in pending.iter().enumerate() {
+            if let Entry::Refused(_) | Entry::Untried = scratch.entry[k] {
+                scratch.retry.push(t);
+            }
+        }
         disk.end_batch();
         if out.leaf_triangles.len() == ring_start {
             return GrowthStop::Certificate(first_failure.unwrap_or(DiskFailure::Topology));

@@ -9,6 +9,7 @@ use super::{ClusterOptions, ClusterStats, Clustering, IntermediateCluster};
 use crate::math::DVec3;
 use crate::mesh::features::SweptBox;
 use crate::mesh::{Step, Topology};
+use rayon::prelude::*;
 
 /// Box of the swept volumes of `triangles`: a triangle moving linearly stays, at every time, in
 /// the convex hull of its six end positions, hence in their box. Inflated by `margin`.
@@ -50,7 +51,7 @@ fn leaf_adjacency(
             }
         }
     }
-    pairs.sort_unstable();
+    pairs.par_sort_unstable();
     pairs.dedup();
     let mut offsets = vec![0u32; leaves + 1];
     for &(a, _) in &pairs {
@@ -74,6 +75,8 @@ struct LeafGeometry {
 
 fn leaf_geometry(step: &Step, c: &Clustering, margin: f64) -> Vec<LeafGeometry> {
     (0..c.leaves.len())
+        .into_par_iter()
+        .with_min_len(64)
         .map(|i| {
             let leaf = &c.leaves[i];
             let tris = c.leaf_triangles(i);

@@ -3,10 +3,10 @@
 
 use std::time::Instant;
 
-use super::traverse::{self, Inputs, PairScratch};
+use super::traverse::{self, Inputs, PairScratch, TrianglePairs};
 use super::tree::ClusterTree;
 use super::{cluster_into, ClusterOptions, ClusterWorkspace, Clustering};
-use crate::broad::{BroadInput, BroadStats, Sink};
+use crate::broad::{BroadInput, BroadStats, PairRunner};
 use crate::bvh::{BvhError, BvhWorkspace};
 use crate::kdop::DopKind;
 
@@ -56,14 +56,14 @@ pub(crate) struct ClusterPhase {
 
 impl ClusterPhase {
     /// Clusters the step, builds the hierarchy of `kind` over the clusters and hands the
-    /// candidates to `out`.
+    /// triangle pairs to test, as parallel tasks, to `runner`.
     pub fn candidates(
         &mut self,
         input: &BroadInput<'_, '_>,
         kind: DopKind,
         paper_growth: bool,
         ws: &mut BvhWorkspace,
-        out: &mut Sink<'_>,
+        runner: &mut impl PairRunner,
     ) -> (BroadStats, ClusterFigures) {
         let options = ClusterOptions {
             min_separation: input.filter.sep,
@@ -74,11 +74,9 @@ impl ClusterPhase {
         cluster_into(input.step, topo, &options, &mut self.ws, &mut self.clustering);
         let traversal = Inputs {
             clustering: &self.clustering,
-            features: input.features,
-            filter: input.filter,
             trust: !self.distrust,
         };
-        let args = (&traversal, &mut self.pairs, ws, out);
+        let args = (&traversal, &mut self.pairs, ws, runner);
         let (stats, counts) = match kind {
             DopKind::K6 => run(&mut self.c6, input, args),
             DopKind::K14 => run(&mut self.c14, input, args),
@@ -113,24 +111,31 @@ impl ClusterPhase {
     }
 }
 
-type Args<'a, 'b, 'c> = (
+type Args<'a, 'b, R> = (
     &'a Inputs<'b>,
     &'a mut PairScratch,
     &'a mut BvhWorkspace,
-    &'a mut Sink<'c>,
+    &'a mut R,
 );
 
-/// Builds the cluster hierarchy and collects the candidates; lazy hierarchies count as build.
-fn run<const H: usize>(
+/// Builds the cluster hierarchy and the lazy hierarchies (counted as build), then runs the
+/// traversal's tasks (counted as traversal, with whatever `runner` does inside them).
+fn run<const H: usize, R: PairRunner>(
     tree: &mut ClusterTree<H>,
     input: &BroadInput<'_, '_>,
-    (traversal, pairs, ws, out): Args<'_, '_, '_>,
+    (traversal, pairs, ws, runner): Args<'_, '_, R>,
 ) -> (BroadStats, traverse::Counts) {
     let t = Instant::now();
     tree.build(input.step, traversal.clustering, input.filter.sep, ws);
     let built = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let counts = traverse::candidates(tree, traversal, pairs, ws, out);
+    let mut counts = traverse::prepare(tree, traversal, pairs, ws);
+    let source = TrianglePairs {
+        tree,
+        clustering: traversal.clustering,
+        scratch: pairs,
+    };
+    counts.bv_tests += runner.run(&source, ws);
     let traversed = t.elapsed().as_secs_f64();
     let stats = BroadStats {
         bv_tests: counts.bv_tests,

@@ -11,12 +11,22 @@
 //!    sub-trees against each other; a single-leaf cluster's volume against the other's
 //!    sub-tree; nothing more when both have one leaf, their volumes were just tested).
 //! 3. For each such leaf pair `{a, b}`: the overlapping triangle pairs, from the two leaf
-//!    clusters' triangle hierarchies, each built the first time its leaf cluster is needed and
-//!    at most once per step. A leaf cluster of at most [`DIRECT`] triangles gets no hierarchy:
-//!    its triangles' volumes are tested directly against the other leaf's triangles or tree.
+//!    clusters' triangle hierarchies, built (in parallel, each once per step) for the leaf
+//!    clusters that some leaf pair needs. A leaf cluster of at most [`DIRECT`] triangles gets
+//!    no hierarchy: its triangles' volumes are tested directly against the other leaf's
+//!    triangles or tree.
 //! 4. A leaf cluster without a certificate would be tested against itself, and the leaf pairs
 //!    inside its intermediate cluster too (the clustering of this crate certifies every leaf,
 //!    so this never runs, but it is not assumed).
+//!
+//! Steps 1, 2 and 4 list the leaf pairs (and uncertified leaves) sequentially; the leaf pairs
+//! whose smaller leaf has [`SPLIT_TRIANGLES`] triangles or more are split into pairs of nodes
+//! of their two lazy hierarchies (one big touching pair can hold much of a step's work); step 3
+//! runs the resulting units as parallel tasks of consecutive units of about equal estimated
+//! cost ([`TrianglePairs`]), each task's triangle pairs going to the query's narrow phase on
+//! the task's thread, the tasks' results handed over in task order. The split and the tasks
+//! depend on the clustering alone: the same candidates and the same report for any thread
+//! count.
 //!
 //! # Soundness: a skipped pair never touches
 //! *Which pairs are skipped.* By the ownership scheme a vertex-face pair `(v, f)` is a
@@ -70,17 +80,41 @@
 
 use std::time::Instant;
 
-use crate::bvh::BvhWorkspace;
-use super::{Clustering, LeafCertificate};
+use rayon::prelude::*;
 
 use super::tree::{ClusterTree, NONE};
-use crate::mesh::features::Features;
-use crate::broad::Sink;
-use crate::mesh::filter::PairFilter;
+use super::{Clustering, LeafCertificate};
+use crate::broad::TaskPairs;
+use crate::bvh::{BvhWorkspace, Node, ParOptions};
 
 /// Leaf clusters of at most this many triangles get no lazy hierarchy: their triangles'
 /// volumes are tested directly against the other leaf cluster's triangles (or its hierarchy).
 pub(crate) const DIRECT: usize = 4;
+
+/// The triangle pairs of step 3 (and 4) run as parallel tasks of consecutive work items
+/// (leaf pairs) of about equal estimated cost ([`item_cost`]): about `MAX_TASKS` tasks, each
+/// of cost at least `MIN_TASK_COST` unless it is the last. The tasks depend on the items
+/// alone, never on the thread count.
+const MAX_TASKS: u64 = 512;
+const MIN_TASK_COST: u64 = 16;
+
+/// A leaf pair whose smaller leaf cluster has at least this many triangles is split into
+/// pairs of nodes of the two lazy hierarchies, descended breadth-first until there are at
+/// least `SPLIT_PAIRS` of them (or only leaf pairs are left): one big leaf pair can hold much
+/// of a step's work (many candidates where two big leaves touch).
+const SPLIT_TRIANGLES: usize = 256;
+const SPLIT_PAIRS: usize = 32;
+
+/// One unit of work of step 3: leaf clusters `a` and `b` (`a == b`: an uncertified leaf
+/// against itself), whole when `na` is [`NONE`], else the overlapping pair of nodes `na` of
+/// `a`'s lazy hierarchy and `nb` of `b`'s.
+#[derive(Clone, Copy, Debug)]
+struct Work {
+    a: u32,
+    b: u32,
+    na: u32,
+    nb: u32,
+}
 
 /// Whether a leaf cluster's certificate proves it free of self-contact. Written as an
 /// exhaustive match so that a new kind of certificate must be classified here.
@@ -95,10 +129,25 @@ fn certified(certificate: LeafCertificate) -> bool {
 pub(crate) struct PairScratch {
     /// Overlapping pairs of intermediate clusters.
     ic_pairs: Vec<(u32, u32)>,
-    /// Overlapping pairs of leaf clusters to test.
-    leaf_pairs: Vec<(u32, u32)>,
+    /// The work items of step 3: overlapping pairs `(a, b)`, `a != b`, of leaf clusters to
+    /// test, and `(l, l)` for a leaf cluster without certificate, tested against itself
+    /// (step 4).
+    items: Vec<(u32, u32)>,
     /// Whether each intermediate cluster is certified (all its leaves are).
     ic_certified: Vec<bool>,
+    /// The work of step 3: the items, big leaf pairs split into node pairs.
+    work: Vec<Work>,
+    /// The estimated cost of each unit of `work`.
+    work_cost: Vec<u64>,
+    /// Ends of the tasks in `work`, increasing (the last is `work.len()`).
+    task_ends: Vec<usize>,
+    /// Scratch: node pairs of the split.
+    pending: Vec<(u32, u32)>,
+    next: Vec<(u32, u32)>,
+    /// Leaf clusters that need a lazy hierarchy, increasing.
+    needed: Vec<u32>,
+    /// Per leaf cluster: whether it is in `needed`.
+    marked: Vec<bool>,
 }
 
 /// What the traversal did.
@@ -110,7 +159,7 @@ pub(crate) struct Counts {
     pub lazy_bvhs: usize,
     /// Leaf pairs whose triangles were tested.
     pub leaf_pairs: u64,
-    /// Leaf clusters tested against themselves (no certificate).
+    /// Leaf clusters tested for self-contact because they carry no certificate.
     pub uncertified_leaves: usize,
     /// Time spent building the lazy hierarchies, in seconds.
     pub lazy_seconds: f64,
@@ -120,33 +169,23 @@ pub(crate) struct Counts {
 pub(crate) struct Inputs<'a> {
     /// The step's clustering.
     pub clustering: &'a Clustering,
-    /// Features and ownership.
-    pub features: &'a Features,
-    /// The pair filter (with the minimum separation).
-    pub filter: &'a PairFilter<'a>,
     /// `false` treats every leaf cluster as uncertified (every pair is then tested: a check
     /// of the traversal itself, used by the tests).
     pub trust: bool,
 }
 
-/// Hands the candidate feature pairs of the step to `sink` (see the module
-/// documentation); `tree` must have been built for this step and clustering.
-pub(crate) fn candidates<const H: usize>(
+/// Steps 1, 2 and 4 of the traversal (see the module documentation) down to the work items of
+/// step 3, into `scratch`, and the lazy hierarchies these need, built in parallel. `tree` must
+/// have been built for this step and clustering. Returns the counts so far (with the
+/// bounding-volume tests of steps 1 and 2).
+pub(crate) fn prepare<const H: usize>(
     tree: &mut ClusterTree<H>,
     input: &Inputs<'_>,
     scratch: &mut PairScratch,
     ws: &mut BvhWorkspace,
-    sink: &mut Sink<'_>,
 ) -> Counts {
     let c = input.clustering;
     let mut counts = Counts::default();
-    let mut emit = |a: u32, b: u32| {
-        let buf = &mut sink.buf;
-        input
-            .features
-            .triangle_pair(&input.features.boxes, [a, b], input.filter, &mut buf.vf, &mut buf.ee);
-        sink.check();
-    };
 
     // Certificates: an intermediate cluster is certified when all its leaves are.
     scratch.ic_certified.clear();
@@ -165,8 +204,8 @@ pub(crate) fn candidates<const H: usize>(
     counts.bv_tests += tree
         .top
         .self_pairs(ws, |i, j| ic_pairs.push((i.min(j), i.max(j))));
-    scratch.leaf_pairs.clear();
-    let leaf_pairs = &mut scratch.leaf_pairs;
+    scratch.items.clear();
+    let items = &mut scratch.items;
     for &(i, j) in &scratch.ic_pairs {
         let (si, sj) = (tree.sub_of_ic[i as usize], tree.sub_of_ic[j as usize]);
         let (li, lj) = (
@@ -175,22 +214,20 @@ pub(crate) fn candidates<const H: usize>(
         );
         counts.bv_tests += match (si == NONE, sj == NONE) {
             (true, true) => {
-                leaf_pairs.push((li[0], lj[0]));
+                items.push((li[0], lj[0]));
                 0
             }
             (true, false) => {
                 let v = &tree.leaf[li[0] as usize].volume;
-                tree.sub(j)
-                    .volume_leaves(v, ws, |b| leaf_pairs.push((li[0], b)))
+                tree.sub(j).volume_leaves(v, ws, |b| items.push((li[0], b)))
             }
             (false, true) => {
                 let v = &tree.leaf[lj[0] as usize].volume;
-                tree.sub(i)
-                    .volume_leaves(v, ws, |a| leaf_pairs.push((a, lj[0])))
+                tree.sub(i).volume_leaves(v, ws, |a| items.push((a, lj[0])))
             }
             (false, false) => tree
                 .sub(i)
-                .tree_pairs(tree.sub(j), ws, |a, b| leaf_pairs.push((a, b))),
+                .tree_pairs(tree.sub(j), ws, |a, b| items.push((a, b))),
         };
     }
     // Step 4: leaf pairs inside an intermediate cluster without certificate.
@@ -198,85 +235,265 @@ pub(crate) fn candidates<const H: usize>(
         if !ok && tree.sub_of_ic[i] != NONE {
             counts.bv_tests += tree
                 .sub(i as u32)
-                .self_pairs(ws, |a, b| leaf_pairs.push((a, b)));
+                .self_pairs(ws, |a, b| items.push((a, b)));
+        }
+    }
+    counts.leaf_pairs = items.len() as u64;
+    // Step 4: leaf clusters without certificate, against themselves.
+    for (l, leaf) in c.leaves.iter().enumerate() {
+        if (input.trust && certified(leaf.certificate)) || leaf.triangles.len() < 2 {
+            continue;
+        }
+        counts.uncertified_leaves += 1;
+        items.push((l as u32, l as u32));
+    }
+
+    // The lazy hierarchies: every leaf cluster of more than `DIRECT` triangles in an item.
+    let t = Instant::now();
+    scratch.marked.clear();
+    scratch.marked.resize(c.leaves.len(), false);
+    for &(a, b) in items.iter() {
+        for l in [a, b] {
+            if c.leaves[l as usize].triangles.len() > DIRECT {
+                scratch.marked[l as usize] = true;
+            }
+        }
+    }
+    scratch.needed.clear();
+    scratch.needed.extend(
+        (0..c.leaves.len() as u32).filter(|&l| scratch.marked[l as usize]),
+    );
+    tree.build_lazies(c, &scratch.needed);
+    counts.lazy_bvhs = scratch.needed.len();
+    counts.lazy_seconds = t.elapsed().as_secs_f64();
+
+    // The work: big leaf pairs split into node pairs.
+    scratch.work.clear();
+    scratch.work_cost.clear();
+    for &(a, b) in scratch.items.iter() {
+        let cost = item_cost(c, a, b);
+        let (na, nb) = (
+            c.leaves[a as usize].triangles.len(),
+            c.leaves[b as usize].triangles.len(),
+        );
+        if a == b || na.min(nb) < SPLIT_TRIANGLES {
+            scratch.work.push(Work { a, b, na: NONE, nb: NONE });
+            scratch.work_cost.push(cost);
+            continue;
+        }
+        let (xa, xb) = (tree.lazy(a).nodes(), tree.lazy(b).nodes());
+        counts.bv_tests += 1;
+        if !xa[0].volume.overlaps(&xb[0].volume) {
+            continue;
+        }
+        let (pending, next) = (&mut scratch.pending, &mut scratch.next);
+        pending.clear();
+        pending.push((0, 0));
+        while pending.len() < SPLIT_PAIRS {
+            next.clear();
+            let mut descended = false;
+            for &(x, y) in pending.iter() {
+                let (kx, ky) = (xa[x as usize].children(), xb[y as usize].children());
+                if kx.is_none() && ky.is_none() {
+                    next.push((x, y));
+                    continue;
+                }
+                descended = true;
+                for i in kx.unwrap_or([x, NONE]).into_iter().filter(|&i| i != NONE) {
+                    for j in ky.unwrap_or([y, NONE]).into_iter().filter(|&j| j != NONE) {
+                        counts.bv_tests += 1;
+                        if xa[i as usize].volume.overlaps(&xb[j as usize].volume) {
+                            next.push((i, j));
+                        }
+                    }
+                }
+            }
+            std::mem::swap(pending, next);
+            if !descended {
+                break;
+            }
+        }
+        let share = cost / pending.len().max(1) as u64 + 1;
+        for &(x, y) in pending.iter() {
+            scratch.work.push(Work { a, b, na: x, nb: y });
+            scratch.work_cost.push(share);
         }
     }
 
-    // Step 3: triangle pairs of each leaf pair.
-    counts.leaf_pairs = scratch.leaf_pairs.len() as u64;
-    for &(a, b) in &scratch.leaf_pairs {
+    // The tasks: consecutive units of work of about equal cost.
+    let total: u64 = scratch.work_cost.iter().sum();
+    let target = total.div_ceil(MAX_TASKS).max(MIN_TASK_COST);
+    scratch.task_ends.clear();
+    let mut acc = 0;
+    for (k, &cost) in scratch.work_cost.iter().enumerate() {
+        acc += cost;
+        if acc >= target {
+            scratch.task_ends.push(k + 1);
+            acc = 0;
+        }
+    }
+    if scratch.task_ends.last() != Some(&scratch.work.len()) && !scratch.work.is_empty() {
+        scratch.task_ends.push(scratch.work.len());
+    }
+    counts
+}
+
+/// A rough estimate of the work of item `(a, b)` (the traversal and the narrow phase of its
+/// triangle pairs), in arbitrary units: for the task split only.
+fn item_cost(c: &Clustering, a: u32, b: u32) -> u64 {
+    let (na, nb) = (
+        c.leaves[a as usize].triangles.len() as u64,
+        c.leaves[b as usize].triangles.len() as u64,
+    );
+    if a == b {
+        4 + na
+    } else {
+        4 + na.min(nb)
+    }
+}
+
+/// The triangle pairs of the work items prepared by [`prepare`], as a source of parallel
+/// tasks ([`TaskPairs`]).
+pub(crate) struct TrianglePairs<'a, const H: usize> {
+    pub tree: &'a ClusterTree<H>,
+    pub clustering: &'a Clustering,
+    pub scratch: &'a PairScratch,
+}
+
+impl<const H: usize> TrianglePairs<'_, H> {
+    /// Step 3 (and 4) for one work item: every overlapping pair of triangles to `emit`.
+    /// Returns the bounding-volume tests.
+    fn work(
+        &self,
+        w: &Work,
+        (ws, stack): &mut (BvhWorkspace, Vec<(u32, u32)>),
+        emit: &mut impl FnMut(u32, u32),
+    ) -> u64 {
+        let (tree, c) = (self.tree, self.clustering);
+        let (a, b) = (w.a, w.b);
+        if w.na != NONE {
+            let (xa, xb) = (tree.lazy(a).nodes(), tree.lazy(b).nodes());
+            return node_pairs(xa, xb, (w.na, w.nb), stack, emit);
+        }
+        let mut tests = 0;
+        if a == b {
+            let tris = c.leaf_triangles(a as usize);
+            if tris.len() <= DIRECT {
+                for (k, &x) in tris.iter().enumerate() {
+                    for &y in &tris[k + 1..] {
+                        tests += 1;
+                        if tree.tri[x as usize].overlaps(&tree.tri[y as usize]) {
+                            emit(x, y);
+                        }
+                    }
+                }
+            } else {
+                tests += tree.lazy(a).self_pairs(ws, emit);
+            }
+            return tests;
+        }
         let (mut a, mut b) = (a, b);
         let (mut ta, mut tb) = (c.leaf_triangles(a as usize), c.leaf_triangles(b as usize));
         if ta.len() > tb.len() {
             (a, b, ta, tb) = (b, a, tb, ta);
         }
-        debug_assert_ne!(a, b);
         if ta.len() <= DIRECT {
             if tb.len() <= DIRECT {
                 for &x in ta {
                     let vx = &tree.tri[x as usize];
                     for &y in tb {
-                        counts.bv_tests += 1;
+                        tests += 1;
                         if vx.overlaps(&tree.tri[y as usize]) {
                             emit(x, y);
                         }
                     }
                 }
             } else {
-                ensure(tree, c, b, ws, &mut counts);
+                let lazy = tree.lazy(b);
                 for &x in ta {
                     let vx = &tree.tri[x as usize];
-                    counts.bv_tests += tree.lazy(b).volume_leaves(vx, ws, |y| emit(x, y));
+                    tests += lazy.volume_leaves(vx, ws, |y| emit(x, y));
                 }
             }
         } else {
-            ensure(tree, c, a, ws, &mut counts);
-            ensure(tree, c, b, ws, &mut counts);
-            counts.bv_tests += tree.lazy(a).tree_pairs(tree.lazy(b), ws, &mut emit);
+            tests += tree.lazy(a).tree_pairs(tree.lazy(b), ws, &mut *emit);
         }
+        tests
     }
-
-    // Step 4: leaf clusters without certificate, against themselves.
-    for (l, leaf) in c.leaves.iter().enumerate() {
-        if input.trust && certified(leaf.certificate) {
-            continue;
-        }
-        let tris = c.leaf_triangles(l);
-        if tris.len() < 2 {
-            continue;
-        }
-        counts.uncertified_leaves += 1;
-        if tris.len() <= DIRECT {
-            for (k, &x) in tris.iter().enumerate() {
-                for &y in &tris[k + 1..] {
-                    counts.bv_tests += 1;
-                    if tree.tri[x as usize].overlaps(&tree.tri[y as usize]) {
-                        emit(x, y);
-                    }
-                }
-            }
-        } else {
-            ensure(tree, c, l as u32, ws, &mut counts);
-            counts.bv_tests += tree.lazy(l as u32).self_pairs(ws, &mut emit);
-        }
-    }
-    counts
 }
 
-/// Builds leaf cluster `leaf`'s triangle hierarchy if not built yet, timing and counting it.
-#[inline]
-fn ensure<const H: usize>(
-    tree: &mut ClusterTree<H>,
-    c: &Clustering,
-    leaf: u32,
-    ws: &mut BvhWorkspace,
-    counts: &mut Counts,
-) {
-    if tree.has_lazy(leaf) {
-        return;
+impl<const H: usize> TaskPairs for TrianglePairs<'_, H> {
+    /// Runs the work items as tasks of consecutive items (their number depends on the items
+    /// alone), batch by batch on the rayon pool, each task's accumulator finished on its
+    /// thread and handed to `consume` in task order.
+    fn pairs<T: Send>(
+        &self,
+        _ws: &mut BvhWorkspace,
+        par: &ParOptions,
+        make: impl Fn() -> T + Sync + Send,
+        pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+        finish: impl Fn(&mut T) + Sync + Send,
+        mut consume: impl FnMut(T),
+    ) -> u64 {
+        let work = &self.scratch.work[..];
+        let mut start = 0;
+        let tasks: Vec<&[Work]> = (self.scratch.task_ends.iter())
+            .map(|&end| {
+                let task = &work[start..end];
+                start = end;
+                task
+            })
+            .collect();
+        let mut bv_tests = 0;
+        for batch in tasks.chunks(par.batch.max(1)) {
+            let done: Vec<(T, u64)> = batch
+                .par_iter()
+                .map_init(Default::default, |ws, task| {
+                    let mut acc = make();
+                    let mut tests = 0;
+                    for work in task.iter() {
+                        tests += self.work(work, ws, &mut |x, y| pair(&mut acc, x, y));
+                    }
+                    finish(&mut acc);
+                    (acc, tests)
+                })
+                .collect();
+            for (acc, tests) in done {
+                consume(acc);
+                bv_tests += tests;
+            }
+        }
+        bv_tests
     }
-    let t = Instant::now();
-    tree.ensure_lazy(c, leaf, ws);
-    counts.lazy_seconds += t.elapsed().as_secs_f64();
-    counts.lazy_bvhs += 1;
+}
+
+/// Every overlapping pair of leaves under the overlapping nodes `start` of the tree `xa` and
+/// of the tree `xb` (leaf ids: triangles) to `emit`, each once. Returns the overlap tests.
+fn node_pairs<V: crate::bvh::BoundingVolume>(
+    xa: &[Node<V>],
+    xb: &[Node<V>],
+    start: (u32, u32),
+    stack: &mut Vec<(u32, u32)>,
+    emit: &mut impl FnMut(u32, u32),
+) -> u64 {
+    let mut tests = 0;
+    stack.clear();
+    stack.push(start);
+    while let Some((x, y)) = stack.pop() {
+        let (nx, ny) = (&xa[x as usize], &xb[y as usize]);
+        let (kx, ky) = (nx.children(), ny.children());
+        if let (Some(i), Some(j)) = (nx.leaf(), ny.leaf()) {
+            emit(i, j);
+            continue;
+        }
+        for i in kx.unwrap_or([x, NONE]).into_iter().filter(|&i| i != NONE) {
+            for j in ky.unwrap_or([y, NONE]).into_iter().filter(|&j| j != NONE) {
+                tests += 1;
+                if xa[i as usize].volume.overlaps(&xb[j as usize].volume) {
+                    stack.push((i, j));
+                }
+            }
+        }
+    }
+    tests
 }

@@ -15,8 +15,8 @@ use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf};
 use super::Clustering;
 use crate::kdop::Kdop;
 
-use crate::broad::triangle_volumes;
 use crate::mesh::Step;
+use rayon::prelude::*;
 
 /// Marks a leaf cluster without a lazy hierarchy, or an intermediate cluster without sub-tree.
 pub(crate) const NONE: u32 = u32::MAX;
@@ -44,57 +44,82 @@ pub(crate) struct ClusterTree<const H: usize> {
     /// Lazy hierarchies over leaf clusters' triangles (first `lazy_count` are this step's).
     lazy: Vec<Bvh<Kdop<H>>>,
     lazy_count: usize,
-    /// Scratch: the leaves of the tree being built.
-    scratch: Vec<Leaf<Kdop<H>>>,
+    /// Scratch: the intermediate clusters with a sub-tree, by slot.
+    scratch_ids: Vec<u32>,
 }
 
 impl<const H: usize> ClusterTree<H> {
     /// Computes the volumes of the triangles and clusters and builds the top tree and the
-    /// sub-trees; forgets the lazy hierarchies of the previous step.
+    /// sub-trees, on the rayon pool (the same trees for any thread count); forgets the lazy
+    /// hierarchies of the previous step.
     pub fn build(&mut self, step: &Step, c: &Clustering, inflation: f64, ws: &mut BvhWorkspace) {
-        triangle_volumes(step, inflation, &mut self.tri);
+        let (x0, x1) = (step.pos0(), step.pos1());
+        step.triangles()
+            .par_iter()
+            .with_min_len(1024)
+            .map(|tri| {
+                let [a, b, c] = tri.map(|i| i as usize);
+                Kdop::swept_triangle_until(&[x0[a], x0[b], x0[c]], &[x1[a], x1[b], x1[c]], 1.0, inflation)
+            })
+            .collect_into_vec(&mut self.tri);
         let tri = &self.tri;
-        self.leaf.clear();
-        self.leaf.extend((0..c.leaves.len()).map(|l| {
-            Leaf {
+        (0..c.leaves.len())
+            .into_par_iter()
+            .with_min_len(256)
+            .map(|l| Leaf {
                 id: l as u32,
                 volume: c
                     .leaf_triangles(l)
                     .iter()
                     .fold(Kdop::EMPTY, |v, &t| v.merge(&tri[t as usize])),
-            }
-        }));
+            })
+            .collect_into_vec(&mut self.leaf);
         let leaf = &self.leaf;
-        self.ic.clear();
-        self.ic.extend((0..c.intermediates.len()).map(|i| {
-            Leaf {
+        (0..c.intermediates.len())
+            .into_par_iter()
+            .with_min_len(256)
+            .map(|i| Leaf {
                 id: i as u32,
                 volume: c
                     .intermediate_leaves(i)
                     .iter()
                     .fold(Kdop::EMPTY, |v, &l| v.merge(&leaf[l as usize].volume)),
-            }
-        }));
+            })
+            .collect_into_vec(&mut self.ic);
         self.top.rebuild(&self.ic, ws);
 
+        // Sub-trees: slots in order of the intermediate clusters, built in parallel.
         self.sub_of_ic.clear();
-        self.sub_count = 0;
+        self.scratch_ids.clear();
         for i in 0..c.intermediates.len() {
-            let members = c.intermediate_leaves(i);
-            if members.len() < 2 {
+            if c.intermediate_leaves(i).len() < 2 {
                 self.sub_of_ic.push(NONE);
-                continue;
+            } else {
+                self.sub_of_ic.push(self.scratch_ids.len() as u32);
+                self.scratch_ids.push(i as u32);
             }
-            self.scratch.clear();
-            self.scratch
-                .extend(members.iter().map(|&l| self.leaf[l as usize]));
-            if self.sub_count == self.subs.len() {
-                self.subs.push(Bvh::new());
-            }
-            self.subs[self.sub_count].rebuild(&self.scratch, ws);
-            self.sub_of_ic.push(self.sub_count as u32);
-            self.sub_count += 1;
         }
+        self.sub_count = self.scratch_ids.len();
+        if self.subs.len() < self.sub_count {
+            self.subs.resize_with(self.sub_count, Bvh::new);
+        }
+        let leaf = &self.leaf;
+        self.subs[..self.sub_count]
+            .par_iter_mut()
+            .zip(self.scratch_ids.par_iter())
+            .with_min_len(16)
+            .for_each_init(
+                || (Vec::new(), BvhWorkspace::default()),
+                |(leaves, ws), (sub, &i)| {
+                    leaves.clear();
+                    leaves.extend(
+                        c.intermediate_leaves(i as usize)
+                            .iter()
+                            .map(|&l| leaf[l as usize]),
+                    );
+                    sub.rebuild(leaves, ws);
+                },
+            );
 
         self.lazy_of_leaf.clear();
         self.lazy_of_leaf.resize(c.leaves.len(), NONE);
@@ -107,32 +132,36 @@ impl<const H: usize> ClusterTree<H> {
         &self.subs[self.sub_of_ic[ic as usize] as usize]
     }
 
-    /// Whether leaf cluster `leaf` has its triangle hierarchy this step.
-    #[inline]
-    pub fn has_lazy(&self, leaf: u32) -> bool {
-        self.lazy_of_leaf[leaf as usize] != NONE
-    }
-
-    /// Builds the hierarchy over the triangles of leaf cluster `leaf` unless built already this
-    /// step. Returns whether it built one.
-    pub fn ensure_lazy(&mut self, c: &Clustering, leaf: u32, ws: &mut BvhWorkspace) -> bool {
-        if self.has_lazy(leaf) {
-            return false;
+    /// Builds the hierarchies over the triangles of the leaf clusters `needed` (increasing,
+    /// none built yet this step), in parallel; slots in the order of `needed`, so the same
+    /// trees for any thread count.
+    pub fn build_lazies(&mut self, c: &Clustering, needed: &[u32]) {
+        debug_assert!(needed.windows(2).all(|w| w[0] < w[1]));
+        let first = self.lazy_count;
+        for (k, &l) in needed.iter().enumerate() {
+            debug_assert_eq!(self.lazy_of_leaf[l as usize], NONE);
+            self.lazy_of_leaf[l as usize] = (first + k) as u32;
         }
-        self.scratch.clear();
+        self.lazy_count += needed.len();
+        if self.lazy.len() < self.lazy_count {
+            self.lazy.resize_with(self.lazy_count, Bvh::new);
+        }
         let tri = &self.tri;
-        self.scratch
-            .extend(c.leaf_triangles(leaf as usize).iter().map(|&t| Leaf {
-                id: t,
-                volume: tri[t as usize],
-            }));
-        if self.lazy_count == self.lazy.len() {
-            self.lazy.push(Bvh::new());
-        }
-        self.lazy[self.lazy_count].rebuild(&self.scratch, ws);
-        self.lazy_of_leaf[leaf as usize] = self.lazy_count as u32;
-        self.lazy_count += 1;
-        true
+        self.lazy[first..self.lazy_count]
+            .par_iter_mut()
+            .zip(needed.par_iter())
+            .with_min_len(4)
+            .for_each_init(
+                || (Vec::new(), BvhWorkspace::default()),
+                |(leaves, ws), (bvh, &l)| {
+                    leaves.clear();
+                    leaves.extend(c.leaf_triangles(l as usize).iter().map(|&t| Leaf {
+                        id: t,
+                        volume: tri[t as usize],
+                    }));
+                    bvh.rebuild(leaves, ws);
+                },
+            );
     }
 
     /// The lazy hierarchy of leaf cluster `leaf`, built by [`ClusterTree::ensure_lazy`].
