@@ -33,6 +33,10 @@ pub(super) struct LeafScratch {
     position: Vec<u32>,
 }
 
+/// Rounds of partial growth with at least this many candidates track which refused candidates
+/// a new triangle may unblock; smaller ones offer them all again after every pass that adds.
+const TRACKED_ROUND: usize = 32;
+
 /// Where a candidate of a round of partial growth stands.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Entry {
@@ -337,8 +341,13 @@ fn grow_partial_rings(
         let pending = &scratch.pending;
         scratch.entry.clear();
         scratch.entry.resize(pending.len(), Entry::Untried);
-        for (k, &t) in pending.iter().enumerate() {
-            scratch.position[t as usize] = k as u32;
+        // Small rounds offer every refused candidate again after a pass that added something
+        // (as tracking their neighbourhoods would cost more than it saves).
+        let track = pending.len() >= TRACKED_ROUND;
+        if track {
+            for (k, &t) in pending.iter().enumerate() {
+                scratch.position[t as usize] = k as u32;
+            }
         }
         let (mut remaining, mut star_refused) = (pending.len(), 0usize);
         loop {
@@ -355,6 +364,9 @@ fn grow_partial_rings(
                         out.leaf_of_triangle[t as usize] = id;
                         out.leaf_triangles.push(t);
                         // Its neighbours among the refused candidates may now fit.
+                        if !track {
+                            continue;
+                        }
                         for &v in &step.triangles()[t as usize] {
                             for &u in topo.triangles_of(v) {
                                 if scratch.tri_stamp[u as usize] != stamp {
@@ -383,6 +395,14 @@ fn grow_partial_rings(
             }
             if remaining == 0 {
                 break;
+            }
+            if added && !track {
+                for e in scratch.entry.iter_mut() {
+                    if let Entry::Refused(_) = e {
+                        *e = Entry::Untried;
+                    }
+                }
+                star_refused = 0;
             }
             if !added {
                 // Every remaining candidate was refused in this pass, by `try_add` or, its
