@@ -64,7 +64,7 @@ impl GrowthArg {
 #[derive(clap::Args, Debug, Clone)]
 pub struct MethodArgs {
     /// Method of the broad phase (every method reports the same pairs).
-    #[arg(long, value_enum, default_value_t = MethodArg::Bvh)]
+    #[arg(long, value_enum, default_value_t = MethodArg::Auto)]
     pub method: MethodArg,
 }
 

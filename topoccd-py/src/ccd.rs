@@ -120,9 +120,11 @@ impl Ccd {
     ///     groups: optional ``(n,)`` integer group id per vertex. Two features are tested only
     ///         if some vertex of one and some vertex of the other are in different groups (the
     ///         ``can_collide`` rule of ipctk): give each rigid or non-self-colliding object one id.
-    ///     method: ``"bvh"`` (a k-DOP hierarchy built per step, the default), ``"cluster"``
-    ///         (the paper's certified clusters: fastest on large deforming meshes) or
-    ///         ``"brute"`` (the sweep-and-prune oracle). All three report the same pairs.
+    ///     method: ``"auto"`` (the default: ``"bvh"`` below 100,000 triangles, ``"cluster"``
+    ///         above; ``stats["method"]`` says which ran), ``"bvh"`` (a k-DOP hierarchy built
+    ///         per step), ``"cluster"`` (the paper's certified clusters: fastest on large
+    ///         deforming meshes) or ``"brute"`` (the sweep-and-prune oracle). All report the
+    ///         same pairs.
     ///     mode: ``"all"`` (every colliding pair) or ``"earliest"`` (only the pair or pairs
     ///         within ``tolerance`` of the earliest time: faster, for a line search).
     ///     tolerance: time resolution of the elementary tests, in (0, 1). Reported times are
@@ -149,7 +151,7 @@ impl Ccd {
     ///         element).
     ///     OptionsError: an option out of range.
     #[pyo3(signature = (
-        x0, x1, triangles, *, parents=None, groups=None, method="bvh", mode="all",
+        x0, x1, triangles, *, parents=None, groups=None, method="auto", mode="all",
         tolerance=1e-6, min_separation=0.0, t_max=1.0, max_iterations=1_000_000, k=18,
         growth=None, threads=None, geometry=false, crack_filter=true
     ))]

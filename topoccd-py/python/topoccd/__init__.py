@@ -75,7 +75,7 @@ def query(
     *,
     parents=None,
     groups=None,
-    method: str = "bvh",
+    method: str = "auto",
     mode: str = "all",
     tolerance: float = 1e-6,
     min_separation: float = 0.0,

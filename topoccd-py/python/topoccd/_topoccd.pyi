@@ -94,7 +94,7 @@ class Ccd:
         *,
         parents: Optional[npt.ArrayLike] = None,
         groups: Optional[npt.ArrayLike] = None,
-        method: _Method = "bvh",
+        method: _Method = "auto",
         mode: _Mode = "all",
         tolerance: float = 1e-6,
         min_separation: float = 0.0,

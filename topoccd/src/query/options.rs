@@ -29,7 +29,6 @@ pub enum Method {
     Brute,
     /// A k-DOP bounding volume hierarchy over the triangles' swept volumes, built anew every
     /// step (the paper's baseline, as in Self-CCD).
-    #[default]
     Bvh,
     /// The paper's method (section 4): the step's triangles are clustered into leaf and
     /// intermediate clusters proved free of self-contact, a
@@ -38,7 +37,8 @@ pub enum Method {
     /// intermediate cluster are never tested. See [`QueryOptions::growth`].
     Cluster,
     /// [`Method::Bvh`] or [`Method::Cluster`], chosen for each step by [`Method::resolve`]
-    /// from its size; [`Stats::method`](crate::Stats::method) tells which ran.
+    /// from its size; [`Stats::method`](crate::Stats::method) tells which ran. The default.
+    #[default]
     Auto,
 }
 
