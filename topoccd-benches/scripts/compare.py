@@ -210,7 +210,8 @@ def main():
                     help="comma-separated (default: bvh,cluster,brute); 'default' runs each build's "
                          "default method (no --method), 'auto' needs a build that knows it")
     ap.add_argument("--threads", default="1,2", help="comma-separated thread counts (default 1,2)")
-    ap.add_argument("--modes", default="all,earliest", help="all, earliest or both (default)")
+    ap.add_argument("--modes", default="all,earliest",
+                    help="comma-separated: all, earliest (default: all,earliest; 'both' is both)")
     ap.add_argument("--reps", type=int, default=3, help="repetitions of each pair of runs (default 3)")
     ap.add_argument("--brute-max-triangles", type=int, default=40000,
                     help="run brute only on steps with at most this many triangles (default 40000)")
@@ -230,7 +231,10 @@ def main():
         inputs = [make_input(s, tmproot) for s in specs]
         methods = [m for m in args.methods.split(",") if m]
         threads = [int(t) for t in args.threads.split(",") if t]
-        modes = [m for m in args.modes.split(",") if m]
+        modes = [m for m in args.modes.replace("both", "all,earliest").split(",") if m]
+        for m in modes:
+            if m not in ("all", "earliest"):
+                ap.error(f"unknown mode {m!r} (all, earliest or both)")
         rows, raw = [], []
         for inp in inputs:
             for method in methods:
