@@ -9,7 +9,7 @@
 
 use std::time::Instant;
 
-use topoccd::{Ccd, Method, Mode, QueryOptions, Step};
+use topoccd::{Ccd, QueryOptions, Step};
 use topoccd_scenes::crumpled_sheet;
 
 /// The process's peak resident memory in MiB, from `/proc/self/status` (Linux).
@@ -23,17 +23,8 @@ fn peak_mib() -> Option<f64> {
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let n: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(100);
-    let method = match args.get(2).map(String::as_str).unwrap_or("bvh") {
-        "bvh" => Method::Bvh,
-        "cluster" => Method::Cluster,
-        "brute" => Method::Brute,
-        other => panic!("unknown method {other}"),
-    };
-    let mode = match args.get(3).map(String::as_str).unwrap_or("all") {
-        "all" => Mode::All,
-        "earliest" => Mode::Earliest,
-        other => panic!("unknown mode {other}"),
-    };
+    let method = topoccd_benches::method_arg(args.get(2));
+    let mode = topoccd_benches::mode_arg(args.get(3));
     let scale: f64 = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(0.05);
     let sheet = crumpled_sheet(n, 5);
     let squeeze =

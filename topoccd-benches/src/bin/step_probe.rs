@@ -2,7 +2,7 @@
 //! `valgrind --tool=callgrind`) and quick timings: prints the per-phase seconds of every
 //! repetition as one JSON object per line.
 //!
-//! Usage: `step_probe DIR|SCENE_DIR [bvh|cluster|brute] [all|earliest] [REPS] [THREADS]`, where
+//! Usage: `step_probe DIR|SCENE_DIR [bvh|cluster|brute|auto] [all|earliest] [REPS] [THREADS]`, where
 //! DIR is a frame sequence (its first step, parents included) or a scene folder with `frames/`.
 //! With `STEP_PROBE_FRESH` set, every repetition uses a new `Ccd` (as a one-step command does).
 
@@ -10,7 +10,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use topoccd::io::sequence::Sequence;
-use topoccd::{Ccd, Method, Mode, QueryOptions, Step};
+use topoccd::{Ccd, QueryOptions, Step};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -18,17 +18,8 @@ fn main() {
         eprintln!("usage: step_probe DIR [bvh|cluster|brute] [all|earliest] [REPS] [THREADS]");
         std::process::exit(2);
     };
-    let method = match args.get(2).map(String::as_str).unwrap_or("bvh") {
-        "bvh" => Method::Bvh,
-        "cluster" => Method::Cluster,
-        "brute" => Method::Brute,
-        other => panic!("unknown method {other}"),
-    };
-    let mode = match args.get(3).map(String::as_str).unwrap_or("all") {
-        "all" => Mode::All,
-        "earliest" => Mode::Earliest,
-        other => panic!("unknown mode {other}"),
-    };
+    let method = topoccd_benches::method_arg(args.get(2));
+    let mode = topoccd_benches::mode_arg(args.get(3));
     let reps: usize = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(5);
     let threads: usize = args.get(5).and_then(|s| s.parse().ok()).unwrap_or(1);
     let sequence = Sequence::open(Path::new(dir)).unwrap_or_else(|e| panic!("{dir}: {e}"));

@@ -8,7 +8,7 @@
 
 use std::time::Instant;
 
-use super::{triangle_volumes_until, BroadInput};
+use super::{triangle_volumes_until, BroadInput, TaskPairs};
 use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf, ParOptions};
 use crate::kdop::Kdop;
 
@@ -49,10 +49,15 @@ impl<const H: usize> PerStepBvh<H> {
         start.elapsed().as_secs_f64()
     }
 
-    /// Every overlapping pair of triangles, each once, to `pair(acc, a, b)` with one
-    /// accumulator per task (made by `make`, finished by `finish` on the task's thread), handed
-    /// to `consume` in a fixed task order, batch by batch. Returns the number of bounding-volume tests.
-    pub fn pairs<T: Send>(
+    /// Checks the hierarchy of the last step against its leaves.
+    pub fn validate(&self) -> Result<(), BvhError> {
+        self.bvh.validate(&self.leaves)
+    }
+}
+
+/// Every overlapping pair of triangles of the hierarchy, each once (see [`TaskPairs`]).
+impl<const H: usize> TaskPairs for PerStepBvh<H> {
+    fn pairs<T: Send>(
         &self,
         ws: &mut BvhWorkspace,
         par: &ParOptions,
@@ -63,10 +68,5 @@ impl<const H: usize> PerStepBvh<H> {
     ) -> u64 {
         self.bvh
             .par_self_pairs_finished(ws, par, make, pair, finish, consume)
-    }
-
-    /// Checks the hierarchy of the last step against its leaves.
-    pub fn validate(&self) -> Result<(), BvhError> {
-        self.bvh.validate(&self.leaves)
     }
 }

@@ -123,20 +123,6 @@ pub(crate) trait TaskPairs {
     ) -> u64;
 }
 
-impl<const H: usize> TaskPairs for bvh::PerStepBvh<H> {
-    fn pairs<T: Send>(
-        &self,
-        ws: &mut BvhWorkspace,
-        par: &ParOptions,
-        make: impl Fn() -> T + Sync + Send,
-        pair: impl Fn(&mut T, u32, u32) + Sync + Send,
-        finish: impl Fn(&mut T) + Sync + Send,
-        consume: impl FnMut(T),
-    ) -> u64 {
-        bvh::PerStepBvh::pairs(self, ws, par, make, pair, finish, consume)
-    }
-}
-
 /// What consumes the triangle pairs of a [`TaskPairs`] broad phase (the query's narrow
 /// phase, run inside the tasks). Returns the bounding-volume tests.
 pub(crate) trait PairRunner {

@@ -48,6 +48,7 @@ mod traverse;
 mod validation;
 
 pub use parallel::{ParOptions, ParPairs};
+pub(crate) use parallel::run_batches;
 pub use validation::BvhError;
 
 use crate::math::DVec3;

@@ -270,14 +270,35 @@ fn par_run<V: BoundingVolume, T: Send>(
     }
     finish(&mut first);
     consume(first);
-    for batch in t.entries.chunks(options.batch.max(1)) {
+    let body = |stack: &mut Vec<(u32, u32)>, &(a, b): &(u32, u32), acc: &mut T| {
+        stack.clear();
+        stack.push((a, b));
+        run(na, nb, stack, &mut |x, y| leaf_pair(acc, x, y))
+    };
+    bv_tests + run_batches(&t.entries, options.batch, Vec::new, body, make, finish, &mut consume)
+}
+
+/// Runs `tasks` on the rayon pool, `batch` at a time: each task's accumulator (made by `make`)
+/// is filled by `body(scratch, task, acc)`, which returns its bounding-volume tests, and
+/// finished by `finish` on the task's thread; the accumulators go to `consume` in task order,
+/// so what `consume` sees does not depend on the thread count. `scratch` makes per-thread
+/// scratch memory. Returns the bounding-volume tests.
+pub(crate) fn run_batches<W: Sync, S: Send, T: Send>(
+    tasks: &[W],
+    batch: usize,
+    scratch: impl Fn() -> S + Sync + Send,
+    body: impl Fn(&mut S, &W, &mut T) -> u64 + Sync + Send,
+    make: impl Fn() -> T + Sync + Send,
+    finish: impl Fn(&mut T) + Sync + Send,
+    consume: &mut impl FnMut(T),
+) -> u64 {
+    let mut bv_tests = 0;
+    for batch in tasks.chunks(batch.max(1)) {
         let done: Vec<(T, u64)> = batch
             .par_iter()
-            .map_init(Vec::new, |stack, &(a, b)| {
+            .map_init(&scratch, |s, task| {
                 let mut acc = make();
-                stack.clear();
-                stack.push((a, b));
-                let tests = run(na, nb, stack, &mut |x, y| leaf_pair(&mut acc, x, y));
+                let tests = body(s, task, &mut acc);
                 finish(&mut acc);
                 (acc, tests)
             })

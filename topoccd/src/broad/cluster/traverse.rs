@@ -80,12 +80,11 @@
 
 use std::time::Instant;
 
-use rayon::prelude::*;
 
 use super::tree::{ClusterTree, NONE};
 use super::{Clustering, LeafCertificate};
 use crate::broad::TaskPairs;
-use crate::bvh::{BvhWorkspace, Node, ParOptions};
+use crate::bvh::{run_batches, BvhWorkspace, Node, ParOptions};
 
 /// Leaf clusters of at most this many triangles get no lazy hierarchy: their triangles'
 /// volumes are tested directly against the other leaf cluster's triangles (or its hierarchy).
@@ -444,26 +443,14 @@ impl<const H: usize> TaskPairs for TrianglePairs<'_, H> {
                 task
             })
             .collect();
-        let mut bv_tests = 0;
-        for batch in tasks.chunks(par.batch.max(1)) {
-            let done: Vec<(T, u64)> = batch
-                .par_iter()
-                .map_init(Default::default, |ws, task| {
-                    let mut acc = make();
-                    let mut tests = 0;
-                    for work in task.iter() {
-                        tests += self.work(work, ws, &mut |x, y| pair(&mut acc, x, y));
-                    }
-                    finish(&mut acc);
-                    (acc, tests)
-                })
-                .collect();
-            for (acc, tests) in done {
-                consume(acc);
-                bv_tests += tests;
+        let body = |ws: &mut _, task: &&[Work], acc: &mut T| {
+            let mut tests = 0;
+            for work in task.iter() {
+                tests += self.work(work, ws, &mut |x, y| pair(acc, x, y));
             }
-        }
-        bv_tests
+            tests
+        };
+        run_batches(&tasks, par.batch, Default::default, body, make, finish, &mut consume)
     }
 }
 
