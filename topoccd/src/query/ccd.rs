@@ -242,7 +242,8 @@ impl Ccd {
                 cluster = Some(figures);
                 stats
             }
-            Method::Brute | Method::Auto => {
+            Method::Auto => unreachable!("Method::resolve never returns Auto"),
+            Method::Brute => {
                 // A sequential broad phase, its buffer solved in parallel whenever it is full.
                 let mut best = None;
                 let mut flush = |c: &Candidates| {
