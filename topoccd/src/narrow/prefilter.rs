@@ -48,9 +48,9 @@ type Points = [[DVec3; 4]; 2];
 ///
 /// Over `[0, t_end]` (`t_end` a power of two at most 1), the second end is the interpolated
 /// position at `t_end`, off by at most `3 u M` per coordinate (the scaling by a power of two is
-/// exact): the margin grows to `48 u |d|_1 M`.
+/// exact): the margin grows to `48 u |d|_1 M`. `coord` is `M`, the largest coordinate.
 #[inline]
-fn direction_separated(pts: &Points, split: usize, sep: f64, t_end: f64) -> bool {
+fn direction_separated(pts: &Points, split: usize, sep: f64, t_end: f64, coord: f64) -> bool {
     let (mut first, mut second) = (DVec3::ZERO, DVec3::ZERO);
     for (k, (&p0, &p1)) in pts[0].iter().zip(&pts[1]).enumerate() {
         if k < split {
@@ -60,7 +60,6 @@ fn direction_separated(pts: &Points, split: usize, sep: f64, t_end: f64) -> bool
         }
     }
     let d = second / (4 - split) as f64 - first / split as f64;
-    let coord = pts.iter().flatten().fold(0.0f64, |m, x| m.max(max_abs(*x)));
     let rounding = if t_end < 1.0 { 48.0 } else { 16.0 };
     let need = sep * d.length() * (1.0 + 4.0 * UNIT_ROUNDOFF)
         + rounding * UNIT_ROUNDOFF * d.abs().element_sum() * coord
@@ -102,7 +101,9 @@ fn separated(
     t_end: f64,
 ) -> bool {
     let t_end = dyadic_end(t_end);
-    if direction_separated(pts, split, sep, t_end) {
+    // The largest coordinate of the points (`M` of the rounding bounds).
+    let coord = pts.iter().flatten().fold(0.0f64, |m, x| m.max(max_abs(*x)));
+    if direction_separated(pts, split, sep, t_end, coord) {
         return true;
     }
     let mut c = coplanarity(p, a, b);
@@ -131,7 +132,6 @@ fn separated(
         let norm = n00.length().max(n1.length()).max(n11.length());
         margin += sep * (norm + COEFFICIENT_ERROR * UNIT_ROUNDOFF * ab);
     }
-    let coord = pts.iter().flatten().fold(0.0f64, |m, x| m.max(max_abs(*x)));
     let piece = Piece {
         pts,
         split,
