@@ -52,6 +52,9 @@ pub(crate) fn candidates<const H: usize>(
             }
         }
     }
+    // The edges' swept boxes: the unions of their vertices'.
+    let boxes = &features.boxes;
+    let edge_boxes: Vec<SweptBox> = topo.edges.iter().map(|&e| boxes.edge(e)).collect();
     let build = start.elapsed().as_secs_f64();
     let start = Instant::now();
     let mut tests = 0u64;
@@ -76,8 +79,8 @@ pub(crate) fn candidates<const H: usize>(
         .filter(|&(v, _)| referenced[v])
         .map(|(v, b)| item(b, 0, v))
         .chain(
-            features
-                .boxes.face
+            boxes
+                .face
                 .iter()
                 .enumerate()
                 .map(|(f, b)| item(b, 1, f)),
@@ -86,7 +89,7 @@ pub(crate) fn candidates<const H: usize>(
     sort(&mut items);
     let bx = |it: &Item| match it.kind {
         0 => &features.boxes.vertex[it.index as usize],
-        _ => &features.boxes.face[it.index as usize],
+        _ => &boxes.face[it.index as usize],
     };
     for (i, a) in items.iter().enumerate() {
         let a_box = bx(a);
@@ -118,15 +121,14 @@ pub(crate) fn candidates<const H: usize>(
     let edges = &features.topo.edges;
     items.clear();
     items.extend(
-        features
-            .boxes.edge
+        edge_boxes
             .iter()
             .enumerate()
             .map(|(e, b)| item(b, 0, e)),
     );
     sort(&mut items);
     for (i, a) in items.iter().enumerate() {
-        let a_box = &features.boxes.edge[a.index as usize];
+        let a_box = &edge_boxes[a.index as usize];
         let reach = a_box.hi.x + sep;
         let [a0, a1] = edges[a.index as usize];
         for b in items[i + 1..].iter().take_while(|b| b.lo_x <= reach) {
@@ -135,7 +137,7 @@ pub(crate) fn candidates<const H: usize>(
                 continue;
             }
             tests += 1;
-            if a_box.near(&features.boxes.edge[b.index as usize], sep)
+            if a_box.near(&edge_boxes[b.index as usize], sep)
                 && filter.edge_edge([a0, a1], [b0, b1])
                 && volumes[edge_owner[a.index as usize] as usize]
                     .overlaps(&volumes[edge_owner[b.index as usize] as usize])

@@ -72,14 +72,14 @@ impl SweptBox {
 /// depend on the thread count).
 const PAR_LEN: usize = 1 << 13;
 
-/// The boxes swept by the features over `[0, t_max]`, the whole step or its start.
+/// The boxes swept by the vertices and the faces over `[0, t_max]`, the whole step or its
+/// start. An edge's box is the union of its vertices' ([`FeatureBoxes::edge`]), computed where
+/// it is needed rather than stored (edges are the most numerous features).
 #[derive(Clone, Debug, Default)]
 pub struct FeatureBoxes {
     /// Swept box of each vertex (unreferenced ones included, though never used).
     pub vertex: Vec<SweptBox>,
-    /// Swept box of each edge of `topo.edges`.
-    pub edge: Vec<SweptBox>,
-    /// Swept box of each triangle.
+    /// Swept box of each triangle: the union of its vertices'.
     pub face: Vec<SweptBox>,
 }
 
@@ -89,7 +89,7 @@ impl FeatureBoxes {
     /// holds the positions at 0 and at `t_max`, the latter interpolated as `a + (b - a) t_max`
     /// with three roundings, at most `5 u max(|a|, |b|)` per coordinate, so it is padded by
     /// `8 u max(|a|, |b|)`.
-    pub fn sweep(&mut self, step: &Step, topo: &Topology, t_max: f64) {
+    pub fn sweep(&mut self, step: &Step, t_max: f64) {
         let (x0, x1) = (step.pos0(), step.pos1());
         let ends = x0.par_iter().zip(x1).with_min_len(PAR_LEN);
         self.vertex.clear();
@@ -110,13 +110,6 @@ impl FeatureBoxes {
             }));
         }
         let vb = &self.vertex;
-        self.edge.clear();
-        self.edge.par_extend(
-            topo.edges
-                .par_iter()
-                .with_min_len(PAR_LEN)
-                .map(|&[i, j]| vb[i as usize].merge(&vb[j as usize])),
-        );
         self.face.clear();
         self.face
             .par_extend(step.triangles().par_iter().with_min_len(PAR_LEN).map(|t| {
@@ -124,25 +117,33 @@ impl FeatureBoxes {
                     .fold(SweptBox::EMPTY, |b, &v| b.merge(&vb[v as usize]))
             }));
     }
+
+    /// The box swept by the edge `[i, j]`: the union of its vertices' (exact).
+    #[inline]
+    pub fn edge(&self, [i, j]: [u32; 2]) -> SweptBox {
+        self.vertex[i as usize].merge(&self.vertex[j as usize])
+    }
 }
 
-/// What [`Features::triangle_pair`] reads of one triangle, in one cache line: its vertices,
-/// and the vertices and edges it owns, listed first.
+/// What [`Features::triangle_pair`] reads of one triangle, two to a cache line: its vertices,
+/// its edges, and which of them it owns.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-#[repr(align(64))]
+#[repr(align(32))]
 pub struct OwnedFeatures {
-    /// The triangle's vertices.
+    /// The triangle's vertices `[a, b, c]`.
     pub vertices: [u32; 3],
-    /// The vertices it owns: `owned_vertices[..vertex_count]`.
-    pub owned_vertices: [u32; 3],
-    /// The edges it owns (indices into `topo.edges`): `owned_edges[..edge_count]`.
-    pub owned_edges: [u32; 3],
-    /// The end vertices of each owned edge.
-    pub edge_ends: [[u32; 2]; 3],
-    /// How many vertices it owns.
-    pub vertex_count: u8,
-    /// How many edges it owns.
-    pub edge_count: u8,
+    /// Its edges `ab`, `bc`, `ca` (indices into `topo.edges`).
+    pub edges: [u32; 3],
+    /// Bit `i` set: it owns `vertices[i]`.
+    pub vertex_mask: u8,
+    /// Bit `k` set: it owns `edges[k]`, from `vertices[k]` to `vertices[(k + 1) % 3]`.
+    pub edge_mask: u8,
+}
+
+/// The set bits of a 3-bit mask, in increasing order.
+#[inline]
+fn bits(mask: u8) -> impl Iterator<Item = usize> {
+    (0..3).filter(move |&i| mask >> i & 1 == 1)
 }
 
 /// Per-step feature data, with buffers reused across steps.
@@ -163,7 +164,7 @@ impl Features {
     pub fn update(&mut self, step: &Step) {
         let tris = step.triangles();
         self.topo = Topology::new(tris, step.vertex_count());
-        self.boxes.sweep(step, &self.topo, 1.0);
+        self.boxes.sweep(step, 1.0);
 
         self.owned.clear();
         self.owned.resize(tris.len(), OwnedFeatures::default());
@@ -171,29 +172,26 @@ impl Features {
         self.claimed.resize(step.vertex_count(), false);
         for (o, tri) in self.owned.iter_mut().zip(tris) {
             o.vertices = *tri;
-            for &v in tri {
+            for (i, &v) in tri.iter().enumerate() {
                 if !std::mem::replace(&mut self.claimed[v as usize], true) {
-                    o.owned_vertices[o.vertex_count as usize] = v;
-                    o.vertex_count += 1;
+                    o.vertex_mask |= 1 << i;
                 }
             }
         }
         self.claimed.clear();
         self.claimed.resize(self.topo.edges.len(), false);
         for (o, edges) in self.owned.iter_mut().zip(&self.topo.triangle_edges) {
-            for &e in edges {
+            o.edges = *edges;
+            for (k, &e) in edges.iter().enumerate() {
                 if !std::mem::replace(&mut self.claimed[e as usize], true) {
-                    let k = o.edge_count as usize;
-                    o.owned_edges[k] = e;
-                    o.edge_ends[k] = self.topo.edges[e as usize];
-                    o.edge_count += 1;
+                    o.edge_mask |= 1 << k;
                 }
             }
         }
     }
 
     /// Appends the candidate feature pairs of the overlapping triangle pair `[a, b]` (`a != b`)
-    /// whose swept boxes (`boxes`, usually [`Features::boxes`]) come within `sep`:
+    /// whose swept boxes (from `boxes`, usually [`Features::boxes`]) come within `sep`:
     /// `(vertex, face)` to `vf`, `(edge, edge)` (indices into `topo.edges`, smaller first) to
     /// `ee`. See the module documentation.
     #[inline]
@@ -207,42 +205,47 @@ impl Features {
     ) {
         debug_assert_ne!(a, b);
         let (oa, ob) = (&self.owned[a as usize], &self.owned[b as usize]);
-        Self::vertices_face(boxes, oa, ob.vertices, b, filter, vf);
-        Self::vertices_face(boxes, ob, oa.vertices, a, filter, vf);
-        let (na, nb) = (oa.edge_count as usize, ob.edge_count as usize);
-        for (&e, &[e0, e1]) in oa.owned_edges[..na].iter().zip(&oa.edge_ends[..na]) {
-            let e_box = &boxes.edge[e as usize];
-            for (&f, &[f0, f1]) in ob.owned_edges[..nb].iter().zip(&ob.edge_ends[..nb]) {
+        let vbox = &boxes.vertex;
+        Self::vertices_face(vbox, oa, ob.vertices, &boxes.face[b as usize], b, filter, vf);
+        Self::vertices_face(vbox, ob, oa.vertices, &boxes.face[a as usize], a, filter, vf);
+        if oa.edge_mask == 0 || ob.edge_mask == 0 {
+            return;
+        }
+        let (va, vb) = (oa.vertices, ob.vertices);
+        for k in bits(oa.edge_mask) {
+            let (e0, e1) = (va[k], va[(k + 1) % 3]);
+            let e_box = boxes.edge([e0, e1]);
+            for l in bits(ob.edge_mask) {
+                let (f0, f1) = (vb[l], vb[(l + 1) % 3]);
                 if e0 == f0 || e0 == f1 || e1 == f0 || e1 == f1 {
                     continue;
                 }
-                if e_box.near(&boxes.edge[f as usize], filter.sep)
+                if e_box.near(&boxes.edge([f0, f1]), filter.sep)
                     && filter.edge_edge([e0, e1], [f0, f1])
                 {
+                    let (e, f) = (oa.edges[k], ob.edges[l]);
                     ee.push([e.min(f), e.max(f)]);
                 }
             }
         }
     }
 
-    /// The vertices owned by `ov` against face `f` (vertices `tf`).
+    /// The vertices owned by `ov` (boxes in `vbox`) against face `f` (vertices `tf`, box
+    /// `f_box`).
     #[inline]
     fn vertices_face(
-        boxes: &FeatureBoxes,
+        vbox: &[SweptBox],
         ov: &OwnedFeatures,
         tf: [u32; 3],
+        f_box: &SweptBox,
         f: u32,
         filter: &PairFilter<'_>,
         vf: &mut Vec<[u32; 2]>,
     ) {
-        let n = ov.vertex_count as usize;
-        if n == 0 {
-            return;
-        }
-        let f_box = &boxes.face[f as usize];
-        for &v in &ov.owned_vertices[..n] {
+        for i in bits(ov.vertex_mask) {
+            let v = ov.vertices[i];
             if !tf.contains(&v)
-                && boxes.vertex[v as usize].near(f_box, filter.sep)
+                && vbox[v as usize].near(f_box, filter.sep)
                 && filter.vertex_face(v, tf)
             {
                 vf.push([v, f]);

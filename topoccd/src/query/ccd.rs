@@ -455,7 +455,7 @@ fn bvh_query<const H: usize>(
     let mut build = tree.build(input, if two_pass { tau } else { t_max }, ws);
     let boxes = if two_pass {
         let t = Instant::now();
-        early_boxes.sweep(input.step, &input.features.topo, tau);
+        early_boxes.sweep(input.step, tau);
         build += t.elapsed().as_secs_f64();
         &*early_boxes
     } else {
@@ -526,8 +526,15 @@ fn traverse_pass(
     let (features, filter) = (input.features, input.filter);
     // The limit of the batches handed over so far (f64 bits; only lowered between batches).
     let limit = AtomicU64::new(start.to_bits());
+    // Earliest: batches, each pruned with what the batches before found. All: one batch (a
+    // finished task keeps only what it found, so the buffers alive are the running tasks').
+    let batch = if ctx.options.mode == super::Mode::Earliest {
+        TASK_BATCH
+    } else {
+        usize::MAX
+    };
     let par = ParOptions {
-        batch: TASK_BATCH,
+        batch,
         ..ParOptions::default()
     };
     let make = || Task::new(f64::from_bits(limit.load(Ordering::Acquire)), record);
@@ -537,7 +544,10 @@ fn traverse_pass(
             task.flush(ctx);
         }
     };
-    let finish = |task: &mut Task| task.flush(ctx);
+    let finish = |task: &mut Task| {
+        task.flush(ctx);
+        task.buf = Candidates::default();
+    };
     let consume = |mut task: Task| {
         let mut best = None;
         lower(&mut best, task.found.vf.iter().map(|c| c.toi));
