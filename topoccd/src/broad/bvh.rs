@@ -12,11 +12,11 @@ use super::{triangle_volumes_until, BroadInput, TaskPairs};
 use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf, ParOptions};
 use crate::kdop::Kdop;
 
-/// The leaves and hierarchy of one k-DOP type, kept for reuse across steps.
+/// The triangles' volumes (leaf `t` is triangle `t`) and hierarchy of one k-DOP type, kept
+/// for reuse across steps.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct PerStepBvh<const H: usize> {
     volumes: Vec<Kdop<H>>,
-    leaves: Vec<Leaf<Kdop<H>>>,
     bvh: Bvh<Kdop<H>>,
 }
 
@@ -26,13 +26,7 @@ impl<const H: usize> PerStepBvh<H> {
     pub fn build(&mut self, input: &BroadInput<'_, '_>, t_max: f64, ws: &mut BvhWorkspace) -> f64 {
         let start = Instant::now();
         triangle_volumes_until(input.step, t_max, input.filter.sep, &mut self.volumes);
-        self.leaves.clear();
-        self.leaves
-            .extend(self.volumes.iter().enumerate().map(|(t, &volume)| Leaf {
-                id: t as u32,
-                volume,
-            }));
-        self.bvh.rebuild(&self.leaves, ws);
+        self.bvh.rebuild_from_volumes(&self.volumes, ws);
         start.elapsed().as_secs_f64()
     }
 
@@ -41,9 +35,6 @@ impl<const H: usize> PerStepBvh<H> {
     pub fn refit_whole_step(&mut self, input: &BroadInput<'_, '_>) -> f64 {
         let start = Instant::now();
         triangle_volumes_until(input.step, 1.0, input.filter.sep, &mut self.volumes);
-        for (leaf, &volume) in self.leaves.iter_mut().zip(&self.volumes) {
-            leaf.volume = volume;
-        }
         let volumes = &self.volumes;
         self.bvh.refit(|id| volumes[id as usize]);
         start.elapsed().as_secs_f64()
@@ -51,7 +42,13 @@ impl<const H: usize> PerStepBvh<H> {
 
     /// Checks the hierarchy of the last step against its leaves.
     pub fn validate(&self) -> Result<(), BvhError> {
-        self.bvh.validate(&self.leaves)
+        let leaves: Vec<Leaf<Kdop<H>>> = (self.volumes.iter().enumerate())
+            .map(|(t, &volume)| Leaf {
+                id: t as u32,
+                volume,
+            })
+            .collect();
+        self.bvh.validate(&leaves)
     }
 }
 

@@ -60,44 +60,53 @@ impl<V: BoundingVolume> Bvh<V> {
     /// assert!(bvh.validate(&leaves).is_ok());
     /// ```
     pub fn rebuild(&mut self, leaves: &[Leaf<V>], ws: &mut BvhWorkspace) {
-        if leaves.is_empty() {
+        self.rebuild_with(leaves.len(), |i| (leaves[i].volume, leaves[i].id), ws);
+    }
+
+    /// [`Bvh::rebuild`] over `volumes`, leaf `i` having id `i`: the same tree as over the
+    /// leaves `Leaf { id: i, volume: volumes[i] }`, without copying them.
+    pub fn rebuild_from_volumes(&mut self, volumes: &[V], ws: &mut BvhWorkspace) {
+        self.rebuild_with(volumes.len(), |i| (volumes[i], i as u32), ws);
+    }
+
+    /// The build over `n` leaves, leaf `i` being `leaf(i) = (volume, id)`.
+    fn rebuild_with(
+        &mut self,
+        n: usize,
+        leaf: impl Fn(usize) -> (V, u32) + Sync,
+        ws: &mut BvhWorkspace,
+    ) {
+        if n == 0 {
             self.nodes.clear();
             return;
         }
         // Node indices are u32 with the top bit free (the traversals tag pairs with it).
-        assert!(
-            leaves.len() <= 1 << 30,
-            "too many leaves for a hierarchy: at most 2^30"
-        );
+        assert!(n <= 1 << 30, "too many leaves for a hierarchy: at most 2^30");
         let items = &mut ws.items;
-        let item = |(i, l): (usize, &Leaf<V>)| (l.volume.center().to_array().map(key), i as u32);
-        if leaves.len() >= PARALLEL_LEAVES {
-            leaves
-                .par_iter()
-                .enumerate()
-                .map(item)
-                .collect_into_vec(items);
+        let item = |i: usize| (leaf(i).0.center().to_array().map(key), i as u32);
+        if n >= PARALLEL_LEAVES {
+            (0..n).into_par_iter().map(item).collect_into_vec(items);
         } else {
             items.clear();
-            items.extend(leaves.iter().enumerate().map(item));
+            items.extend((0..n).map(item));
         }
         let placeholder = Node {
-            volume: leaves[0].volume,
+            volume: leaf(0).0,
             a: 0,
             b: LEAF,
         };
         // Every node is written by the build: only grow (or shrink) the array, so that a tree
         // rebuilt over as many leaves as last time is written once, not twice.
-        self.nodes.resize(2 * leaves.len() - 1, placeholder);
+        self.nodes.resize(2 * n - 1, placeholder);
         let (root, rest) = self.nodes.split_at_mut(1);
-        root[0] = build(leaves, items, rest, 1);
+        root[0] = build(&leaf, items, rest, 1);
     }
 }
 
 /// Builds the subtree over `items` (not empty) and returns its root node; writes its other
 /// `2 m - 2` nodes into `block`, whose first node has index `base` in the whole array.
 fn build<V: BoundingVolume>(
-    leaves: &[Leaf<V>],
+    leaf: &(impl Fn(usize) -> (V, u32) + Sync),
     items: &mut [Item],
     block: &mut [Node<V>],
     base: u32,
@@ -105,10 +114,10 @@ fn build<V: BoundingVolume>(
     debug_assert_eq!(block.len() + 2, 2 * items.len());
     let len = items.len();
     if len == 1 {
-        let leaf = &leaves[items[0].1 as usize];
+        let (volume, id) = leaf(items[0].1 as usize);
         return Node {
-            volume: leaf.volume,
-            a: leaf.id,
+            volume,
+            a: id,
             b: LEAF,
         };
     }
@@ -122,13 +131,13 @@ fn build<V: BoundingVolume>(
     let base2 = base1 + block1.len() as u32;
     let (n1, n2) = if len >= PARALLEL_LEAVES {
         rayon::join(
-            || build(leaves, first, block1, base1),
-            || build(leaves, second, block2, base2),
+            || build(leaf, first, block1, base1),
+            || build(leaf, second, block2, base2),
         )
     } else {
         (
-            build(leaves, first, block1, base1),
-            build(leaves, second, block2, base2),
+            build(leaf, first, block1, base1),
+            build(leaf, second, block2, base2),
         )
     };
     let volume = n1.volume.merge(&n2.volume);
