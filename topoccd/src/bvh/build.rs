@@ -96,8 +96,17 @@ impl<V: BoundingVolume> Bvh<V> {
             b: LEAF,
         };
         // Every node is written by the build: only grow (or shrink) the array, so that a tree
-        // rebuilt over as many leaves as last time is written once, not twice.
-        self.nodes.resize(2 * n - 1, placeholder);
+        // rebuilt over as many leaves as last time is written once, not twice. A big array is
+        // grown on the pool: its first writes are what maps its pages.
+        let len = 2 * n - 1;
+        self.nodes.truncate(len);
+        let more = len - self.nodes.len();
+        if more >= PARALLEL_LEAVES {
+            self.nodes
+                .par_extend(rayon::iter::repeat_n(placeholder, more));
+        } else {
+            self.nodes.resize(len, placeholder);
+        }
         let (root, rest) = self.nodes.split_at_mut(1);
         root[0] = build(&leaf, items, rest, 1);
     }
