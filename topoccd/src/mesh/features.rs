@@ -155,8 +155,6 @@ pub struct Features {
     pub owned: Vec<OwnedFeatures>,
     /// The features' boxes swept over the whole step.
     pub boxes: FeatureBoxes,
-    /// Scratch: whether a vertex / edge has an owner yet.
-    claimed: Vec<bool>,
 }
 
 impl Features {
@@ -166,28 +164,32 @@ impl Features {
         self.topo = Topology::new(tris, step.vertex_count());
         self.boxes.sweep(step, 1.0);
 
+        // A triangle owns a vertex or an edge when it is the lowest-numbered incident one.
+        let topo = &self.topo;
         self.owned.clear();
-        self.owned.resize(tris.len(), OwnedFeatures::default());
-        self.claimed.clear();
-        self.claimed.resize(step.vertex_count(), false);
-        for (o, tri) in self.owned.iter_mut().zip(tris) {
-            o.vertices = *tri;
-            for (i, &v) in tri.iter().enumerate() {
-                if !std::mem::replace(&mut self.claimed[v as usize], true) {
-                    o.vertex_mask |= 1 << i;
-                }
-            }
-        }
-        self.claimed.clear();
-        self.claimed.resize(self.topo.edges.len(), false);
-        for (o, edges) in self.owned.iter_mut().zip(&self.topo.triangle_edges) {
-            o.edges = *edges;
-            for (k, &e) in edges.iter().enumerate() {
-                if !std::mem::replace(&mut self.claimed[e as usize], true) {
-                    o.edge_mask |= 1 << k;
-                }
-            }
-        }
+        self.owned.par_extend(
+            tris.par_iter()
+                .zip(&topo.triangle_edges)
+                .enumerate()
+                .with_min_len(PAR_LEN)
+                .map(|(t, (&vertices, &edges))| {
+                    let t = t as u32;
+                    let mut o = OwnedFeatures {
+                        vertices,
+                        edges,
+                        ..OwnedFeatures::default()
+                    };
+                    for i in 0..3 {
+                        if topo.triangles_of(vertices[i])[0] == t {
+                            o.vertex_mask |= 1 << i;
+                        }
+                        if topo.edge_owner[edges[i] as usize] == t {
+                            o.edge_mask |= 1 << i;
+                        }
+                    }
+                    o
+                }),
+        );
     }
 
     /// Appends the candidate feature pairs of the overlapping triangle pair `[a, b]` (`a != b`)
