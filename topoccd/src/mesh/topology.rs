@@ -29,6 +29,9 @@ const PARALLEL_TRIANGLES: usize = 1 << 15;
 /// The parallel counting sorts split the buckets into this many ranges of consecutive buckets.
 const RANGES: usize = 256;
 
+/// The edges of a range of vertices, their owners, and each vertex's edge count.
+type RangeEdges = (Vec<[u32; 2]>, Vec<u32>, Vec<u32>);
+
 /// Side `k` of `tri` as `(smaller vertex, larger vertex)`.
 #[inline]
 fn side(tri: &[u32; 3], k: usize) -> (u32, u32) {
@@ -136,7 +139,7 @@ impl Topology {
         let hi_of = |h: u64| (h >> 32) as u32;
         let ranges = bucket_ranges(&start);
         // Per range of vertices: its edges, their owners, and each vertex's edge count.
-        let parts: Vec<(Vec<[u32; 2]>, Vec<u32>, Vec<u32>)> = ranges
+        let parts: Vec<RangeEdges> = ranges
             .par_iter()
             .map(|&(v0, v1)| {
                 let (mut edges, mut owners, mut counts) = (Vec::new(), Vec::new(), Vec::new());
