@@ -57,3 +57,50 @@ fn both_passes_give_the_earliest_pairs_of_all() {
     }
     assert!(checked > 6, "the scenes must collide");
 }
+
+/// Sheets big enough for the traversal to run in several batches of tasks: a first pass that
+/// finds nothing early in its first batch stops there (the rest of the step goes to the second
+/// pass), one that does goes on; the answer is the same either way, and it is that of
+/// `Mode::All`.
+#[test]
+fn a_first_pass_cut_short_gives_the_same_answer() {
+    let earliest = QueryOptions {
+        mode: Mode::Earliest,
+        ..QueryOptions::default()
+    };
+    let all = QueryOptions::default();
+    let (mut late, mut early) = (0, 0);
+    for kind in [SceneKind::CrumpledSheet, SceneKind::FoldedSheet] {
+        for seed in 0..3 {
+            let step = kind.generate(60, seed);
+            assert!(
+                step.triangles().len() > 5000,
+                "{} is too small",
+                kind.name()
+            );
+            let reference = Ccd::new().query(&step, Method::Bvh, &all).unwrap();
+            let first = Ccd::new().query(&step, Method::Bvh, &earliest).unwrap();
+            let mut ccd = Ccd::new();
+            ccd.query(&quiet(), Method::Bvh, &earliest).unwrap();
+            let whole = ccd.query(&step, Method::Bvh, &earliest).unwrap();
+            let what = format!("{} seed {seed}", kind.name());
+            for report in [&first, &whole] {
+                assert_eq!(report.earliest, reference.earliest, "{what}");
+                mesh_util::assert_earliest_pairs(
+                    &reference,
+                    report,
+                    earliest.narrow.tolerance,
+                    &what,
+                );
+            }
+            // Both kinds of steps occur: without an early contact (the first pass stops after
+            // its first batch) and with one (it goes on).
+            match reference.earliest.map(|c| c.toi()) {
+                Some(t) if t > 1.0 / 256.0 + 2.0 * earliest.narrow.tolerance => late += 1,
+                Some(_) => early += 1,
+                None => {}
+            }
+        }
+    }
+    assert!(late > 0 && early > 0, "late {late}, early {early}");
+}

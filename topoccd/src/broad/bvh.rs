@@ -6,6 +6,7 @@
 //! [`Bvh::par_self_pairs_with`]); each task gets its own accumulator, so the caller can run the
 //! narrow phase inside the tasks on bounded buffers.
 
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 use super::{triangle_volumes_until, BroadInput, TaskPairs};
@@ -61,9 +62,9 @@ impl<const H: usize> TaskPairs for PerStepBvh<H> {
         make: impl Fn() -> T + Sync + Send,
         pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
-        consume: impl FnMut(T),
+        consume: impl FnMut(T) -> ControlFlow<()>,
     ) -> u64 {
         self.bvh
-            .par_self_pairs_finished(ws, par, make, pair, finish, consume)
+            .par_self_pairs_until(ws, par, make, pair, finish, consume)
     }
 }

@@ -22,6 +22,8 @@ pub(crate) mod brute;
 pub(crate) mod bvh;
 pub mod cluster;
 
+use std::ops::ControlFlow;
+
 use rayon::prelude::*;
 
 use crate::bvh::{BvhWorkspace, ParOptions};
@@ -109,8 +111,10 @@ impl<'f> Sink<'f> {
 /// A broad phase whose overlapping triangle pairs come from parallel tasks: `pair(acc, a, b)`
 /// for every triangle pair to test, each once, with one accumulator per task (made by
 /// `make`, finished by `finish` on the task's thread), handed to `consume` in a fixed task
-/// order, batch by batch ([`ParOptions::batch`]). The tasks, and what each receives, depend
-/// on the input alone, never on the thread count. Returns the bounding-volume tests.
+/// order, batch by batch ([`ParOptions::batch`]); once `consume` returns
+/// [`ControlFlow::Break`], no batch after the one under way runs. The tasks, and what each
+/// receives, depend on the input alone, never on the thread count. Returns the
+/// bounding-volume tests.
 pub(crate) trait TaskPairs {
     fn pairs<T: Send>(
         &self,
@@ -119,7 +123,7 @@ pub(crate) trait TaskPairs {
         make: impl Fn() -> T + Sync + Send,
         pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
-        consume: impl FnMut(T),
+        consume: impl FnMut(T) -> ControlFlow<()>,
     ) -> u64;
 }
 

@@ -2,6 +2,8 @@
 //! order that depends on the trees alone, run on the current rayon thread pool, and their
 //! results returned in task order; so the output is the same for any number of threads.
 
+use std::ops::ControlFlow;
+
 use rayon::prelude::*;
 
 use super::traverse::{run, step, Sink, OTHER};
@@ -160,7 +162,26 @@ impl<V: BoundingVolume> Bvh<V> {
         make: impl Fn() -> T + Sync + Send,
         leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
-        consume: impl FnMut(T),
+        mut consume: impl FnMut(T),
+    ) -> u64 {
+        let consume = |r| {
+            consume(r);
+            ControlFlow::Continue(())
+        };
+        self.par_self_pairs_until(ws, options, make, leaf_pair, finish, consume)
+    }
+
+    /// [`Bvh::par_self_pairs_finished`] whose `consume` may stop the traversal: once it returns
+    /// [`ControlFlow::Break`], the results of the batch under way are still handed over, and
+    /// no further batch runs. Returns the bounding-volume tests made.
+    pub(crate) fn par_self_pairs_until<T: Send>(
+        &self,
+        ws: &mut BvhWorkspace,
+        options: &ParOptions,
+        make: impl Fn() -> T + Sync + Send,
+        leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+        finish: impl Fn(&mut T) + Sync + Send,
+        consume: impl FnMut(T) -> ControlFlow<()>,
     ) -> u64 {
         let t = &mut ws.tasks;
         t.entries.clear();
@@ -232,6 +253,10 @@ impl<V: BoundingVolume> Bvh<V> {
             }
         }
         let small = na.len() < options.min_nodes && nb.len() < options.min_nodes;
+        let consume = |r| {
+            consume(r);
+            ControlFlow::Continue(())
+        };
         par_run(na, nb, t, 1, small, options, make, leaf_pair, |_| {}, consume)
     }
 }
@@ -251,7 +276,7 @@ fn par_run<V: BoundingVolume, T: Send>(
     make: impl Fn() -> T + Sync + Send,
     leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
     finish: impl Fn(&mut T) + Sync + Send,
-    mut consume: impl FnMut(T),
+    mut consume: impl FnMut(T) -> ControlFlow<()>,
 ) -> u64 {
     while !small && !t.entries.is_empty() && t.entries.len() < options.min_tasks {
         t.next.clear();
@@ -269,7 +294,9 @@ fn par_run<V: BoundingVolume, T: Send>(
         leaf_pair(&mut first, x, y);
     }
     finish(&mut first);
-    consume(first);
+    if consume(first).is_break() {
+        return bv_tests;
+    }
     let body = |stack: &mut Vec<(u32, u32)>, &(a, b): &(u32, u32), acc: &mut T| {
         stack.clear();
         stack.push((a, b));
@@ -281,8 +308,9 @@ fn par_run<V: BoundingVolume, T: Send>(
 /// Runs `tasks` on the rayon pool, `batch` at a time: each task's accumulator (made by `make`)
 /// is filled by `body(scratch, task, acc)`, which returns its bounding-volume tests, and
 /// finished by `finish` on the task's thread; the accumulators go to `consume` in task order,
-/// so what `consume` sees does not depend on the thread count. `scratch` makes per-thread
-/// scratch memory. Returns the bounding-volume tests.
+/// so what `consume` sees does not depend on the thread count. Once `consume` returns
+/// [`ControlFlow::Break`], the batch under way is handed over in full and no other batch runs.
+/// `scratch` makes per-thread scratch memory. Returns the bounding-volume tests made.
 pub(crate) fn run_batches<W: Sync, S: Send, T: Send>(
     tasks: &[W],
     batch: usize,
@@ -290,10 +318,11 @@ pub(crate) fn run_batches<W: Sync, S: Send, T: Send>(
     body: impl Fn(&mut S, &W, &mut T) -> u64 + Sync + Send,
     make: impl Fn() -> T + Sync + Send,
     finish: impl Fn(&mut T) + Sync + Send,
-    consume: &mut impl FnMut(T),
+    consume: &mut impl FnMut(T) -> ControlFlow<()>,
 ) -> u64 {
     let mut bv_tests = 0;
     for batch in tasks.chunks(batch.max(1)) {
+        let mut stop = false;
         let done: Vec<(T, u64)> = batch
             .par_iter()
             .map_init(&scratch, |s, task| {
@@ -304,8 +333,11 @@ pub(crate) fn run_batches<W: Sync, S: Send, T: Send>(
             })
             .collect();
         for (acc, tests) in done {
-            consume(acc);
+            stop |= consume(acc).is_break();
             bv_tests += tests;
+        }
+        if stop {
+            break;
         }
     }
     bv_tests

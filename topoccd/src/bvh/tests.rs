@@ -214,3 +214,48 @@ fn batches_and_task_counts_give_the_same_pairs_in_the_same_order() {
         assert_eq!(sorted(own), sorted(expected), "min_tasks {min_tasks}");
     }
 }
+
+/// A traversal whose `consume` asks to stop hands over the batch under way in full, then
+/// stops: its results are a prefix of the whole traversal's, cut at a batch boundary, the
+/// same for any thread count.
+#[test]
+fn a_traversal_stops_after_the_batch_where_consume_asks() {
+    use std::ops::ControlFlow;
+    let mut rng = ChaCha8Rng::seed_from_u64(15);
+    let a = leaves(&mut rng, 12000);
+    let x = Bvh::from_leaves(&a);
+    let all = x.par_self_pairs(&mut BvhWorkspace::default(), Vec::new, |v, p, q| {
+        v.push((p, q))
+    });
+    assert!(all.results.len() > 100, "{} tasks", all.results.len());
+    let batch = 16;
+    let options = ParOptions {
+        batch,
+        ..ParOptions::default()
+    };
+    for threads in [1, 2] {
+        // Ask to stop at the 20th result (the first, of the splitting, then the batches).
+        let got = pool(threads).install(|| {
+            let mut got = Vec::new();
+            x.par_self_pairs_until(
+                &mut BvhWorkspace::default(),
+                &options,
+                Vec::new,
+                |v, p, q| v.push((p, q)),
+                |_| {},
+                |r| {
+                    got.push(r);
+                    if got.len() >= 20 {
+                        ControlFlow::Break(())
+                    } else {
+                        ControlFlow::Continue(())
+                    }
+                },
+            );
+            got
+        });
+        // The first result, then two whole batches (results 2..=17 and 18..=33).
+        assert_eq!(got.len(), 1 + 2 * batch, "{threads} threads");
+        assert_eq!(got, all.results[..got.len()], "{threads} threads");
+    }
+}

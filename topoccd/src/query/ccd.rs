@@ -2,6 +2,7 @@
 //! form. The pipeline: features and pair filter ([`mesh`](crate::mesh)), one broad phase
 //! ([`broad`](crate::broad)), the narrow phase, the report.
 
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -114,7 +115,7 @@ impl PairRunner for Runner<'_, '_, '_> {
             source,
             (self.input, self.ctx, self.record, self.task_chunk, ws),
             &self.input.features.boxes,
-            f64::INFINITY,
+            (f64::INFINITY, None),
             (self.found, self.totals, self.recorded),
         )
     }
@@ -430,9 +431,10 @@ const EARLY: f64 = 256.0;
 /// `tau`, so its features' volumes over `[0, tau]` overlap and the first pass tested it.
 /// Otherwise the hierarchy is refitted to the whole step's volumes and traversed again, pruned
 /// with whatever the first pass found; pairs found twice are reported once. The first pass
-/// pays when contacts are dense at the start of the step (resting contact) and costs a second
-/// traversal otherwise, so [`Ccd`] tries it only while the last Earliest query's contact came
-/// early (`early`); the answer is the same either way. Also returns whether this step's
+/// pays when contacts are dense at the start of the step (resting contact) and is wasted
+/// otherwise, so it stops after its first batch of tasks unless that batch found a contact
+/// early enough, and [`Ccd`] tries it only while the last Earliest query's contact came early
+/// (`early`); the answer is the same either way (the second pass alone is complete). Also returns whether this step's
 /// earliest contact came late (after `tau`, or none).
 fn bvh_query<const H: usize>(
     tree: &mut PerStepBvh<H>,
@@ -462,11 +464,16 @@ fn bvh_query<const H: usize>(
         &input.features.boxes
     };
     let t = Instant::now();
+    let first = if two_pass {
+        (tau, Some(tau))
+    } else {
+        (f64::INFINITY, None)
+    };
     let mut bv_tests = traverse_pass(
         tree,
         (input, ctx, record, task_chunk, ws),
         boxes,
-        if two_pass { tau } else { f64::INFINITY },
+        first,
         (found, totals, recorded),
     );
     let mut traverse = t.elapsed().as_secs_f64();
@@ -483,7 +490,7 @@ fn bvh_query<const H: usize>(
                 tree,
                 (input, ctx, record, task_chunk, ws),
                 &input.features.boxes,
-                limit,
+                (limit, None),
                 (found, totals, recorded),
             );
             // A contact of the first pass is found again, with the same time.
@@ -508,8 +515,10 @@ fn bvh_query<const H: usize>(
 
 /// One parallel traversal of the hierarchy as built or refitted (or of the cluster method's
 /// tasks), the triangle pairs' features checked against `boxes`, the tasks' candidates solved
-/// with the limit `start` at first (lowered by what the batches find). Returns the
-/// bounding-volume tests.
+/// with the limit `start` at first (lowered by what the batches find). With `give_up =
+/// Some(tau)`, the traversal stops after its first batch of tasks unless that batch found a
+/// contact whose limit is within `tau` (a deterministic rule: the batches are fixed by the
+/// tree). Returns the bounding-volume tests.
 fn traverse_pass(
     tree: &impl TaskPairs,
     (input, ctx, record, task_chunk, ws): (
@@ -520,7 +529,7 @@ fn traverse_pass(
         &mut BvhWorkspace,
     ),
     boxes: &FeatureBoxes,
-    start: f64,
+    (start, give_up): (f64, Option<f64>),
     (found, totals, recorded): (&mut Found, &mut Totals, &mut Candidates),
 ) -> u64 {
     let (features, filter) = (input.features, input.filter);
@@ -548,12 +557,14 @@ fn traverse_pass(
         task.flush(ctx);
         task.buf = Candidates::default();
     };
+    let (mut consumed, mut early) = (0, false);
     let consume = |mut task: Task| {
         let mut best = None;
         lower(&mut best, task.found.vf.iter().map(|c| c.toi));
         lower(&mut best, task.found.ee.iter().map(|c| c.toi));
         let current = f64::from_bits(limit.load(Ordering::Acquire));
         limit.store(current.min(ctx.limit(best)).to_bits(), Ordering::Release);
+        early |= give_up.is_some_and(|tau| ctx.limit(best) <= tau);
         found.vf.append(&mut task.found.vf);
         found.ee.append(&mut task.found.ee);
         totals.vf_tests += task.vf_tests;
@@ -562,6 +573,12 @@ fn traverse_pass(
         if let Some(r) = &mut task.recorded {
             recorded.vf.append(&mut r.vf);
             recorded.ee.append(&mut r.ee);
+        }
+        // The first task holds the pairs found while splitting; the first batch follows.
+        consumed += 1;
+        match give_up {
+            Some(_) if consumed > TASK_BATCH && !early => ControlFlow::Break(()),
+            _ => ControlFlow::Continue(()),
         }
     };
     tree.pairs(ws, &par, make, pair, finish, consume)

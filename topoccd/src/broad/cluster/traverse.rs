@@ -432,7 +432,7 @@ impl<const H: usize> TaskPairs for TrianglePairs<'_, H> {
         make: impl Fn() -> T + Sync + Send,
         pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
-        mut consume: impl FnMut(T),
+        mut consume: impl FnMut(T) -> std::ops::ControlFlow<()>,
     ) -> u64 {
         let work = &self.scratch.work[..];
         let mut start = 0;
