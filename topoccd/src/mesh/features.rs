@@ -234,7 +234,7 @@ impl Features {
 
     /// The vertices owned by `ov` (boxes in `vbox`) against face `f` (vertices `tf`, box
     /// `f_box`).
-    #[inline]
+    #[inline(always)]
     fn vertices_face(
         vbox: &[SweptBox],
         ov: &OwnedFeatures,
