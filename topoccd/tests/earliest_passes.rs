@@ -20,13 +20,30 @@ fn quiet() -> Step<'static> {
     Step::new(x.clone(), x, vec![[0, 1, 2], [3, 4, 5]]).expect("valid")
 }
 
-#[test]
-fn both_passes_give_the_earliest_pairs_of_all() {
+/// Checks that a fresh Earliest query (which tries the first pass) and one after a step
+/// without contact (the whole step at once) both give the earliest pairs of `Mode::All`.
+/// Returns the earliest time of impact.
+fn check_both_passes(step: &Step<'_>, what: &str) -> Option<f64> {
     let earliest = QueryOptions {
         mode: Mode::Earliest,
         ..QueryOptions::default()
     };
-    let all = QueryOptions::default();
+    let reference = Ccd::new()
+        .query(step, Method::Bvh, &QueryOptions::default())
+        .unwrap();
+    let first = Ccd::new().query(step, Method::Bvh, &earliest).unwrap();
+    let mut ccd = Ccd::new();
+    ccd.query(&quiet(), Method::Bvh, &earliest).unwrap();
+    let whole = ccd.query(step, Method::Bvh, &earliest).unwrap();
+    for report in [&first, &whole] {
+        assert_eq!(report.earliest, reference.earliest, "{what}");
+        mesh_util::assert_earliest_pairs(&reference, report, earliest.narrow.tolerance, what);
+    }
+    reference.earliest.map(|c| c.toi())
+}
+
+#[test]
+fn both_passes_give_the_earliest_pairs_of_all() {
     let mut checked = 0;
     for kind in [
         SceneKind::CrumpledSheet,
@@ -35,24 +52,8 @@ fn both_passes_give_the_earliest_pairs_of_all() {
     ] {
         for seed in 0..4 {
             let step = kind.generate(16, seed);
-            let reference = Ccd::new().query(&step, Method::Bvh, &all).unwrap();
-            // A fresh query tries the first pass.
-            let first = Ccd::new().query(&step, Method::Bvh, &earliest).unwrap();
-            // After a step without contact, the whole step at once.
-            let mut ccd = Ccd::new();
-            ccd.query(&quiet(), Method::Bvh, &earliest).unwrap();
-            let whole = ccd.query(&step, Method::Bvh, &earliest).unwrap();
             let what = format!("{} seed {seed}", kind.name());
-            for report in [&first, &whole] {
-                assert_eq!(report.earliest, reference.earliest, "{what}");
-                mesh_util::assert_earliest_pairs(
-                    &reference,
-                    report,
-                    earliest.narrow.tolerance,
-                    &what,
-                );
-            }
-            checked += usize::from(reference.earliest.is_some());
+            checked += usize::from(check_both_passes(&step, &what).is_some());
         }
     }
     assert!(checked > 6, "the scenes must collide");
@@ -64,39 +65,18 @@ fn both_passes_give_the_earliest_pairs_of_all() {
 /// `Mode::All`.
 #[test]
 fn a_first_pass_cut_short_gives_the_same_answer() {
-    let earliest = QueryOptions {
-        mode: Mode::Earliest,
-        ..QueryOptions::default()
-    };
-    let all = QueryOptions::default();
+    // Later than this, the first pass (over the step's first 1/256) cannot settle the answer.
+    let settles = 1.0 / 256.0 + 2.0 * QueryOptions::default().narrow.tolerance;
     let (mut late, mut early) = (0, 0);
     for kind in [SceneKind::CrumpledSheet, SceneKind::FoldedSheet] {
         for seed in 0..3 {
             let step = kind.generate(60, seed);
-            assert!(
-                step.triangles().len() > 5000,
-                "{} is too small",
-                kind.name()
-            );
-            let reference = Ccd::new().query(&step, Method::Bvh, &all).unwrap();
-            let first = Ccd::new().query(&step, Method::Bvh, &earliest).unwrap();
-            let mut ccd = Ccd::new();
-            ccd.query(&quiet(), Method::Bvh, &earliest).unwrap();
-            let whole = ccd.query(&step, Method::Bvh, &earliest).unwrap();
             let what = format!("{} seed {seed}", kind.name());
-            for report in [&first, &whole] {
-                assert_eq!(report.earliest, reference.earliest, "{what}");
-                mesh_util::assert_earliest_pairs(
-                    &reference,
-                    report,
-                    earliest.narrow.tolerance,
-                    &what,
-                );
-            }
+            assert!(step.triangles().len() > 5000, "{what} is too small");
             // Both kinds of steps occur: without an early contact (the first pass stops after
             // its first batch) and with one (it goes on).
-            match reference.earliest.map(|c| c.toi()) {
-                Some(t) if t > 1.0 / 256.0 + 2.0 * earliest.narrow.tolerance => late += 1,
+            match check_both_passes(&step, &what) {
+                Some(t) if t > settles => late += 1,
                 Some(_) => early += 1,
                 None => {}
             }
