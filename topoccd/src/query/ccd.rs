@@ -115,7 +115,7 @@ impl PairRunner for Runner<'_, '_, '_> {
             source,
             (self.input, self.ctx, self.record, self.task_chunk, ws),
             &self.input.features.boxes,
-            (f64::INFINITY, None),
+            (f64::INFINITY, false),
             (self.found, self.totals, self.recorded),
         )
     }
@@ -434,8 +434,8 @@ const EARLY: f64 = 256.0;
 /// pays when contacts are dense at the start of the step (resting contact) and is wasted
 /// otherwise, so it stops after its first batch of tasks unless that batch found a contact
 /// early enough, and [`Ccd`] tries it only while the last Earliest query's contact came early
-/// (`early`); the answer is the same either way (the second pass alone is complete). Also returns whether this step's
-/// earliest contact came late (after `tau`, or none).
+/// (`early`); the answer is the same either way (the second pass alone is complete). Also
+/// returns whether this step's earliest contact came late (after `tau`, or none).
 fn bvh_query<const H: usize>(
     tree: &mut PerStepBvh<H>,
     (input, ctx, record, task_chunk, ws): (
@@ -465,9 +465,9 @@ fn bvh_query<const H: usize>(
     };
     let t = Instant::now();
     let first = if two_pass {
-        (tau, Some(tau))
+        (tau, true)
     } else {
-        (f64::INFINITY, None)
+        (f64::INFINITY, false)
     };
     let mut bv_tests = traverse_pass(
         tree,
@@ -490,7 +490,7 @@ fn bvh_query<const H: usize>(
                 tree,
                 (input, ctx, record, task_chunk, ws),
                 &input.features.boxes,
-                (limit, None),
+                (limit, false),
                 (found, totals, recorded),
             );
             // A contact of the first pass is found again, with the same time.
@@ -515,10 +515,10 @@ fn bvh_query<const H: usize>(
 
 /// One parallel traversal of the hierarchy as built or refitted (or of the cluster method's
 /// tasks), the triangle pairs' features checked against `boxes`, the tasks' candidates solved
-/// with the limit `start` at first (lowered by what the batches find). With `give_up =
-/// Some(tau)`, the traversal stops after its first batch of tasks unless that batch found a
-/// contact whose limit is within `tau` (a deterministic rule: the batches are fixed by the
-/// tree). Returns the bounding-volume tests.
+/// with the limit `start` at first (lowered by what the batches find). With `first_pass`, the
+/// traversal stops after its first batch of tasks unless that batch found a contact whose
+/// limit is within `start` (a deterministic rule: the batches are fixed by the tree). Returns
+/// the bounding-volume tests.
 fn traverse_pass(
     tree: &impl TaskPairs,
     (input, ctx, record, task_chunk, ws): (
@@ -529,7 +529,7 @@ fn traverse_pass(
         &mut BvhWorkspace,
     ),
     boxes: &FeatureBoxes,
-    (start, give_up): (f64, Option<f64>),
+    (start, first_pass): (f64, bool),
     (found, totals, recorded): (&mut Found, &mut Totals, &mut Candidates),
 ) -> u64 {
     let (features, filter) = (input.features, input.filter);
@@ -564,7 +564,7 @@ fn traverse_pass(
         lower(&mut best, task.found.ee.iter().map(|c| c.toi));
         let current = f64::from_bits(limit.load(Ordering::Acquire));
         limit.store(current.min(ctx.limit(best)).to_bits(), Ordering::Release);
-        early |= give_up.is_some_and(|tau| ctx.limit(best) <= tau);
+        early |= ctx.limit(best) <= start;
         found.vf.append(&mut task.found.vf);
         found.ee.append(&mut task.found.ee);
         totals.vf_tests += task.vf_tests;
@@ -576,9 +576,10 @@ fn traverse_pass(
         }
         // The first task holds the pairs found while splitting; the first batch follows.
         consumed += 1;
-        match give_up {
-            Some(_) if consumed > TASK_BATCH && !early => ControlFlow::Break(()),
-            _ => ControlFlow::Continue(()),
+        if first_pass && consumed > TASK_BATCH && !early {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
         }
     };
     tree.pairs(ws, &par, make, pair, finish, consume)
