@@ -44,14 +44,7 @@ pub(crate) fn candidates<const H: usize>(
     // Owner triangles: the incident triangle of lowest index (as in the ownership scheme).
     let topo = &features.topo;
     let owner_of_vertex = |v: u32| topo.triangles_of(v)[0];
-    let mut edge_owner = vec![u32::MAX; topo.edges.len()];
-    for (t, es) in topo.triangle_edges.iter().enumerate() {
-        for &e in es {
-            if edge_owner[e as usize] == u32::MAX {
-                edge_owner[e as usize] = t as u32;
-            }
-        }
-    }
+    let edge_owner = &topo.edge_owner;
     // The edges' swept boxes: the unions of their vertices'.
     let boxes = &features.boxes;
     let edge_boxes: Vec<SweptBox> = topo.edges.iter().map(|&e| boxes.edge(e)).collect();
