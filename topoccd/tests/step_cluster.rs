@@ -590,3 +590,57 @@ fn cloth_ball_matches_the_bvh_method_and_the_ground_truth() {
         bvh.ee.len()
     );
 }
+
+/// On two threads the hierarchies over big leaf clusters are built while the other leaves grow
+/// (here every leaf's, whether needed or not): the same report, candidates and clustering as on
+/// one thread, where none is built ahead, and valid trees.
+#[test]
+fn hierarchies_built_ahead_change_nothing() {
+    let pool = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool")
+    };
+    let mut taken = 0;
+    for kind in SceneKind::ALL {
+        let step = kind.generate(size(kind), 1);
+        for mode in [Mode::All, Mode::Earliest] {
+            let what = format!("{} {mode:?}", kind.name());
+            let options = QueryOptions {
+                mode,
+                ..QueryOptions::default()
+            };
+            let run = |threads, ahead| {
+                pool(threads).install(|| {
+                    let mut ccd = Ccd::new();
+                    ccd.record_candidates(true);
+                    ccd.set_ahead_triangles(ahead);
+                    let report = ccd.query(&step, Method::Cluster, &options).unwrap();
+                    assert_eq!(ccd.validate_tree(), Ok(()), "{what}");
+                    let sets = candidate_sets(&ccd, &report, &what);
+                    let lazies = report.stats.cluster.map(|f| f.lazy_bvhs);
+                    let clustering = ccd.clustering().clone();
+                    (report, sets, lazies, clustering, ccd.lazy_built_ahead())
+                })
+            };
+            let one = run(1, Some(1));
+            let two = run(2, Some(1));
+            assert_eq!(one.4, 0, "{what}: one thread builds nothing ahead");
+            assert_eq!(two.4, two.2.unwrap_or(0), "{what}: every lazy hierarchy built ahead");
+            taken += two.4;
+            assert_eq!((&one.0.vf, &one.0.ee), (&two.0.vf, &two.0.ee), "{what}");
+            assert_eq!(one.0.earliest, two.0.earliest, "{what}");
+            assert!(one.1.vf == two.1.vf && one.1.ee == two.1.ee, "{what}: candidates");
+            assert_eq!(one.2, two.2, "{what}: lazy hierarchies");
+            let (a, b) = (&one.3, &two.3);
+            assert!(
+                a.leaf_of_triangle == b.leaf_of_triangle
+                    && a.leaves == b.leaves
+                    && a.intermediate_leaves == b.intermediate_leaves,
+                "{what}: clustering"
+            );
+        }
+    }
+    assert!(taken > 0, "no lazy hierarchy was needed: the test shows nothing");
+}

@@ -378,6 +378,19 @@ impl Ccd {
     pub fn distrust_certificates(&mut self, distrust: bool) {
         self.cluster.distrust = distrust;
     }
+
+    /// On two threads or more, [`Method::Cluster`] builds the hierarchy over a leaf cluster's
+    /// triangles while the other leaves grow when it has at least `triangles` triangles
+    /// (`None`: the default, 1,024), whether or not the traversal will need it.
+    pub fn set_ahead_triangles(&mut self, triangles: Option<usize>) {
+        self.cluster.ahead = triangles;
+    }
+
+    /// How many of the lazy hierarchies of the last [`Method::Cluster`] query had been built
+    /// ahead (see [`Ccd::set_ahead_triangles`]).
+    pub fn lazy_built_ahead(&self) -> usize {
+        self.cluster.last_ahead
+    }
 }
 
 /// The candidate feature pairs of the last query (feature `internals`).

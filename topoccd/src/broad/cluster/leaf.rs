@@ -82,7 +82,9 @@ pub(super) fn corners(step: &Step, t: u32) -> ([DVec3; 3], [DVec3; 3]) {
 
 /// Grows the leaf clusters of `step` into `out` (whose leaf fields must be empty), seeds by
 /// increasing triangle index. Fills `out.leaf_of_triangle`, `out.leaves`, `out.leaf_triangles`,
-/// `out.ring_starts`, `out.last_ring_vertices` and the leaf counters of `stats`.
+/// `out.ring_starts`, `out.last_ring_vertices` and the leaf counters of `stats`. Each leaf, once
+/// finished, is shown to `on_leaf` (its id and triangles). Sequential: no rayon call.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn grow_leaves(
     step: &Step,
     topo: &Topology,
@@ -91,6 +93,7 @@ pub(super) fn grow_leaves(
     disk: &mut DiskBuilder,
     out: &mut Clustering,
     stats: &mut ClusterStats,
+    on_leaf: &mut dyn FnMut(u32, &[u32]),
 ) {
     let n = step.triangles().len();
     out.leaf_of_triangle.clear();
@@ -211,6 +214,7 @@ pub(super) fn grow_leaves(
             certificate,
             stop,
         });
+        on_leaf(id, &out.leaf_triangles[first..]);
     }
 }
 

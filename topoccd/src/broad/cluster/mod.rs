@@ -121,6 +121,8 @@ pub use types::{
 };
 
 use crate::mesh::{Step, Topology};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{channel, Receiver};
 use std::time::Instant;
 
 /// Scratch memory of [`cluster_with`], reused across steps to avoid reallocation.
@@ -181,24 +183,64 @@ pub fn cluster_into(
     workspace: &mut ClusterWorkspace,
     out: &mut Clustering,
 ) {
+    cluster_into_beside(step, topo, options, workspace, out, usize::MAX, |_, _| {});
+}
+
+/// A finished leaf cluster as [`cluster_into_beside`] sends it: its id and its triangles.
+pub(crate) type GrownLeaf = (u32, Vec<u32>);
+
+/// [`cluster_into`], running `beside` on the rayon pool while the leaves grow (at the same
+/// time when a second thread is free; the leaf growth itself is sequential). `beside` receives
+/// every leaf cluster of at least `min_triangles` triangles as soon as it is finished, by
+/// increasing id, and a flag set when growth has ended (just before the channel closes). The
+/// clustering does not depend on `beside`.
+pub(crate) fn cluster_into_beside(
+    step: &Step,
+    topo: &Topology,
+    options: &ClusterOptions,
+    workspace: &mut ClusterWorkspace,
+    out: &mut Clustering,
+    min_triangles: usize,
+    beside: impl FnOnce(Receiver<GrownLeaf>, &AtomicBool) + Send,
+) {
     debug_assert_eq!(topo.triangle_edges.len(), step.triangles().len());
     out.clear();
     let out = &mut *out;
     let mut stats = ClusterStats::default();
     let started = Instant::now();
-    leaf::grow_leaves(
-        step,
-        topo,
-        options,
-        &mut workspace.leaf,
-        &mut workspace.disk,
-        out,
-        &mut stats,
+    let (send, receive) = channel();
+    let done = AtomicBool::new(false);
+    let mut grown = started;
+    // No rayon call may run on the growth's side of the join while `send` lives: a thread
+    // waiting there could take up `beside`, which waits for `send` to close.
+    rayon::join(
+        || {
+            let mut on_leaf = |id: u32, triangles: &[u32]| {
+                if triangles.len() >= min_triangles {
+                    // The receiver lives until the channel closes: a send cannot fail.
+                    let _ = send.send((id, triangles.to_vec()));
+                }
+            };
+            leaf::grow_leaves(
+                step,
+                topo,
+                options,
+                &mut workspace.leaf,
+                &mut workspace.disk,
+                out,
+                &mut stats,
+                &mut on_leaf,
+            );
+            grown = Instant::now();
+            done.store(true, Ordering::Release);
+            drop(send);
+        },
+        || beside(receive, &done),
     );
-    let grown = Instant::now();
+    let merging = Instant::now();
     merge::merge_leaves(step, topo, options, &mut workspace.disk, out, &mut stats);
     stats.clustering_seconds = (grown - started).as_secs_f64();
-    stats.merging_seconds = grown.elapsed().as_secs_f64();
+    stats.merging_seconds = merging.elapsed().as_secs_f64();
     stats.triangles = step.triangles().len();
     stats.leaves = out.leaves.len();
     stats.intermediates = out.intermediates.len();

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use super::traverse::{self, Inputs, PairScratch, TrianglePairs};
 use super::tree::ClusterTree;
-use super::{cluster_into, ClusterOptions, ClusterWorkspace, Clustering};
+use super::{cluster_into_beside, ClusterOptions, ClusterWorkspace, Clustering};
 use crate::broad::{BroadInput, BroadStats, PairRunner};
 use crate::bvh::{BvhError, BvhWorkspace};
 use crate::kdop::DopKind;
@@ -52,6 +52,11 @@ pub(crate) struct ClusterPhase {
     pairs: PairScratch,
     /// Treat every leaf cluster as uncertified (a check of the traversal, for tests).
     pub distrust: bool,
+    /// Size from which leaf clusters get their hierarchies built ahead (`None`:
+    /// [`AHEAD_TRIANGLES`]; tests lower it).
+    pub ahead: Option<usize>,
+    /// Lazy hierarchies of the last query that had been built ahead.
+    pub last_ahead: usize,
 }
 
 impl ClusterPhase {
@@ -70,19 +75,21 @@ impl ClusterPhase {
             phi_filter: paper_growth,
             ..ClusterOptions::default()
         };
-        let topo = &input.features.topo;
-        cluster_into(input.step, topo, &options, &mut self.ws, &mut self.clustering);
-        let traversal = Inputs {
-            clustering: &self.clustering,
+        let grow = Grow {
+            options: &options,
+            ws: &mut self.ws,
+            clustering: &mut self.clustering,
             trust: !self.distrust,
+            ahead: self.ahead.unwrap_or(AHEAD_TRIANGLES),
         };
-        let args = (&traversal, &mut self.pairs, ws, runner);
+        let args = (grow, &mut self.pairs, ws, runner);
         let (stats, counts) = match kind {
             DopKind::K6 => run(&mut self.c6, input, args),
             DopKind::K14 => run(&mut self.c14, input, args),
             DopKind::K18 => run(&mut self.c18, input, args),
             DopKind::K26 => run(&mut self.c26, input, args),
         };
+        self.last_ahead = counts.lazy_ahead;
         let cs = &self.clustering.stats;
         let figures = ClusterFigures {
             leaf: cs.leaves,
@@ -111,28 +118,73 @@ impl ClusterPhase {
     }
 }
 
-type Args<'a, 'b, R> = (
-    &'a Inputs<'b>,
+/// Leaf clusters of at least this many triangles get their hierarchy built while the clustering
+/// grows, when a second thread is there to do it (whether or not the traversal will need it).
+const AHEAD_TRIANGLES: usize = 1024;
+
+/// What clusters the step: its options, scratch memory and output.
+struct Grow<'a> {
+    options: &'a ClusterOptions,
+    ws: &'a mut ClusterWorkspace,
+    clustering: &'a mut Clustering,
+    /// Whether the traversal may trust the leaves' certificates.
+    trust: bool,
+    /// Leaf clusters of at least this many triangles get their hierarchies built ahead.
+    ahead: usize,
+}
+
+type Args<'a, R> = (
+    Grow<'a>,
     &'a mut PairScratch,
     &'a mut BvhWorkspace,
     &'a mut R,
 );
 
-/// Builds the cluster hierarchy and the lazy hierarchies (counted as build), then runs the
-/// traversal's tasks (counted as traversal, with whatever `runner` does inside them).
+/// Clusters the step while the triangles' volumes are computed beside it (on the rayon pool,
+/// so at the same time on two threads or more), builds the cluster hierarchy and the lazy
+/// hierarchies (counted as build: the sweep counts only for the time it adds to the
+/// clustering's), then runs the traversal's tasks (counted as traversal, with whatever `runner`
+/// does inside them).
 fn run<const H: usize, R: PairRunner>(
     tree: &mut ClusterTree<H>,
     input: &BroadInput<'_, '_>,
-    (traversal, pairs, ws, runner): Args<'_, '_, R>,
+    (grow, pairs, ws, runner): Args<'_, R>,
 ) -> (BroadStats, traverse::Counts) {
     let t = Instant::now();
-    tree.build(input.step, traversal.clustering, input.filter.sep, ws);
-    let built = t.elapsed().as_secs_f64();
+    let topo = &input.features.topo;
+    let Grow {
+        options,
+        ws: cluster_ws,
+        clustering,
+        trust,
+        ahead,
+    } = grow;
+    // With a second thread, the leaf clusters big enough to matter get their hierarchies while
+    // the others grow; on one thread only those needed are built, after the clustering.
+    let ahead = if rayon::current_num_threads() > 1 {
+        ahead
+    } else {
+        usize::MAX
+    };
+    let step = input.step;
+    cluster_into_beside(step, topo, options, cluster_ws, clustering, ahead, |leaves, grown| {
+        tree.sweep(step, input.filter.sep);
+        tree.build_ahead(leaves, grown);
+    });
+    let c = &clustering.stats;
+    let swept = (t.elapsed().as_secs_f64() - c.clustering_seconds - c.merging_seconds).max(0.0);
     let t = Instant::now();
-    let mut counts = traverse::prepare(tree, traversal, pairs, ws);
+    tree.build(clustering, ws);
+    let built = swept + t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let traversal = Inputs {
+        clustering,
+        trust,
+    };
+    let mut counts = traverse::prepare(tree, &traversal, pairs, ws);
     let source = TrianglePairs {
         tree,
-        clustering: traversal.clustering,
+        clustering,
         scratch: pairs,
     };
     counts.bv_tests += runner.run(&source, ws);

@@ -156,6 +156,8 @@ pub(crate) struct Counts {
     pub bv_tests: u64,
     /// Lazy hierarchies built.
     pub lazy_bvhs: usize,
+    /// Of those, how many had been built ahead, while the clustering grew.
+    pub lazy_ahead: usize,
     /// Leaf pairs whose triangles were tested.
     pub leaf_pairs: u64,
     /// Leaf clusters tested for self-contact because they carry no certificate.
@@ -262,7 +264,7 @@ pub(crate) fn prepare<const H: usize>(
     scratch.needed.extend(
         (0..c.leaves.len() as u32).filter(|&l| scratch.marked[l as usize]),
     );
-    tree.build_lazies(c, &scratch.needed);
+    counts.lazy_ahead = tree.build_lazies(c, &scratch.needed);
     counts.lazy_bvhs = scratch.needed.len();
     counts.lazy_seconds = t.elapsed().as_secs_f64();
 

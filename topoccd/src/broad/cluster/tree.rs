@@ -12,11 +12,13 @@
 //! freed between steps.
 
 use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf};
-use super::Clustering;
+use super::{Clustering, GrownLeaf};
 use crate::kdop::Kdop;
 
 use crate::mesh::Step;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::Receiver;
 
 /// Marks a leaf cluster without a lazy hierarchy, or an intermediate cluster without sub-tree.
 pub(crate) const NONE: u32 = u32::MAX;
@@ -46,13 +48,18 @@ pub(crate) struct ClusterTree<const H: usize> {
     lazy_count: usize,
     /// Scratch: the intermediate clusters with a sub-tree, by slot.
     scratch_ids: Vec<u32>,
+    /// Hierarchies over leaf clusters' triangles built ahead, while the clustering grew
+    /// ([`ClusterTree::build_ahead`]), by increasing leaf id; [`ClusterTree::build_lazies`]
+    /// takes those it needs and drops the rest.
+    ahead: Vec<(u32, Bvh<Kdop<H>>)>,
+    /// Scratch of [`ClusterTree::build_ahead`].
+    ahead_left: Vec<(u32, Bvh<Kdop<H>>)>,
 }
 
 impl<const H: usize> ClusterTree<H> {
-    /// Computes the volumes of the triangles and clusters and builds the top tree and the
-    /// sub-trees, on the rayon pool (the same trees for any thread count); forgets the lazy
-    /// hierarchies of the previous step.
-    pub fn build(&mut self, step: &Step, c: &Clustering, inflation: f64, ws: &mut BvhWorkspace) {
+    /// Computes the swept volumes of the step's triangles, inflated by `inflation`, on the
+    /// rayon pool. They do not depend on the clustering, so this may run while it grows.
+    pub fn sweep(&mut self, step: &Step, inflation: f64) {
         let (x0, x1) = (step.pos0(), step.pos1());
         step.triangles()
             .par_iter()
@@ -62,6 +69,49 @@ impl<const H: usize> ClusterTree<H> {
                 Kdop::swept_triangle_until(&[x0[a], x0[b], x0[c]], &[x1[a], x1[b], x1[c]], 1.0, inflation)
             })
             .collect_into_vec(&mut self.tri);
+    }
+
+    /// Builds, ahead of need, the hierarchy over the triangles of each leaf cluster received
+    /// (as [`build_lazies`](ClusterTree::build_lazies) would build it, from the volumes of
+    /// [`ClusterTree::sweep`], which must have run on this step), until the channel closes:
+    /// one at a time while the clustering grows, then, once `grown` is set, those left in
+    /// parallel.
+    pub fn build_ahead(&mut self, leaves: Receiver<GrownLeaf>, grown: &AtomicBool) {
+        self.ahead.clear();
+        let tri = &self.tri;
+        let build = |(items, ws): &mut (Vec<Leaf<Kdop<H>>>, BvhWorkspace), triangles: &[u32]| {
+            items.clear();
+            items.extend(triangles.iter().map(|&t| Leaf {
+                id: t,
+                volume: tri[t as usize],
+            }));
+            let mut bvh = Bvh::new();
+            bvh.rebuild(items, ws);
+            bvh
+        };
+        let mut scratch = (Vec::new(), BvhWorkspace::default());
+        while !grown.load(Ordering::Acquire) {
+            let Ok((leaf, triangles)) = leaves.recv() else {
+                return;
+            };
+            self.ahead.push((leaf, build(&mut scratch, &triangles)));
+        }
+        let left: Vec<GrownLeaf> = leaves.iter().collect();
+        left.into_par_iter()
+            .map_init(
+                || (Vec::new(), BvhWorkspace::default()),
+                |scratch, (leaf, triangles)| (leaf, build(scratch, &triangles)),
+            )
+            .collect_into_vec(&mut self.ahead_left);
+        self.ahead.append(&mut self.ahead_left);
+    }
+
+    /// Computes the volumes of the clusters from those of the triangles ([`ClusterTree::sweep`],
+    /// which must have run on this step) and builds the top tree and the sub-trees, on the
+    /// rayon pool (the same trees for any thread count); forgets the lazy hierarchies of the
+    /// previous step.
+    pub fn build(&mut self, c: &Clustering, ws: &mut BvhWorkspace) {
+        debug_assert_eq!(self.tri.len(), c.leaf_of_triangle.len());
         let tri = &self.tri;
         (0..c.leaves.len())
             .into_par_iter()
@@ -133,9 +183,10 @@ impl<const H: usize> ClusterTree<H> {
     }
 
     /// Builds the hierarchies over the triangles of the leaf clusters `needed` (increasing,
-    /// none built yet this step), in parallel; slots in the order of `needed`, so the same
-    /// trees for any thread count.
-    pub fn build_lazies(&mut self, c: &Clustering, needed: &[u32]) {
+    /// none built yet this step), in parallel, taking those built ahead instead where there are;
+    /// slots in the order of `needed`, so the same trees for any thread count. Returns how many
+    /// were taken from those built ahead (whose others are dropped).
+    pub fn build_lazies(&mut self, c: &Clustering, needed: &[u32]) -> usize {
         debug_assert!(needed.windows(2).all(|w| w[0] < w[1]));
         let first = self.lazy_count;
         for (k, &l) in needed.iter().enumerate() {
@@ -146,11 +197,24 @@ impl<const H: usize> ClusterTree<H> {
         if self.lazy.len() < self.lazy_count {
             self.lazy.resize_with(self.lazy_count, Bvh::new);
         }
+        // The hierarchies built ahead (the same trees), swapped in; the rest built here.
+        let mut built = vec![false; needed.len()];
+        for (leaf, bvh) in &mut self.ahead {
+            if let Ok(k) = needed.binary_search(leaf) {
+                std::mem::swap(&mut self.lazy[first + k], bvh);
+                built[k] = true;
+            }
+        }
+        self.ahead.clear();
+        let ahead = built.iter().filter(|&&b| b).count();
         let tri = &self.tri;
         self.lazy[first..self.lazy_count]
             .par_iter_mut()
             .zip(needed.par_iter())
+            .zip(built.par_iter())
             .with_min_len(4)
+            .filter(|(_, &built)| !built)
+            .map(|(pair, _)| pair)
             .for_each_init(
                 || (Vec::new(), BvhWorkspace::default()),
                 |(leaves, ws), (bvh, &l)| {
@@ -162,6 +226,7 @@ impl<const H: usize> ClusterTree<H> {
                     bvh.rebuild(leaves, ws);
                 },
             );
+        ahead
     }
 
     /// The lazy hierarchy of leaf cluster `leaf`, built by [`ClusterTree::ensure_lazy`].
