@@ -89,10 +89,12 @@ pub struct DiskBuilder {
     /// edge, the direction and the centre alone, so its result is reused, never recomputed
     /// differently.
     star_bits: Vec<u8>,
+    /// Whether [`DiskBuilder::check_boundary`] must stay on the calling thread (no rayon call).
+    sequential: bool,
 }
 
 /// Boundaries of at least this many edges are checked in parallel
-/// ([`DiskBuilder::check_boundary`]).
+/// ([`DiskBuilder::check_boundary`]) unless the builder is [sequential](DiskBuilder::set_sequential).
 pub const PARALLEL_TESTS: usize = 256;
 
 /// In `star_bits`: the star test of the edge from its smaller to its larger vertex is known
@@ -105,6 +107,12 @@ const COUNT_MASK: u8 = 0b11;
 const FORWARD: u8 = 0b100;
 
 impl DiskBuilder {
+    /// With `true`, no method makes a rayon call: big boundaries are checked on the calling
+    /// thread too (the same verdicts). For a caller that must not wait on the pool.
+    pub fn set_sequential(&mut self, sequential: bool) {
+        self.sequential = sequential;
+    }
+
     /// Starts a new, empty patch for the topology `topo` (edges) of a step with `vertex_count`
     /// vertices. `direction` is `V` (any non-zero finite vector: the certificate holds for the
     /// vector as computed), `centre` the star centre `c` at t=0 and t=1, `subdivisions` the
@@ -422,7 +430,7 @@ impl DiskBuilder {
             star_around(v, pa, pb, self.centre).positive(self.subdivisions) == Verdict::Holds
         };
         let fresh = &self.boundary[from..];
-        let stars = if fresh.len() >= PARALLEL_TESTS {
+        let stars = if !self.sequential && fresh.len() >= PARALLEL_TESTS {
             fresh.par_iter().with_min_len(64).all(star)
         } else {
             fresh.iter().all(star)
@@ -460,7 +468,7 @@ impl DiskBuilder {
             error += bound;
             Ok(())
         };
-        if self.boundary.len() >= PARALLEL_TESTS {
+        if !self.sequential && self.boundary.len() >= PARALLEL_TESTS {
             let terms: Vec<_> = self.boundary.par_iter().with_min_len(64).map(angle).collect();
             terms.into_iter().try_for_each(&mut add)?;
         } else {

@@ -83,7 +83,8 @@ pub(super) fn corners(step: &Step, t: u32) -> ([DVec3; 3], [DVec3; 3]) {
 /// Grows the leaf clusters of `step` into `out` (whose leaf fields must be empty), seeds by
 /// increasing triangle index. Fills `out.leaf_of_triangle`, `out.leaves`, `out.leaf_triangles`,
 /// `out.ring_starts`, `out.last_ring_vertices` and the leaf counters of `stats`. Each leaf, once
-/// finished, is shown to `on_leaf` (its id and triangles). Sequential: no rayon call.
+/// finished, is shown to `on_leaf` (its id and triangles). Sequential: the only rayon calls are
+/// `disk`'s, none when it is [sequential](DiskBuilder::set_sequential).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn grow_leaves(
     step: &Step,

@@ -212,7 +212,10 @@ pub(crate) fn cluster_into_beside(
     let done = AtomicBool::new(false);
     let mut grown = started;
     // No rayon call may run on the growth's side of the join while `send` lives: a thread
-    // waiting there could take up `beside`, which waits for `send` to close.
+    // waiting there could take up `beside`, which waits for `send` to close. So the disk
+    // builder stays on its thread while leaves are sent.
+    let sends = min_triangles != usize::MAX;
+    workspace.disk.set_sequential(sends);
     rayon::join(
         || {
             let mut on_leaf = |id: u32, triangles: &[u32]| {
@@ -237,6 +240,7 @@ pub(crate) fn cluster_into_beside(
         },
         || beside(receive, &done),
     );
+    workspace.disk.set_sequential(false);
     let merging = Instant::now();
     merge::merge_leaves(step, topo, options, &mut workspace.disk, out, &mut stats);
     stats.clustering_seconds = (grown - started).as_secs_f64();
