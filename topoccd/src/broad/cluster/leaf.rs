@@ -26,11 +26,17 @@ pub(super) struct LeafScratch {
     leaf_stamp: u32,
     /// Candidates of the current round and those refused in it (partial rings).
     pending: Vec<u32>,
-    retry: Vec<u32>,
+    /// The candidates a round carries over to the next, with why they were last refused
+    /// (`None`: never offered).
+    retry: Vec<(u32, Option<DiskFailure>)>,
     /// Per candidate of the round (by position in `pending`): where it stands.
     entry: Vec<Entry>,
     /// Per triangle: its position in `pending` (valid for the round's candidates).
     position: Vec<u32>,
+    /// Offer every refused candidate again after every pass that adds, and again in the next
+    /// round, without the shortcuts that skip offers bound to be refused (a check that they
+    /// change no decision).
+    pub(super) reference: bool,
 }
 
 /// Rounds of partial growth with at least this many candidates track which refused candidates
@@ -313,13 +319,18 @@ fn grow_partial_rings(
         let free = |t: u32, s: &LeafScratch| {
             out.leaf_of_triangle[t as usize] == UNASSIGNED && s.refused[t as usize] != leaf
         };
+        // The candidates carried over come first, each with its last refusal.
+        let mut carried = 0;
         for i in 0..scratch.retry.len() {
-            let t = scratch.retry[i];
+            let (t, _) = scratch.retry[i];
             if free(t, scratch) && scratch.tri_stamp[t as usize] != stamp {
                 scratch.tri_stamp[t as usize] = stamp;
                 scratch.ring.push(t);
+                scratch.retry[carried] = scratch.retry[i];
+                carried += 1;
             }
         }
+        scratch.retry.truncate(carried);
         for i in 0..scratch.frontier.len() {
             let v = scratch.frontier[i];
             for &t in topo.triangles_of(v) {
@@ -346,15 +357,28 @@ fn grow_partial_rings(
         let pending = &scratch.pending;
         scratch.entry.clear();
         scratch.entry.resize(pending.len(), Entry::Untried);
+        // A candidate carried over was refused at the end of the last round, after the last
+        // join around it and under the same centre; nothing of the patch changed since, so
+        // it would be refused again, for the same reason, in the first pass: it starts as
+        // refused (and so counts as the round's first failure, and among the stars refused).
+        let mut star_refused = 0usize;
+        let carried = if scratch.reference { 0 } else { scratch.retry.len() };
+        for (k, &(_, refusal)) in scratch.retry[..carried].iter().enumerate() {
+            if let Some(f) = refusal {
+                first_failure.get_or_insert(f);
+                star_refused += usize::from(f == DiskFailure::Star);
+                scratch.entry[k] = Entry::Refused(f);
+            }
+        }
         // Small rounds offer every refused candidate again after a pass that added something
         // (as tracking their neighbourhoods would cost more than it saves).
-        let track = pending.len() >= TRACKED_ROUND;
+        let track = !scratch.reference && pending.len() >= TRACKED_ROUND;
         if track {
             for (k, &t) in pending.iter().enumerate() {
                 scratch.position[t as usize] = k as u32;
             }
         }
-        let (mut remaining, mut star_refused) = (pending.len(), 0usize);
+        let mut remaining = pending.len();
         loop {
             let mut added = false;
             for (k, &t) in pending.iter().enumerate() {
@@ -435,8 +459,10 @@ fn grow_partial_rings(
         // order.
         scratch.retry.clear();
         for (k, &t) in pending.iter().enumerate() {
-            if let Entry::Refused(_) | Entry::Untried = scratch.entry[k] {
-                scratch.retry.push(t);
+            match scratch.entry[k] {
+                Entry::Refused(f) => scratch.retry.push((t, Some(f))),
+                Entry::Untried => scratch.retry.push((t, None)),
+                Entry::Joined | Entry::Dropped => {}
             }
         }
         disk.end_batch();

@@ -132,6 +132,16 @@ pub struct ClusterWorkspace {
     leaf: leaf::LeafScratch,
 }
 
+#[cfg(feature = "internals")]
+impl ClusterWorkspace {
+    /// With `true`, leaf growth takes none of its shortcuts: every refused candidate is offered
+    /// again after every pass that adds a triangle and in the next round. The clustering must
+    /// be the same (tested).
+    pub fn reference_growth(&mut self, on: bool) {
+        self.leaf.reference = on;
+    }
+}
+
 /// Clusters the triangles of one step (see the [module documentation](self) for the guarantee).
 ///
 /// ```
