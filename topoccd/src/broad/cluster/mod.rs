@@ -224,8 +224,7 @@ pub(crate) fn cluster_into_beside(
     // No rayon call may run on the growth's side of the join while `send` lives: a thread
     // waiting there could take up `beside`, which waits for `send` to close. So the disk
     // builder stays on its thread while leaves are sent.
-    let sends = min_triangles != usize::MAX;
-    workspace.disk.set_sequential(sends);
+    workspace.disk.set_sequential(min_triangles != usize::MAX);
     rayon::join(
         || {
             let mut on_leaf = |id: u32, triangles: &[u32]| {
