@@ -8,6 +8,7 @@
 pub mod bernstein;
 pub mod closest;
 mod edge_edge;
+mod extremes;
 mod options;
 pub mod prefilter;
 pub mod solver;

@@ -23,6 +23,7 @@
 
 use crate::math::{lerp, max_abs, DVec3, UNDERFLOW_ERROR, UNIT_ROUNDOFF};
 use super::bernstein::coplanarity;
+use super::extremes::{lower, lower3, raise, raise3, raise_abs};
 use super::{EdgeEdge, VertexFace};
 
 /// Margin on the coefficients, in units of `u P A B`.
@@ -77,8 +78,8 @@ fn direction_separated(pts: &Points, split: usize, sep: f64, t_end: f64, coord: 
         for (k, p) in end.iter().enumerate() {
             let f = usize::from(k >= split);
             let x = d.dot(*p);
-            lo[f] = lo[f].min(x);
-            hi[f] = hi[f].max(x);
+            lo[f] = lower(lo[f], x);
+            hi[f] = raise(hi[f], x);
         }
         above &= lo[1] - hi[0] > need;
         below &= lo[0] - hi[1] > need;
@@ -102,7 +103,7 @@ fn separated(
 ) -> bool {
     let t_end = dyadic_end(t_end);
     // The largest coordinate of the points (`M` of the rounding bounds).
-    let coord = pts.iter().flatten().fold(0.0f64, |m, x| m.max(max_abs(*x)));
+    let coord = pts.iter().flatten().fold(0.0, |m, x| raise_abs(m, *x));
     if direction_separated(pts, split, sep, t_end, coord) {
         return true;
     }
@@ -111,7 +112,7 @@ fn separated(
     let am = max_abs(a[0]).max(max_abs(a[1]));
     let bm = max_abs(b[0]).max(max_abs(b[1]));
     let ab = am * bm;
-    let cm = c.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let cm = c.iter().fold(0.0, |m, x| raise(m, x.abs()));
     // Rounding of the triple products, then of up to DEPTH levels of halving (and of the
     // split at `t_end`, three levels of interpolation between values at most `cm`).
     let mut margin = COEFFICIENT_ERROR * UNIT_ROUNDOFF * pm * ab
@@ -206,12 +207,12 @@ impl Piece<'_> {
             let f = usize::from(k >= self.split);
             for t in [ta, tb] {
                 let x = lerp(self.pts[0][k], self.pts[1][k], t);
-                lo[f] = lo[f].min(x);
-                hi[f] = hi[f].max(x);
+                lo[f] = lower3(lo[f], x);
+                hi[f] = raise3(hi[f], x);
             }
         }
-        let gap = self.sep + 2.0 * self.pad;
-        (lo[0] - hi[1]).max_element() > gap || (lo[1] - hi[0]).max_element() > gap
+        let gap = DVec3::splat(self.sep + 2.0 * self.pad);
+        (lo[0] - hi[1]).cmpgt(gap).any() || (lo[1] - hi[0]).cmpgt(gap).any()
     }
 }
 

@@ -93,6 +93,7 @@
 //! the next box in the queue, the earliest time not yet ruled out ([`Certainty::IterationLimit`]).
 
 use super::bernstein::coplanarity;
+use super::extremes::{lower, lower3, raise, raise3, raise_abs};
 use super::{closest, Certainty, EdgeEdge, NarrowOptions, Outcome, VertexFace};
 use crate::math::{max_abs, DVec3, UNDERFLOW_ERROR, UNIT_ROUNDOFF};
 
@@ -251,8 +252,7 @@ pub fn solve_counted(problem: &Problem, options: &NarrowOptions) -> (Outcome, u3
     let [b0, b1] = problem.b;
     let m = [p0, p1, a0, a1, b0, b1]
         .iter()
-        .map(|x| max_abs(*x))
-        .fold(0.0, f64::max);
+        .fold(0.0, |m, x| raise_abs(m, *x));
     let eps = CORNER_ERROR * UNIT_ROUNDOFF * m + UNDERFLOW_ERROR;
     let (dp, da, db) = (p1 - p0, a1 - a0, b1 - b0);
     let size_a = max_abs(a0).max(max_abs(a1));
@@ -454,9 +454,10 @@ impl Search<'_> {
         let (p1, a1, b1) = at(t[1]);
         let coeffs = coplanarity([p0, p1], [a0, a1], [b0, b1]);
         let e = 16.0 * UNIT_ROUNDOFF * self.m;
-        let mp = max_abs(p0).max(max_abs(p1)) + e;
-        let ma = max_abs(a0).max(max_abs(a1)) + e;
-        let mb = max_abs(b0).max(max_abs(b1)) + e;
+        // (The vectors are finite: see `Problem::new`.)
+        let mp = raise_abs(raise_abs(0.0, p0), p1) + e;
+        let ma = raise_abs(raise_abs(0.0, a0), a1) + e;
+        let mb = raise_abs(raise_abs(0.0, b0), b1) + e;
         let bound = 2.0
             * (6.0 * e * (ma * mb + mp * mb + mp * ma) + 40.0 * UNIT_ROUNDOFF * mp * ma * mb)
             + UNDERFLOW_ERROR;
@@ -650,15 +651,16 @@ impl Search<'_> {
                 Errors::Static => DVec3::splat(self.eps),
                 Errors::Running(errors) => errors[k],
             };
-            lo = lo.min(*c);
-            hi = hi.max(*c);
-            lo_e = lo_e.min(*c - e);
-            hi_e = hi_e.max(*c + e);
+            lo = lower3(lo, *c);
+            hi = raise3(hi, *c);
+            lo_e = lower3(lo_e, *c - e);
+            hi_e = raise3(hi_e, *c + e);
         }
-        if lo_e.max_element() > self.sep || hi_e.min_element() < -self.sep {
+        let (sep, neg_sep) = (DVec3::splat(self.sep), DVec3::splat(-self.sep));
+        if lo_e.cmpgt(sep).any() || hi_e.cmplt(neg_sep).any() {
             return Separation::Yes;
         }
-        if lo.max_element() > self.sep || hi.min_element() < -self.sep {
+        if lo.cmpgt(sep).any() || hi.cmplt(neg_sep).any() {
             verdict = Separation::Ambiguous;
         }
         let mut along = |n: DVec3, both_sides: bool| {
@@ -732,7 +734,7 @@ impl Search<'_> {
         // dot product (gamma_3 < 4u), doubled. Statically, `|c| . |n| <= c_max |n|_1`.
         let static_err = match errors {
             Errors::Static => {
-                let c_max = corners.iter().map(|c| max_abs(*c)).fold(0.0, f64::max);
+                let c_max = corners.iter().fold(0.0, |m, c| raise_abs(m, *c));
                 (self.eps + 4.0 * UNIT_ROUNDOFF * c_max) * n1 * 2.0 + UNDERFLOW_ERROR
             }
             Errors::Running(_) => 0.0,
@@ -746,10 +748,10 @@ impl Search<'_> {
                         + UNDERFLOW_ERROR
                 }
             };
-            lo = lo.min(s);
-            hi = hi.max(s);
-            lo_e = lo_e.min(s - err);
-            hi_e = hi_e.max(s + err);
+            lo = lower(lo, s);
+            hi = raise(hi, s);
+            lo_e = lower(lo_e, s - err);
+            hi_e = raise(hi_e, s + err);
         }
         if lo_e > margin || (both_sides && hi_e < -margin) {
             Separation::Yes
