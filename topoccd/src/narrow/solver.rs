@@ -172,6 +172,14 @@ struct Cell {
     v: [f64; 2],
 }
 
+/// `P`, `A` and `B` at the two ends of a box's time interval, computed once per box: the
+/// coplanarity test, the corners, the normals and the crossing prediction all start from them.
+struct Ends {
+    p: [DVec3; 2],
+    a: [DVec3; 2],
+    b: [DVec3; 2],
+}
+
 /// Constants of one search, derived from the problem and the options.
 struct Search<'a> {
     problem: &'a Problem,
@@ -194,8 +202,9 @@ struct Search<'a> {
 /// How the corner values' error bounds are known.
 #[derive(Clone, Copy)]
 enum Errors<'a> {
-    /// The static bound `eps` for every coordinate of every corner.
-    Static,
+    /// The static bound `eps` for every coordinate of every corner; `largest` is the largest
+    /// absolute corner coordinate.
+    Static { largest: f64 },
     /// A running bound per corner coordinate.
     Running(&'a [DVec3; 8]),
 }
@@ -375,11 +384,19 @@ impl Search<'_> {
         // differences. Its best separating direction is the vector between the closest points
         // of the features at the box's mid time.
         let whole = cell.u == [0.0, 1.0] && cell.v == [0.0, 1.0];
+        let ends = self.ends(cell.t);
         // Contact needs the four points coplanar: where the coplanarity cubic keeps one sign over
         // the box's time interval, there is none (for min_separation = 0). This excludes about
         // half the boxes on a cloth step, so it runs before the closest points are computed.
-        if whole && self.sep == 0.0 && self.never_coplanar(cell.t) {
-            return Verdict::Excluded;
+        // Its end coefficients are the cubic's values at the ends, which the crossing
+        // prediction below reuses.
+        let mut g_ends = None;
+        if whole && self.sep == 0.0 {
+            let coeffs = self.coplanarity(&ends);
+            if self.never_coplanar(&ends, &coeffs) {
+                return Verdict::Excluded;
+            }
+            g_ends = Some([coeffs[0], coeffs[3]]);
         }
         let closest = if whole {
             self.closest_direction(0.5 * (cell.t[0] + cell.t[1]))
@@ -388,12 +405,13 @@ impl Search<'_> {
         };
         // Fast path: one static error bound for every corner. Only where it was ambiguous (the
         // computed values separate, their static bound does not), the running bound.
-        let corners = self.corners(cell);
-        match self.separated(&corners, Errors::Static, cell, closest) {
+        let corners = self.corners(cell, &ends);
+        let largest = corners.iter().fold(0.0, |m, c| raise_abs(m, *c));
+        match self.separated(&corners, Errors::Static { largest }, cell, &ends, closest) {
             Separation::Yes => return Verdict::Excluded,
             Separation::Ambiguous => {
                 let (corners, errors) = self.corners_with_errors(cell);
-                if self.separated(&corners, Errors::Running(&errors), cell, closest)
+                if self.separated(&corners, Errors::Running(&errors), cell, &ends, closest)
                     == Separation::Yes
                 {
                     return Verdict::Excluded;
@@ -406,7 +424,7 @@ impl Search<'_> {
             if cell.t[1] - cell.t[0] <= self.tol {
                 return Verdict::Contact;
             }
-            return match self.predict_crossing(cell) {
+            return match self.predict_crossing(cell, g_ends) {
                 Some((lo, hi)) => Verdict::Bracket(lo, hi),
                 None => Verdict::Split(0),
             };
@@ -431,8 +449,27 @@ impl Search<'_> {
         }
     }
 
+    /// `P`, `A` and `B` at the ends of the time interval `t`.
+    fn ends(&self, t: [f64; 2]) -> Ends {
+        let pr = self.problem;
+        Ends {
+            p: t.map(|t| pr.p[0] + self.dp * t),
+            a: t.map(|t| pr.a[0] + self.da * t),
+            b: t.map(|t| pr.b[0] + self.db * t),
+        }
+    }
+
+    /// The Bernstein coefficients of the coplanarity cubic `g(t) = P . (A x B)` on the interval
+    /// whose ends are `ends`. The first and the last are the cubic's values at the ends, computed
+    /// as `P . (A x B)` from the same vectors (so bit for bit those of
+    /// [`Search::predict_crossing`]).
+    fn coplanarity(&self, ends: &Ends) -> [f64; 4] {
+        coplanarity(ends.p, ends.a, ends.b)
+    }
+
     /// Whether the coplanarity cubic `g(t) = P . (A x B)` (zero exactly when the four points are
-    /// coplanar, which every contact needs) provably keeps one sign on `[t0, t1]`: its four
+    /// coplanar, which every contact needs) provably keeps one sign on the interval whose ends
+    /// are `ends`, given its coefficients `coeffs` there ([`Search::coplanarity`]): its four
     /// Bernstein coefficients on the interval, from the blossom of the trilinear determinant,
     /// all exceed their rounding error bound in magnitude, with one sign.
     ///
@@ -441,18 +478,8 @@ impl Search<'_> {
     /// vectors of magnitude `m` perturbed by `e` moves by at most `6 e (mA mB + mP mB + mP mA)`,
     /// and its own rounding is at most `6 u . 6 mP mA mB` (`gamma_5` of six 3-products, rounded
     /// up); the averages add less than `2 u` of their size. The bound used doubles the sum.
-    fn never_coplanar(&self, t: [f64; 2]) -> bool {
-        let pr = self.problem;
-        let at = |t: f64| {
-            (
-                pr.p[0] + self.dp * t,
-                pr.a[0] + self.da * t,
-                pr.b[0] + self.db * t,
-            )
-        };
-        let (p0, a0, b0) = at(t[0]);
-        let (p1, a1, b1) = at(t[1]);
-        let coeffs = coplanarity([p0, p1], [a0, a1], [b0, b1]);
+    fn never_coplanar(&self, ends: &Ends, coeffs: &[f64; 4]) -> bool {
+        let ([p0, p1], [a0, a1], [b0, b1]) = (ends.p, ends.a, ends.b);
         let e = 16.0 * UNIT_ROUNDOFF * self.m;
         // (The vectors are finite: see `Problem::new`.)
         let mp = raise_abs(raise_abs(0.0, p0), p1) + e;
@@ -471,7 +498,9 @@ impl Search<'_> {
     /// a cubic in t) changes sign across the box, a slab of width `tolerance` around its
     /// crossing, found by two secant steps: `(lo, hi)` strictly inside the box. Only a guess to
     /// split at: the three boxes it makes cover the cell, whatever it is worth.
-    fn predict_crossing(&self, cell: &Cell) -> Option<(f64, f64)> {
+    ///
+    /// `g_ends`, when known, are the values of `g` at the box's ends, as `g` computes them.
+    fn predict_crossing(&self, cell: &Cell, g_ends: Option<[f64; 2]>) -> Option<(f64, f64)> {
         let pr = self.problem;
         let g = |t: f64| {
             let p = pr.p[0] + self.dp * t;
@@ -480,7 +509,7 @@ impl Search<'_> {
             p.dot(a.cross(b))
         };
         let (mut t0, mut t1) = (cell.t[0], cell.t[1]);
-        let (mut g0, mut g1) = (g(t0), g(t1));
+        let [mut g0, mut g1] = g_ends.unwrap_or_else(|| [g(t0), g(t1)]);
         let product = g0 * g1;
         if product.is_nan() || product >= 0.0 {
             return None; // no certain sign change (or not finite)
@@ -537,15 +566,14 @@ impl Search<'_> {
         }
     }
 
-    /// Values of `F` at the eight corners, `t` slowest, then `u`, then `v`.
-    fn corners(&self, cell: &Cell) -> [DVec3; 8] {
+    /// Values of `F` at the eight corners, `t` slowest, then `u`, then `v`; `ends` are those of
+    /// the cell's time interval.
+    fn corners(&self, cell: &Cell, ends: &Ends) -> [DVec3; 8] {
         let pr = self.problem;
         let mut out = [DVec3::ZERO; 8];
         let mut k = 0;
-        for &t in &cell.t {
-            let p = pr.p[0] + self.dp * t;
-            let a = pr.a[0] + self.da * t;
-            let b = pr.b[0] + self.db * t;
+        for end in 0..2 {
+            let (p, a, b) = (ends.p[end], ends.a[end], ends.b[end]);
             for &u in &cell.u {
                 let pu = p + a * u;
                 for &v in &cell.v {
@@ -636,6 +664,7 @@ impl Search<'_> {
         corners: &[DVec3; 8],
         errors: Errors<'_>,
         cell: &Cell,
+        ends: &Ends,
         closest: Option<DVec3>,
     ) -> Separation {
         let mut verdict = Separation::No;
@@ -648,7 +677,7 @@ impl Search<'_> {
         );
         for (k, c) in corners.iter().enumerate() {
             let e = match errors {
-                Errors::Static => DVec3::splat(self.eps),
+                Errors::Static { .. } => DVec3::splat(self.eps),
                 Errors::Running(errors) => errors[k],
             };
             lo = lower3(lo, *c);
@@ -677,10 +706,7 @@ impl Search<'_> {
             }
         }
         // Face normal (vertex-face) or common normal of the edges (edge-edge), at both ends.
-        let pr = self.problem;
-        for &t in &cell.t {
-            let a = pr.a[0] + self.da * t;
-            let b = pr.b[0] + self.db * t;
+        for (a, b) in ends.a.into_iter().zip(ends.b) {
             if along(a.cross(b), true) {
                 return Separation::Yes;
             }
@@ -694,6 +720,7 @@ impl Search<'_> {
             if along(centre, false) {
                 return Separation::Yes;
             }
+            let pr = self.problem;
             let t_mid = 0.5 * (cell.t[0] + cell.t[1]);
             let a = pr.a[0] + self.da * t_mid;
             let b = pr.b[0] + self.db * t_mid;
@@ -727,22 +754,27 @@ impl Search<'_> {
             return Separation::No;
         }
         // |n|_2 rounded up generously; the margin must not shrink below min_separation |n|_2.
-        let margin = self.sep * n.length() * (1.0 + 8.0 * UNIT_ROUNDOFF);
+        // (Without a separation it is 0, as the product would be, for any `n` whose length
+        // cannot overflow.)
+        let margin = if self.sep == 0.0 && n1 < 1e150 {
+            0.0
+        } else {
+            self.sep * n.length() * (1.0 + 8.0 * UNIT_ROUNDOFF)
+        };
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         let (mut lo_e, mut hi_e) = (f64::INFINITY, f64::NEG_INFINITY);
         // Error of a projection: the propagated error `e . |n|` plus the rounding of a 3-term
-        // dot product (gamma_3 < 4u), doubled. Statically, `|c| . |n| <= c_max |n|_1`.
+        // dot product (gamma_3 < 4u), doubled. Statically, `|c| . |n| <= largest |n|_1`.
         let static_err = match errors {
-            Errors::Static => {
-                let c_max = corners.iter().fold(0.0, |m, c| raise_abs(m, *c));
-                (self.eps + 4.0 * UNIT_ROUNDOFF * c_max) * n1 * 2.0 + UNDERFLOW_ERROR
+            Errors::Static { largest } => {
+                (self.eps + 4.0 * UNIT_ROUNDOFF * largest) * n1 * 2.0 + UNDERFLOW_ERROR
             }
             Errors::Running(_) => 0.0,
         };
         for (k, c) in corners.iter().enumerate() {
             let s = c.dot(n);
             let err = match errors {
-                Errors::Static => static_err,
+                Errors::Static { .. } => static_err,
                 Errors::Running(errors) => {
                     (errors[k].dot(n_abs) + 4.0 * UNIT_ROUNDOFF * c.abs().dot(n_abs)) * 2.0
                         + UNDERFLOW_ERROR
