@@ -784,6 +784,17 @@ impl Search<'_> {
             hi = raise(hi, s);
             lo_e = lower(lo_e, s - err);
             hi_e = raise(hi_e, s + err);
+            // Half way, when corners already lie within the margin on each side that counts
+            // (with their error bounds and without), the answer is `No`: the minima can only
+            // fall and the maxima only rise. Most directions of the boxes that end up split
+            // are settled here.
+            if k == 3
+                && lo_e <= margin
+                && lo <= margin
+                && (!both_sides || (hi_e >= -margin && hi >= -margin))
+            {
+                return Separation::No;
+            }
         }
         if lo_e > margin || (both_sides && hi_e < -margin) {
             Separation::Yes
