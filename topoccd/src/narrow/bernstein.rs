@@ -259,14 +259,27 @@ pub fn phi(tri_t0: &[DVec3; 3], tri_t1: &[DVec3; 3], o: [DVec3; 2]) -> Bernstein
 /// independent of the order of the sums).
 #[inline]
 pub fn coplanarity(p: [DVec3; 2], a: [DVec3; 2], b: [DVec3; 2]) -> [f64; 4] {
-    let n00 = a[0].cross(b[0]);
+    let n = [a[0].cross(b[0]), a[1].cross(b[1])];
+    let [c0, c3] = coplanarity_ends(p, n);
+    let [c1, c2] = coplanarity_inner(p, a, b, n);
+    [c0, c1, c2, c3]
+}
+
+/// The first and last coefficients of [`coplanarity`], the cubic's values at the ends, given
+/// the normals `n = [a[0] x b[0], a[1] x b[1]]` (bit for bit as [`coplanarity`] computes them).
+#[inline]
+pub fn coplanarity_ends(p: [DVec3; 2], n: [DVec3; 2]) -> [f64; 2] {
+    [p[0].dot(n[0]), p[1].dot(n[1])]
+}
+
+/// The two middle coefficients of [`coplanarity`], given the normals of
+/// [`coplanarity_ends`] (bit for bit as [`coplanarity`] computes them).
+#[inline]
+pub fn coplanarity_inner(p: [DVec3; 2], a: [DVec3; 2], b: [DVec3; 2], n: [DVec3; 2]) -> [f64; 2] {
     let n01 = a[0].cross(b[1]);
     let n10 = a[1].cross(b[0]);
-    let n11 = a[1].cross(b[1]);
     [
-        p[0].dot(n00),
-        (p[1].dot(n00) + p[0].dot(n10) + p[0].dot(n01)) / 3.0,
-        (p[0].dot(n11) + p[1].dot(n10) + p[1].dot(n01)) / 3.0,
-        p[1].dot(n11),
+        (p[1].dot(n[0]) + p[0].dot(n10) + p[0].dot(n01)) / 3.0,
+        (p[0].dot(n[1]) + p[1].dot(n10) + p[1].dot(n01)) / 3.0,
     ]
 }

@@ -92,7 +92,7 @@
 //! When `max_iterations` boxes have been examined, the answer is a contact at the start time of
 //! the next box in the queue, the earliest time not yet ruled out ([`Certainty::IterationLimit`]).
 
-use super::bernstein::coplanarity;
+use super::bernstein::{coplanarity_ends, coplanarity_inner};
 use super::extremes::{lower, lower3, raise, raise3, raise_abs};
 use super::{closest, Certainty, EdgeEdge, NarrowOptions, Outcome, VertexFace};
 use crate::math::{max_abs, DVec3, UNDERFLOW_ERROR, UNIT_ROUNDOFF};
@@ -178,6 +178,8 @@ struct Ends {
     p: [DVec3; 2],
     a: [DVec3; 2],
     b: [DVec3; 2],
+    /// The normals `A x B`.
+    n: [DVec3; 2],
 }
 
 /// Constants of one search, derived from the problem and the options.
@@ -392,11 +394,11 @@ impl Search<'_> {
         // prediction below reuses.
         let mut g_ends = None;
         if whole && self.sep == 0.0 {
-            let coeffs = self.coplanarity(&ends);
-            if self.never_coplanar(&ends, &coeffs) {
+            let g = coplanarity_ends(ends.p, ends.n);
+            if self.never_coplanar(&ends, g) {
                 return Verdict::Excluded;
             }
-            g_ends = Some([coeffs[0], coeffs[3]]);
+            g_ends = Some(g);
         }
         let closest = if whole {
             self.closest_direction(0.5 * (cell.t[0] + cell.t[1]))
@@ -452,33 +454,31 @@ impl Search<'_> {
     /// `P`, `A` and `B` at the ends of the time interval `t`.
     fn ends(&self, t: [f64; 2]) -> Ends {
         let pr = self.problem;
+        let a = t.map(|t| pr.a[0] + self.da * t);
+        let b = t.map(|t| pr.b[0] + self.db * t);
         Ends {
             p: t.map(|t| pr.p[0] + self.dp * t),
-            a: t.map(|t| pr.a[0] + self.da * t),
-            b: t.map(|t| pr.b[0] + self.db * t),
+            a,
+            b,
+            n: [a[0].cross(b[0]), a[1].cross(b[1])],
         }
-    }
-
-    /// The Bernstein coefficients of the coplanarity cubic `g(t) = P . (A x B)` on the interval
-    /// whose ends are `ends`. The first and the last are the cubic's values at the ends, computed
-    /// as `P . (A x B)` from the same vectors (so bit for bit those of
-    /// [`Search::predict_crossing`]).
-    fn coplanarity(&self, ends: &Ends) -> [f64; 4] {
-        coplanarity(ends.p, ends.a, ends.b)
     }
 
     /// Whether the coplanarity cubic `g(t) = P . (A x B)` (zero exactly when the four points are
     /// coplanar, which every contact needs) provably keeps one sign on the interval whose ends
-    /// are `ends`, given its coefficients `coeffs` there ([`Search::coplanarity`]): its four
-    /// Bernstein coefficients on the interval, from the blossom of the trilinear determinant,
-    /// all exceed their rounding error bound in magnitude, with one sign.
+    /// are `ends`: its four Bernstein coefficients on the interval
+    /// ([`coplanarity`](super::bernstein::coplanarity)), from the blossom of the trilinear
+    /// determinant, all exceed their rounding error bound in magnitude, with one sign. `g` are
+    /// the first and last coefficients, the cubic's values at the ends (computed as
+    /// `P . (A x B)` from the same vectors, so bit for bit those of
+    /// [`Search::predict_crossing`]); the two middle ones are computed only when both ends pass.
     ///
     /// Error bound: each vector at an end of the interval is computed with an error of at most
     /// `e = 16 u M` per coordinate (the lerp of the static analysis, doubled); a determinant of
     /// vectors of magnitude `m` perturbed by `e` moves by at most `6 e (mA mB + mP mB + mP mA)`,
     /// and its own rounding is at most `6 u . 6 mP mA mB` (`gamma_5` of six 3-products, rounded
     /// up); the averages add less than `2 u` of their size. The bound used doubles the sum.
-    fn never_coplanar(&self, ends: &Ends, coeffs: &[f64; 4]) -> bool {
+    fn never_coplanar(&self, ends: &Ends, g: [f64; 2]) -> bool {
         let ([p0, p1], [a0, a1], [b0, b1]) = (ends.p, ends.a, ends.b);
         let e = 16.0 * UNIT_ROUNDOFF * self.m;
         // (The vectors are finite: see `Problem::new`.)
@@ -491,7 +491,16 @@ impl Search<'_> {
         if !bound.is_finite() {
             return false;
         }
-        coeffs.iter().all(|&c| c > bound) || coeffs.iter().all(|&c| c < -bound)
+        let above = g[0] > bound && g[1] > bound;
+        if !above && !(g[0] < -bound && g[1] < -bound) {
+            return false;
+        }
+        let inner = coplanarity_inner(ends.p, ends.a, ends.b, ends.n);
+        if above {
+            inner.iter().all(|&c| c > bound)
+        } else {
+            inner.iter().all(|&c| c < -bound)
+        }
     }
 
     /// Where the coplanarity function `g(t) = P . (A x B)` (the signed volume of the four points,
@@ -706,8 +715,8 @@ impl Search<'_> {
             }
         }
         // Face normal (vertex-face) or common normal of the edges (edge-edge), at both ends.
-        for (a, b) in ends.a.into_iter().zip(ends.b) {
-            if along(a.cross(b), true) {
+        for n in ends.n {
+            if along(n, true) {
                 return Separation::Yes;
             }
         }
