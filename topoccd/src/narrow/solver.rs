@@ -678,22 +678,24 @@ impl Search<'_> {
     ) -> Separation {
         let mut verdict = Separation::No;
         // Coordinate axes.
-        let (mut lo, mut hi, mut lo_e, mut hi_e) = (
-            DVec3::INFINITY,
-            DVec3::NEG_INFINITY,
-            DVec3::INFINITY,
-            DVec3::NEG_INFINITY,
-        );
-        for (k, c) in corners.iter().enumerate() {
-            let e = match errors {
-                Errors::Static { .. } => DVec3::splat(self.eps),
-                Errors::Running(errors) => errors[k],
-            };
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for c in corners {
             lo = lower3(lo, *c);
             hi = raise3(hi, *c);
-            lo_e = lower3(lo_e, *c - e);
-            hi_e = raise3(hi_e, *c + e);
         }
+        let (lo_e, hi_e) = match errors {
+            // Rounding is monotonic, so with one finite bound for every (finite) corner the
+            // extreme of the shifted values is the shifted extreme, bit for bit.
+            Errors::Static { .. } => (lo - DVec3::splat(self.eps), hi + DVec3::splat(self.eps)),
+            Errors::Running(errors) => {
+                let (mut lo_e, mut hi_e) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+                for (c, e) in corners.iter().zip(errors) {
+                    lo_e = lower3(lo_e, *c - *e);
+                    hi_e = raise3(hi_e, *c + *e);
+                }
+                (lo_e, hi_e)
+            }
+        };
         let (sep, neg_sep) = (DVec3::splat(self.sep), DVec3::splat(-self.sep));
         if lo_e.cmpgt(sep).any() || hi_e.cmplt(neg_sep).any() {
             return Separation::Yes;
