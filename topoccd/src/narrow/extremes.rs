@@ -57,7 +57,16 @@ mod tests {
     /// among the folded values.
     #[test]
     fn as_min_and_max() {
-        let values = [-2.0, -0.5, 0.0, 1.0, 3.5, f64::INFINITY, f64::NEG_INFINITY, f64::NAN];
+        let values = [
+            -2.0,
+            -0.5,
+            0.0,
+            1.0,
+            3.5,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
         for acc in values.into_iter().filter(|a| !a.is_nan()) {
             for x in values {
                 assert_eq!(lower(acc, x), acc.min(x));
