@@ -111,14 +111,16 @@ fn growth_shortcuts_change_no_decision() {
             let mut b = cluster_with(step, &topo, &options, &mut reference);
             b.stats.clustering_seconds = a.stats.clustering_seconds;
             b.stats.merging_seconds = a.stats.merging_seconds;
-            assert!(a == b, "{name} {direction:?}: the shortcuts changed the clustering");
+            assert!(
+                a == b,
+                "{name} {direction:?}: the shortcuts changed the clustering"
+            );
             // Rounds big enough for the tracked offers (32 candidates or more).
-            tracked_rounds += a
-                .leaves
-                .iter()
-                .filter(|l| l.triangles.len() >= 64)
-                .count();
+            tracked_rounds += a.leaves.iter().filter(|l| l.triangles.len() >= 64).count();
         }
     }
-    assert!(tracked_rounds > 0, "no leaf grew big enough to use the shortcuts");
+    assert!(
+        tracked_rounds > 0,
+        "no leaf grew big enough to use the shortcuts"
+    );
 }

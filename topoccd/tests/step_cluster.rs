@@ -627,11 +627,18 @@ fn hierarchies_built_ahead_change_nothing() {
             let one = run(1, Some(1));
             let two = run(2, Some(1));
             assert_eq!(one.4, 0, "{what}: one thread builds nothing ahead");
-            assert_eq!(two.4, two.2.unwrap_or(0), "{what}: every lazy hierarchy built ahead");
+            assert_eq!(
+                two.4,
+                two.2.unwrap_or(0),
+                "{what}: every lazy hierarchy built ahead"
+            );
             taken += two.4;
             assert_eq!((&one.0.vf, &one.0.ee), (&two.0.vf, &two.0.ee), "{what}");
             assert_eq!(one.0.earliest, two.0.earliest, "{what}");
-            assert!(one.1.vf == two.1.vf && one.1.ee == two.1.ee, "{what}: candidates");
+            assert!(
+                one.1.vf == two.1.vf && one.1.ee == two.1.ee,
+                "{what}: candidates"
+            );
             assert_eq!(one.2, two.2, "{what}: lazy hierarchies");
             let (a, b) = (&one.3, &two.3);
             assert!(
@@ -642,5 +649,8 @@ fn hierarchies_built_ahead_change_nothing() {
             );
         }
     }
-    assert!(taken > 0, "no lazy hierarchy was needed: the test shows nothing");
+    assert!(
+        taken > 0,
+        "no lazy hierarchy was needed: the test shows nothing"
+    );
 }
