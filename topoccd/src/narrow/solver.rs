@@ -492,7 +492,8 @@ impl Search<'_> {
             return false;
         }
         let above = g[0] > bound && g[1] > bound;
-        if !above && !(g[0] < -bound && g[1] < -bound) {
+        let below = g[0] < -bound && g[1] < -bound;
+        if !(above || below) {
             return false;
         }
         let inner = coplanarity_inner(ends.p, ends.a, ends.b, ends.n);
