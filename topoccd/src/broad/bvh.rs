@@ -12,6 +12,7 @@ use std::time::Instant;
 use super::{triangle_volumes_until, BroadInput, TaskPairs};
 use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf, ParOptions};
 use crate::kdop::Kdop;
+use crate::mesh::Step;
 
 /// The triangles' volumes (leaf `t` is triangle `t`) and hierarchy of one k-DOP type, kept
 /// for reuse across steps.
@@ -23,12 +24,11 @@ pub(crate) struct PerStepBvh<const H: usize> {
 
 impl<const H: usize> PerStepBvh<H> {
     /// Computes the volumes swept by the step's triangles over `[0, t_max]` (the whole step
-    /// for `t_max >= 1`) and builds the hierarchy over them. Returns the seconds spent.
-    pub fn build(&mut self, input: &BroadInput<'_, '_>, t_max: f64, ws: &mut BvhWorkspace) -> f64 {
-        let start = Instant::now();
-        triangle_volumes_until(input.step, t_max, input.filter.sep, &mut self.volumes);
+    /// for `t_max >= 1`), inflated by `sep`, and builds the hierarchy over them. It needs the
+    /// positions and triangles only, not the step's topology.
+    pub fn build(&mut self, step: &Step, t_max: f64, sep: f64, ws: &mut BvhWorkspace) {
+        triangle_volumes_until(step, t_max, sep, &mut self.volumes);
         self.bvh.rebuild_from_volumes(&self.volumes, ws);
-        start.elapsed().as_secs_f64()
     }
 
     /// Recomputes the volumes over the whole step and refits the hierarchy to them (same

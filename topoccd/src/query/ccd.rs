@@ -176,7 +176,22 @@ impl Ccd {
         let method = method.resolve(step.triangles().len());
         let start = Instant::now();
         let sep = options.narrow.min_separation;
-        self.features.update(step);
+        let early = !self.late;
+        if method == Method::Bvh {
+            // The per-step hierarchy needs the positions only: it is built beside the topology
+            // and the features (at the same time on two threads or more).
+            let end = first_pass_end(options, early).unwrap_or(options.narrow.t_max);
+            let (features, ws) = (&mut self.features, &mut self.ws);
+            let build = || match options.kdop {
+                DopKind::K6 => self.k6.build(step, end, sep, ws),
+                DopKind::K14 => self.k14.build(step, end, sep, ws),
+                DopKind::K18 => self.k18.build(step, end, sep, ws),
+                DopKind::K26 => self.k26.build(step, end, sep, ws),
+            };
+            rayon::join(|| features.update(step), build);
+        } else {
+            self.features.update(step);
+        }
         self.last_tree = None;
         let filter = PairFilter::new(step, sep, options.crack_filter, &mut self.canon);
         let input = BroadInput {
@@ -207,7 +222,6 @@ impl Ccd {
                 let early_boxes = &mut self.early_boxes;
                 let args = (&input, &ctx, record, task_chunk, ws);
                 let out = (&mut found, &mut totals, recorded);
-                let early = !self.late;
                 let (stats, late) = match options.kdop {
                     DopKind::K6 => bvh_query(&mut self.k6, args, early_boxes, early, out),
                     DopKind::K14 => bvh_query(&mut self.k14, args, early_boxes, early, out),
@@ -433,9 +447,19 @@ pub fn query(
 /// only if that finds no contact early enough does it look at the whole step.
 const EARLY: f64 = 256.0;
 
-/// The per-step hierarchy's query: build, then the parallel traversal whose tasks solve their
-/// own candidates in bounded buffers. Returns the broad phase's figures; the narrow phase's
-/// time is inside the traversal's (the two run interleaved on every thread).
+/// The end `tau` of the first pass of [`bvh_query`], `None` when there is only one pass (not
+/// in Earliest mode, not `early`, or an interval too short to split).
+fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
+    let tau = options.narrow.t_max / EARLY;
+    let two_pass =
+        early && options.mode == super::Mode::Earliest && tau > 2.0 * options.narrow.tolerance;
+    two_pass.then_some(tau)
+}
+
+/// The per-step hierarchy's query: the parallel traversal of the hierarchy the caller built,
+/// whose tasks solve their own candidates in bounded buffers. Returns the broad phase's
+/// figures; the narrow phase's time is inside the traversal's (the two run interleaved on
+/// every thread).
 ///
 /// In [`Mode::Earliest`](super::Mode::Earliest) with `early` and `t_max > tau` (`tau = t_max /
 /// EARLY`), a first pass uses triangle volumes and feature boxes (`early_boxes`) swept over
@@ -448,7 +472,9 @@ const EARLY: f64 = 256.0;
 /// otherwise, so it stops after its first batch of tasks unless that batch found a contact
 /// early enough, and [`Ccd`] tries it only while the last Earliest query's contact came early
 /// (`early`); the answer is the same either way (the second pass alone is complete). Also
-/// returns whether this step's earliest contact came late (after `tau`, or none).
+/// returns whether this step's earliest contact came late (after `tau`, or none). `tree` must
+/// have been built for this step, over `[0, tau]` for two passes (see [`first_pass_end`]), else
+/// over the whole step.
 fn bvh_query<const H: usize>(
     tree: &mut PerStepBvh<H>,
     (input, ctx, record, task_chunk, ws): (
@@ -463,11 +489,10 @@ fn bvh_query<const H: usize>(
     (found, totals, recorded): (&mut Found, &mut Totals, &mut Candidates),
 ) -> (BroadStats, bool) {
     let options = ctx.options;
-    let t_max = options.narrow.t_max;
-    let tau = t_max / EARLY;
-    let two_pass =
-        early && options.mode == super::Mode::Earliest && tau > 2.0 * options.narrow.tolerance;
-    let mut build = tree.build(input, if two_pass { tau } else { t_max }, ws);
+    let first_end = first_pass_end(options, early);
+    let two_pass = first_end.is_some();
+    let tau = first_end.unwrap_or(options.narrow.t_max);
+    let mut build = 0.0;
     let boxes = if two_pass {
         let t = Instant::now();
         early_boxes.sweep(input.step, tau);
