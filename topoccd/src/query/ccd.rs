@@ -176,11 +176,12 @@ impl Ccd {
         let method = method.resolve(step.triangles().len());
         let start = Instant::now();
         let sep = options.narrow.min_separation;
-        let early = !self.late;
+        // The end of the per-step hierarchy's first pass, if it makes one.
+        let first_end = first_pass_end(options, !self.late);
         if method == Method::Bvh {
             // The per-step hierarchy needs the positions only: it is built beside the topology
             // and the features (at the same time on two threads or more).
-            let end = first_pass_end(options, early).unwrap_or(options.narrow.t_max);
+            let end = first_end.unwrap_or(options.narrow.t_max);
             let (features, ws) = (&mut self.features, &mut self.ws);
             let build = || match options.kdop {
                 DopKind::K6 => self.k6.build(step, end, sep, ws),
@@ -222,11 +223,12 @@ impl Ccd {
                 let early_boxes = &mut self.early_boxes;
                 let args = (&input, &ctx, record, task_chunk, ws);
                 let out = (&mut found, &mut totals, recorded);
+                let first = first_end;
                 let (stats, late) = match options.kdop {
-                    DopKind::K6 => bvh_query(&mut self.k6, args, early_boxes, early, out),
-                    DopKind::K14 => bvh_query(&mut self.k14, args, early_boxes, early, out),
-                    DopKind::K18 => bvh_query(&mut self.k18, args, early_boxes, early, out),
-                    DopKind::K26 => bvh_query(&mut self.k26, args, early_boxes, early, out),
+                    DopKind::K6 => bvh_query(&mut self.k6, args, early_boxes, first, out),
+                    DopKind::K14 => bvh_query(&mut self.k14, args, early_boxes, first, out),
+                    DopKind::K18 => bvh_query(&mut self.k18, args, early_boxes, first, out),
+                    DopKind::K26 => bvh_query(&mut self.k26, args, early_boxes, first, out),
                 };
                 if options.mode == super::Mode::Earliest {
                     self.late = late;
@@ -461,8 +463,8 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// figures; the narrow phase's time is inside the traversal's (the two run interleaved on
 /// every thread).
 ///
-/// In [`Mode::Earliest`](super::Mode::Earliest) with `early` and `t_max > tau` (`tau = t_max /
-/// EARLY`), a first pass uses triangle volumes and feature boxes (`early_boxes`) swept over
+/// In [`Mode::Earliest`](super::Mode::Earliest), with `first_end` = `Some(tau)` from
+/// [`first_pass_end`] (`tau = t_max / EARLY`), a first pass uses triangle volumes and feature boxes (`early_boxes`) swept over
 /// `[0, tau]` and solves every candidate over `[0, tau]` first. If it finds contacts whose earliest time `b` has `b + 2 tolerance <= tau`, the answer
 /// is complete: a pair whose first contact lies within the tolerance of `b` touches before
 /// `tau`, so its features' volumes over `[0, tau]` overlap and the first pass tested it.
@@ -472,9 +474,9 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// otherwise, so it stops after its first batch of tasks unless that batch found a contact
 /// early enough, and [`Ccd`] tries it only while the last Earliest query's contact came early
 /// (`early`); the answer is the same either way (the second pass alone is complete). Also
-/// returns whether this step's earliest contact came late (after `tau`, or none). `tree` must
-/// have been built for this step, over `[0, tau]` for two passes (see [`first_pass_end`]), else
-/// over the whole step.
+/// returns whether this step's earliest contact came late (after `t_max / EARLY`, or none),
+/// with one pass or two. `tree` must have been built for this step, over `[0, tau]` for two
+/// passes, else over the whole step.
 fn bvh_query<const H: usize>(
     tree: &mut PerStepBvh<H>,
     (input, ctx, record, task_chunk, ws): (
@@ -485,33 +487,28 @@ fn bvh_query<const H: usize>(
         &mut BvhWorkspace,
     ),
     early_boxes: &mut FeatureBoxes,
-    early: bool,
+    first_end: Option<f64>,
     (found, totals, recorded): (&mut Found, &mut Totals, &mut Candidates),
 ) -> (BroadStats, bool) {
-    let options = ctx.options;
-    let first_end = first_pass_end(options, early);
+    // Whether or not there is a first pass, a contact is late after the first `1 / EARLY`.
+    let tau = ctx.options.narrow.t_max / EARLY;
     let two_pass = first_end.is_some();
-    let tau = first_end.unwrap_or(options.narrow.t_max);
+    let end = first_end.unwrap_or(f64::INFINITY);
     let mut build = 0.0;
     let boxes = if two_pass {
         let t = Instant::now();
-        early_boxes.sweep(input.step, tau);
+        early_boxes.sweep(input.step, end);
         build += t.elapsed().as_secs_f64();
         &*early_boxes
     } else {
         &input.features.boxes
     };
     let t = Instant::now();
-    let first = if two_pass {
-        (tau, true)
-    } else {
-        (f64::INFINITY, false)
-    };
     let mut bv_tests = traverse_pass(
         tree,
         (input, ctx, record, task_chunk, ws),
         boxes,
-        first,
+        (end, two_pass),
         (found, totals, recorded),
     );
     let mut traverse = t.elapsed().as_secs_f64();
@@ -519,7 +516,7 @@ fn bvh_query<const H: usize>(
         let mut best = None;
         lower(&mut best, found.vf.iter().map(|c| c.toi));
         lower(&mut best, found.ee.iter().map(|c| c.toi));
-        let complete = best.is_some_and(|b| ctx.limit(Some(b)) <= tau);
+        let complete = best.is_some_and(|b| ctx.limit(Some(b)) <= end);
         if !complete {
             build += tree.refit_whole_step(input);
             let t = Instant::now();
