@@ -1,10 +1,7 @@
 //! Connectivity derived from the triangles of one step: edges and incidences. Computed anew for
-//! every step in linear time (counting sorts), so topology changes cost nothing extra. Big
-//! meshes are done on the current rayon pool, into the same result.
-
-use std::sync::atomic::{AtomicU32, AtomicU64, Ordering::Relaxed};
-
-use rayon::prelude::*;
+//! every step in linear time (counting sorts), so topology changes cost nothing extra. For big
+//! meshes the edges and the incidences are derived side by side on the current rayon pool,
+//! each by the same sequential code, so the result does not depend on the thread count.
 
 /// Edges and incidences of a triangle soup.
 #[derive(Clone, Debug, Default)]
@@ -22,15 +19,12 @@ pub struct Topology {
     pub vertex_triangles: Vec<u32>,
 }
 
-/// Meshes with at least this many triangles are done on the rayon pool (the result does not
-/// depend on it).
-const PARALLEL_TRIANGLES: usize = 1 << 15;
+/// Meshes with at least this many triangles have their edges and their incidences derived as
+/// two rayon tasks (the result does not depend on it).
+const PARALLEL_TRIANGLES: usize = 1 << 13;
 
-/// The parallel counting sorts split the buckets into this many ranges of consecutive buckets.
-const RANGES: usize = 256;
-
-/// The edges of a range of vertices, their owners, and each vertex's edge count.
-type RangeEdges = (Vec<[u32; 2]>, Vec<u32>, Vec<u32>);
+/// The edges (sorted), each edge's owner, and each triangle's edges.
+type EdgeParts = (Vec<[u32; 2]>, Vec<u32>, Vec<[u32; 3]>);
 
 /// Side `k` of `tri` as `(smaller vertex, larger vertex)`.
 #[inline]
@@ -51,15 +45,25 @@ impl Topology {
     /// assert_eq!(topo.triangles_of(1), &[0, 1]);
     /// ```
     pub fn new(triangles: &[[u32; 3]], vertex_count: usize) -> Self {
-        if triangles.len() >= PARALLEL_TRIANGLES {
-            Self::parallel(triangles, vertex_count)
-        } else {
-            Self::sequential(triangles, vertex_count)
+        let edges = || Self::edges(triangles, vertex_count);
+        let incidences = || Self::incidences(triangles, vertex_count);
+        let ((edges, edge_owner, triangle_edges), (vertex_offsets, vertex_triangles)) =
+            if triangles.len() >= PARALLEL_TRIANGLES {
+                rayon::join(edges, incidences)
+            } else {
+                (edges(), incidences())
+            };
+        Self {
+            edges,
+            edge_owner,
+            triangle_edges,
+            vertex_offsets,
+            vertex_triangles,
         }
     }
 
-    /// [`Topology::new`] on the calling thread.
-    fn sequential(triangles: &[[u32; 3]], vertex_count: usize) -> Self {
+    /// The edges, their owners and each triangle's edges, on the calling thread.
+    fn edges(triangles: &[[u32; 3]], vertex_count: usize) -> EdgeParts {
         // Half-edges bucketed by their smaller vertex (a counting sort), each bucket (a few
         // half-edges) sorted by the larger vertex: equal keys become one edge, and the edges
         // come out sorted lexicographically.
@@ -100,7 +104,12 @@ impl Topology {
                 triangle_edges[(slot / 3) as usize][(slot % 3) as usize] = e;
             }
         }
+        (edges, edge_owner, triangle_edges)
+    }
 
+    /// Each vertex's incident triangles, in increasing order (offsets and list), on the
+    /// calling thread: a counting sort of the triangles' corners by vertex.
+    fn incidences(triangles: &[[u32; 3]], vertex_count: usize) -> (Vec<u32>, Vec<u32>) {
         let mut vertex_offsets = vec![0u32; vertex_count + 1];
         for tri in triangles {
             for &v in tri {
@@ -118,90 +127,7 @@ impl Topology {
                 fill[v as usize] += 1;
             }
         }
-        Self {
-            edges,
-            edge_owner,
-            triangle_edges,
-            vertex_offsets,
-            vertex_triangles,
-        }
-    }
-
-    /// [`Topology::new`] on the current rayon pool: the same counting sorts, with atomic
-    /// counters, each bucket then sorted, so the result does not depend on the order in which
-    /// the threads filled it.
-    fn parallel(triangles: &[[u32; 3]], vertex_count: usize) -> Self {
-        // Half-edges by smaller vertex, as (larger vertex, slot 3 t + k), sorted in each bucket.
-        let (start, half) = bucket_sort(triangles.len(), vertex_count, |t, k| {
-            let (lo, hi) = side(&triangles[t], k);
-            (lo, (hi as u64) << 32 | (t * 3 + k) as u64)
-        });
-        let hi_of = |h: u64| (h >> 32) as u32;
-        let ranges = bucket_ranges(&start);
-        // Per range of vertices: its edges, their owners, and each vertex's edge count.
-        let parts: Vec<RangeEdges> = ranges
-            .par_iter()
-            .map(|&(v0, v1)| {
-                let (mut edges, mut owners, mut counts) = (Vec::new(), Vec::new(), Vec::new());
-                for v in v0..v1 {
-                    let bucket = &half[start[v] as usize..start[v + 1] as usize];
-                    let before = edges.len();
-                    for (i, &h) in bucket.iter().enumerate() {
-                        if i == 0 || hi_of(bucket[i - 1]) != hi_of(h) {
-                            edges.push([v as u32, hi_of(h)]);
-                            owners.push((h as u32) / 3);
-                        }
-                    }
-                    counts.push((edges.len() - before) as u32);
-                }
-                (edges, owners, counts)
-            })
-            .collect();
-        let edge_count = parts.iter().map(|p| p.0.len()).sum();
-        let mut edges = Vec::with_capacity(edge_count);
-        let mut edge_owner = Vec::with_capacity(edge_count);
-        let mut edge_start = Vec::with_capacity(vertex_count);
-        let mut sum = 0u32;
-        for (e, o, counts) in parts {
-            edges.extend_from_slice(&e);
-            edge_owner.extend_from_slice(&o);
-            for c in counts {
-                edge_start.push(sum);
-                sum += c;
-            }
-        }
-        // Each side's edge: its smaller vertex's first edge plus the rank of its larger vertex
-        // among the distinct larger vertices of the bucket.
-        let mut triangle_edges = Vec::with_capacity(triangles.len());
-        triangle_edges.par_extend(triangles.par_iter().with_min_len(4096).map(|tri| {
-            std::array::from_fn(|k| {
-                let (lo, hi) = side(tri, k);
-                let bucket = &half[start[lo as usize] as usize..start[lo as usize + 1] as usize];
-                let mut rank = 0;
-                for (i, &h) in bucket.iter().enumerate() {
-                    let h = hi_of(h);
-                    if h == hi {
-                        break;
-                    }
-                    if i + 1 < bucket.len() && hi_of(bucket[i + 1]) != h {
-                        rank += 1;
-                    }
-                }
-                edge_start[lo as usize] + rank
-            })
-        }));
-
-        let (vertex_offsets, incident) =
-            bucket_sort(triangles.len(), vertex_count, |t, k| (triangles[t][k], t as u64));
-        let mut vertex_triangles = Vec::with_capacity(incident.len());
-        vertex_triangles.par_extend(incident.par_iter().with_min_len(4096).map(|&t| t as u32));
-        Self {
-            edges,
-            edge_owner,
-            triangle_edges,
-            vertex_offsets,
-            vertex_triangles,
-        }
+        (vertex_offsets, vertex_triangles)
     }
 
     /// The triangles incident to vertex `v`, in increasing order.
@@ -212,76 +138,12 @@ impl Topology {
     }
 }
 
-/// A counting sort, on the rayon pool, of the `3 n` entries `entry(t, k) = (bucket, value)`
-/// (`t < n`, `k < 3`) into `buckets` buckets. Returns the bucket offsets (`buckets + 1` of them)
-/// and the values, sorted within each bucket: the same for any thread count.
-fn bucket_sort(
-    n: usize,
-    buckets: usize,
-    entry: impl Fn(usize, usize) -> (u32, u64) + Sync,
-) -> (Vec<u32>, Vec<u64>) {
-    let counters: Vec<AtomicU32> = (0..buckets).into_par_iter().map(|_| AtomicU32::new(0)).collect();
-    (0..n).into_par_iter().with_min_len(4096).for_each(|t| {
-        for k in 0..3 {
-            counters[entry(t, k).0 as usize].fetch_add(1, Relaxed);
-        }
-    });
-    let mut offsets = Vec::with_capacity(buckets + 1);
-    let mut sum = 0u32;
-    offsets.push(0);
-    for c in &counters {
-        sum += c.load(Relaxed);
-        offsets.push(sum);
-    }
-    // The counters become each bucket's fill cursor.
-    counters
-        .par_iter()
-        .zip(&offsets[..buckets])
-        .for_each(|(c, &o)| c.store(o, Relaxed));
-    let slots: Vec<AtomicU64> = (0..3 * n).into_par_iter().map(|_| AtomicU64::new(0)).collect();
-    (0..n).into_par_iter().with_min_len(4096).for_each(|t| {
-        for k in 0..3 {
-            let (b, value) = entry(t, k);
-            let i = counters[b as usize].fetch_add(1, Relaxed);
-            slots[i as usize].store(value, Relaxed);
-        }
-    });
-    let mut values: Vec<u64> = slots.into_par_iter().map(AtomicU64::into_inner).collect();
-    // Sort each bucket, ranges of buckets in parallel.
-    let mut parts = Vec::new();
-    let mut rest = &mut values[..];
-    for (b0, b1) in bucket_ranges(&offsets) {
-        let len = (offsets[b1] - offsets[b0]) as usize;
-        let (part, tail) = std::mem::take(&mut rest).split_at_mut(len);
-        parts.push((b0, b1, part));
-        rest = tail;
-    }
-    parts.into_par_iter().for_each(|(b0, b1, part)| {
-        let base = offsets[b0];
-        for b in b0..b1 {
-            part[(offsets[b] - base) as usize..(offsets[b + 1] - base) as usize].sort_unstable();
-        }
-    });
-    (offsets, values)
-}
-
-/// [`RANGES`] ranges `(first, end)` of consecutive buckets covering all the buckets of
-/// `offsets` (`buckets + 1` offsets).
-fn bucket_ranges(offsets: &[u32]) -> Vec<(usize, usize)> {
-    let buckets = offsets.len() - 1;
-    let step = buckets.div_ceil(RANGES).max(1);
-    (0..buckets)
-        .step_by(step)
-        .map(|b0| (b0, (b0 + step).min(buckets)))
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
-    use std::collections::BTreeSet;
+    use std::collections::{BTreeMap, BTreeSet};
 
     /// Against a set-based derivation: the edges are the distinct undirected sides, sorted;
     /// each triangle's sides map to them; each vertex lists its triangles in order.
@@ -297,16 +159,7 @@ mod tests {
                     }
                 })
                 .collect();
-            let topo = Topology::sequential(&triangles, n + 2);
-            let par = Topology::parallel(&triangles, n + 2);
-            assert_eq!(
-                (&par.edges, &par.edge_owner, &par.triangle_edges),
-                (&topo.edges, &topo.edge_owner, &topo.triangle_edges)
-            );
-            assert_eq!(
-                (&par.vertex_offsets, &par.vertex_triangles),
-                (&topo.vertex_offsets, &topo.vertex_triangles)
-            );
+            let topo = Topology::new(&triangles, n + 2);
             let side = |t: &[u32; 3], k: usize| {
                 let (a, b) = (t[k], t[(k + 1) % 3]);
                 [a.min(b), a.max(b)]
@@ -334,10 +187,11 @@ mod tests {
         }
     }
 
-    /// The parallel derivation equals the sequential one on a mesh big enough to be split, on
-    /// pools of one and two threads.
+    /// A mesh big enough for the two tasks, on pools of one and two threads: the same result,
+    /// and the one a map-based derivation gives (edges, owners as first occurrences, each
+    /// triangle's edges, each vertex's triangles in order).
     #[test]
-    fn parallel_equals_sequential() {
+    fn big_meshes_on_one_and_two_threads() {
         let mut rng = ChaCha8Rng::seed_from_u64(5);
         let n = 20_000u32;
         let triangles: Vec<[u32; 3]> = (0..2 * n)
@@ -348,18 +202,35 @@ mod tests {
                 }
             })
             .collect();
-        let seq = Topology::sequential(&triangles, n as usize);
+        assert!(triangles.len() >= PARALLEL_TRIANGLES);
+        let mut first: BTreeMap<[u32; 2], u32> = BTreeMap::new();
+        let mut incident = vec![Vec::new(); n as usize];
+        for (t, tri) in triangles.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b) = side(tri, k);
+                first.entry([a, b]).or_insert(t as u32);
+                incident[tri[k] as usize].push(t as u32);
+            }
+        }
+        let edges: Vec<[u32; 2]> = first.keys().copied().collect();
+        let owners: Vec<u32> = first.values().copied().collect();
         for threads in [1, 2] {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            let par = pool.install(|| Topology::parallel(&triangles, n as usize));
-            assert_eq!(par.edges, seq.edges);
-            assert_eq!(par.edge_owner, seq.edge_owner);
-            assert_eq!(par.triangle_edges, seq.triangle_edges);
-            assert_eq!(par.vertex_offsets, seq.vertex_offsets);
-            assert_eq!(par.vertex_triangles, seq.vertex_triangles);
+            let topo = pool.install(|| Topology::new(&triangles, n as usize));
+            assert_eq!(topo.edges, edges);
+            assert_eq!(topo.edge_owner, owners);
+            for (t, tri) in triangles.iter().enumerate() {
+                for k in 0..3 {
+                    let (a, b) = side(tri, k);
+                    assert_eq!(topo.edges[topo.triangle_edges[t][k] as usize], [a, b]);
+                }
+            }
+            for v in 0..n {
+                assert_eq!(topo.triangles_of(v), incident[v as usize].as_slice());
+            }
         }
     }
 }
