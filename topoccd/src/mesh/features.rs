@@ -196,6 +196,12 @@ impl Features {
     /// whose swept boxes (from `boxes`, usually [`Features::boxes`]) come within `sep`:
     /// `(vertex, face)` to `vf`, `(edge, edge)` (indices into `topo.edges`, smaller first) to
     /// `ee`. See the module documentation.
+    ///
+    /// Which vertices the two triangles share decides, through [`SHARED`], which of their
+    /// owned feature pairs share no vertex; only those are looked at, in a fixed order: the
+    /// first triangle's vertices against the second face, the second's against the first face,
+    /// then the edge pairs, the first triangle's edge slowest. (Most overlapping triangle pairs
+    /// of a mesh are neighbours, with few or none of those.)
     #[inline]
     pub fn triangle_pair(
         &self,
@@ -207,51 +213,99 @@ impl Features {
     ) {
         debug_assert_ne!(a, b);
         let (oa, ob) = (&self.owned[a as usize], &self.owned[b as usize]);
-        let vbox = &boxes.vertex;
-        Self::vertices_face(vbox, oa, ob.vertices, &boxes.face[b as usize], b, filter, vf);
-        Self::vertices_face(vbox, ob, oa.vertices, &boxes.face[a as usize], a, filter, vf);
-        if oa.edge_mask == 0 || ob.edge_mask == 0 {
-            return;
-        }
         let (va, vb) = (oa.vertices, ob.vertices);
-        for k in bits(oa.edge_mask) {
-            let (e0, e1) = (va[k], va[(k + 1) % 3]);
-            let e_box = boxes.edge([e0, e1]);
-            for l in bits(ob.edge_mask) {
-                let (f0, f1) = (vb[l], vb[(l + 1) % 3]);
-                if e0 == f0 || e0 == f1 || e1 == f0 || e1 == f1 {
-                    continue;
-                }
-                if e_box.near(&boxes.edge([f0, f1]), filter.sep)
-                    && filter.edge_edge([e0, e1], [f0, f1])
-                {
-                    let (e, f) = (oa.edges[k], ob.edges[l]);
-                    ee.push([e.min(f), e.max(f)]);
-                }
+        let mut equal = 0;
+        for (i, x) in va.iter().enumerate() {
+            for (j, y) in vb.iter().enumerate() {
+                equal |= usize::from(x == y) << (3 * i + j);
             }
         }
-    }
-
-    /// The vertices owned by `ov` (boxes in `vbox`) against face `f` (vertices `tf`, box
-    /// `f_box`).
-    #[inline(always)]
-    fn vertices_face(
-        vbox: &[SweptBox],
-        ov: &OwnedFeatures,
-        tf: [u32; 3],
-        f_box: &SweptBox,
-        f: u32,
-        filter: &PairFilter<'_>,
-        vf: &mut Vec<[u32; 2]>,
-    ) {
-        for i in bits(ov.vertex_mask) {
-            let v = ov.vertices[i];
-            if !tf.contains(&v)
-                && vbox[v as usize].near(f_box, filter.sep)
-                && filter.vertex_face(v, tf)
+        let shared = SHARED[equal];
+        let (a_vertices, b_vertices) = (
+            oa.vertex_mask & !(shared >> 9) as u8 & 7,
+            ob.vertex_mask & !(shared >> 12) as u8 & 7,
+        );
+        let sep = filter.sep;
+        let vbox = &boxes.vertex;
+        let mut vertices_face = |mask: u8, tv: [u32; 3], face: u32, tf: [u32; 3]| {
+            if mask == 0 {
+                return;
+            }
+            let f_box = &boxes.face[face as usize];
+            for i in bits(mask) {
+                let v = tv[i];
+                if vbox[v as usize].near(f_box, sep) && filter.vertex_face(v, tf) {
+                    vf.push([v, face]);
+                }
+            }
+        };
+        vertices_face(a_vertices, va, b, vb);
+        vertices_face(b_vertices, vb, a, va);
+        let mut pairs = SPREAD[oa.edge_mask as usize]
+            & (ob.edge_mask as u16 * 0b001_001_001)
+            & !shared
+            & 0x1ff;
+        while pairs != 0 {
+            let bit = pairs.trailing_zeros() as usize;
+            pairs &= pairs - 1;
+            let (k, l) = (bit / 3, bit % 3);
+            let (e0, e1) = (va[k], va[(k + 1) % 3]);
+            let (f0, f1) = (vb[l], vb[(l + 1) % 3]);
+            if boxes.edge([e0, e1]).near(&boxes.edge([f0, f1]), sep)
+                && filter.edge_edge([e0, e1], [f0, f1])
             {
-                vf.push([v, f]);
+                let (e, f) = (oa.edges[k], ob.edges[l]);
+                ee.push([e.min(f), e.max(f)]);
             }
         }
     }
 }
+
+/// `SPREAD[m]`: bits `3 k .. 3 k + 3` set for each bit `k` of the 3-bit mask `m` (with a
+/// mask `n` repeated in each group of three, the bits `3 k + l` of the pairs `(k in m, l in n)`).
+const SPREAD: [u16; 8] = {
+    let mut t = [0u16; 8];
+    let mut m = 0;
+    while m < 8 {
+        let mut k = 0;
+        while k < 3 {
+            if m >> k & 1 == 1 {
+                t[m] |= 0b111 << (3 * k);
+            }
+            k += 1;
+        }
+        m += 1;
+    }
+    t
+};
+
+/// For the mask `equal` of which vertices of two triangles coincide (bit `3 i + j`: vertex
+/// `i` of the first is vertex `j` of the second), `SHARED[equal]` has bit `3 k + l` set when
+/// edge `k` of the first (from vertex `k` to `k + 1`) and edge `l` of the second share a
+/// vertex, bit `9 + i` when vertex `i` of the first is one of the second's, and bit `12 + j`
+/// when vertex `j` of the second is one of the first's.
+const SHARED: [u16; 512] = {
+    const fn equal(mask: usize, i: usize, j: usize) -> bool {
+        mask >> (3 * (i % 3) + j % 3) & 1 == 1
+    }
+    let mut t = [0u16; 512];
+    let mut mask = 0;
+    while mask < 512 {
+        let mut i = 0;
+        while i < 3 {
+            let mut j = 0;
+            while j < 3 {
+                if equal(mask, i, j) || equal(mask, i, j + 1) || equal(mask, i + 1, j) || equal(mask, i + 1, j + 1) {
+                    t[mask] |= 1 << (3 * i + j);
+                }
+                if equal(mask, i, j) {
+                    t[mask] |= 1 << (9 + i) | 1 << (12 + j);
+                }
+                j += 1;
+            }
+            i += 1;
+        }
+        mask += 1;
+    }
+    t
+};
