@@ -33,7 +33,7 @@
 //! normal of the edges for edge-edge), and, for the coplanarity of the four points that any
 //! contact needs, the Bernstein coefficients of the coplanarity cubic `P . (A x B)` on the box's
 //! time interval (with `min_separation = 0`). Where that cubic changes sign, the box is split
-//! around its predicted crossing (two secant steps) into an earlier box, a slab of width
+//! around its predicted crossing (the Illinois method) into an earlier box, a slab of width
 //! `tolerance` and a later box; otherwise in half. A box that cannot be excluded is split in t until its width is at most `tolerance`; it is then a
 //! *contact box*.
 //!
@@ -100,6 +100,8 @@ use crate::math::{max_abs, DVec3, UNDERFLOW_ERROR, UNIT_ROUNDOFF};
 /// Bound on the rounding error of a computed corner coordinate, in units of `u M` (see the
 /// module documentation: the analysis gives 33; this keeps a factor of about two in reserve).
 const CORNER_ERROR: f64 = 64.0;
+/// Most steps of the crossing prediction ([`Search::predict_crossing`]).
+const CROSSING_STEPS: usize = 32;
 /// Largest coordinate difference accepted; larger ones count as invalid input (the answer is
 /// then a conservative contact at t=0).
 pub const MAX_DIFFERENCE: f64 = 1e300;
@@ -241,58 +243,65 @@ pub fn solve_counted(problem: &Problem, options: &NarrowOptions) -> (Outcome, u3
         };
         return (outcome, 0);
     }
-    let t_max = if options.t_max.is_nan() {
-        1.0
-    } else {
-        options.t_max.clamp(0.0, 1.0)
-    };
-    let tol = if options.tolerance > 0.0 {
-        options.tolerance.min(1.0)
-    } else {
-        NarrowOptions::default().tolerance
-    };
-    let sep = if options.min_separation > 0.0 && options.min_separation.is_finite() {
-        options.min_separation
-    } else {
-        0.0
-    };
+    let (search, t_max) = Search::new(problem, options);
     let max_iterations = options.max_iterations.max(1);
-
-    let [p0, p1] = problem.p;
-    let [a0, a1] = problem.a;
-    let [b0, b1] = problem.b;
-    let m = [p0, p1, a0, a1, b0, b1]
-        .iter()
-        .fold(0.0, |m, x| raise_abs(m, *x));
-    let eps = CORNER_ERROR * UNIT_ROUNDOFF * m + UNDERFLOW_ERROR;
-    let (dp, da, db) = (p1 - p0, a1 - a0, b1 - b0);
-    let size_a = max_abs(a0).max(max_abs(a1));
-    let size_b = max_abs(b0).max(max_abs(b1));
-    let rate_t = max_abs(dp) + max_abs(da) + max_abs(db);
-    let rate = match problem.weight {
-        Weight::Product => [rate_t, size_a + size_b, size_b],
-        Weight::Plain => [rate_t, size_a, size_b],
-    };
-    let search = Search {
-        problem,
-        dp,
-        da,
-        db,
-        eps,
-        m,
-        sep,
-        tol,
-        rate,
-        size_a,
-        size_b,
-    };
-
     // Depth-first branch and bound: `best` is the earliest start of a contact box found so far;
     // every later box is clipped to end there, or dropped if it starts there or later.
     STACK.with_borrow_mut(|stack| {
         stack.clear();
         search.run(stack, t_max, max_iterations)
     })
+}
+
+impl<'a> Search<'a> {
+    /// The search's constants for a problem with finite input, and the end of its interval.
+    fn new(problem: &'a Problem, options: &NarrowOptions) -> (Self, f64) {
+        let t_max = if options.t_max.is_nan() {
+            1.0
+        } else {
+            options.t_max.clamp(0.0, 1.0)
+        };
+        let tol = if options.tolerance > 0.0 {
+            options.tolerance.min(1.0)
+        } else {
+            NarrowOptions::default().tolerance
+        };
+        let sep = if options.min_separation > 0.0 && options.min_separation.is_finite() {
+            options.min_separation
+        } else {
+            0.0
+        };
+
+        let [p0, p1] = problem.p;
+        let [a0, a1] = problem.a;
+        let [b0, b1] = problem.b;
+        let m = [p0, p1, a0, a1, b0, b1]
+            .iter()
+            .fold(0.0, |m, x| raise_abs(m, *x));
+        let eps = CORNER_ERROR * UNIT_ROUNDOFF * m + UNDERFLOW_ERROR;
+        let (dp, da, db) = (p1 - p0, a1 - a0, b1 - b0);
+        let size_a = max_abs(a0).max(max_abs(a1));
+        let size_b = max_abs(b0).max(max_abs(b1));
+        let rate_t = max_abs(dp) + max_abs(da) + max_abs(db);
+        let rate = match problem.weight {
+            Weight::Product => [rate_t, size_a + size_b, size_b],
+            Weight::Plain => [rate_t, size_a, size_b],
+        };
+        let search = Self {
+            problem,
+            dp,
+            da,
+            db,
+            eps,
+            m,
+            sep,
+            tol,
+            rate,
+            size_a,
+            size_b,
+        };
+        (search, t_max)
+    }
 }
 
 thread_local! {
@@ -506,7 +515,8 @@ impl Search<'_> {
 
     /// Where the coplanarity function `g(t) = P . (A x B)` (the signed volume of the four points,
     /// a cubic in t) changes sign across the box, a slab of width `tolerance` around its
-    /// crossing, found by two secant steps: `(lo, hi)` strictly inside the box. Only a guess to
+    /// crossing, found by at most [`CROSSING_STEPS`] steps of the Illinois method: `(lo, hi)`
+    /// strictly inside the box. Only a guess to
     /// split at: the three boxes it makes cover the cell, whatever it is worth.
     ///
     /// `g_ends`, when known, are the values of `g` at the box's ends, as `g` computes them.
@@ -524,8 +534,13 @@ impl Search<'_> {
         if product.is_nan() || product >= 0.0 {
             return None; // no certain sign change (or not finite)
         }
+        // The Illinois variant of regula falsi: the end that stays put twice in a row has its
+        // value halved, so the bracket closes from both sides (plain regula falsi keeps one end
+        // and can creep towards the root from the other for ever). It stops once the bracket is
+        // at most half as wide as the slab it predicts.
         let mut guess = t0;
-        for _ in 0..2 {
+        let mut kept = 0i8; // +1: the later end stayed last time; -1: the earlier one
+        for _ in 0..CROSSING_STEPS {
             guess = t0 + (t1 - t0) * (g0 / (g0 - g1));
             if !guess.is_finite() {
                 return None;
@@ -533,8 +548,22 @@ impl Search<'_> {
             let gm = g(guess);
             if gm * g0 > 0.0 {
                 (t0, g0) = (guess, gm);
-            } else {
+                if kept == 1 {
+                    g1 *= 0.5;
+                }
+                kept = 1;
+            } else if gm * g1 > 0.0 {
                 (t1, g1) = (guess, gm);
+                if kept == -1 {
+                    g0 *= 0.5;
+                }
+                kept = -1;
+            } else {
+                break; // g(guess) is 0 (or not finite): as good as it gets
+            }
+            // The slab centred on the last guess, one of the bracket's ends, then covers it.
+            if t1 - t0 <= 0.5 * self.tol {
+                break;
             }
         }
         let h = 0.5 * self.tol;
@@ -815,5 +844,67 @@ impl Search<'_> {
         } else {
             Separation::No
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// On random vertex-face problems whose coplanarity function `g` changes sign over the
+    /// step, the predicted slab holds a crossing of `g` as the search computes it: `g` at the
+    /// slab's ends has opposite signs (or is zero at one). A cubic has at most three roots,
+    /// so a slab a millionth wide that misses them shows the bracketing did not converge.
+    #[test]
+    fn predicted_slabs_hold_the_crossing() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let mut point = || DVec3::from_array([0; 3].map(|_| rng.random_range(-1.0..1.0)));
+        let options = NarrowOptions::default();
+        let (mut crossing, mut predicted) = (0, 0);
+        for _ in 0..20_000 {
+            let q = VertexFace {
+                v_t0: point(),
+                f0_t0: point(),
+                f1_t0: point(),
+                f2_t0: point(),
+                v_t1: point(),
+                f0_t1: point(),
+                f1_t1: point(),
+                f2_t1: point(),
+            };
+            let problem = Problem::vertex_face(&q);
+            let (search, _) = Search::new(&problem, &options);
+            let g = |t: f64| {
+                let p = problem.p[0] + search.dp * t;
+                let a = problem.a[0] + search.da * t;
+                let b = problem.b[0] + search.db * t;
+                p.dot(a.cross(b))
+            };
+            if g(0.0) * g(1.0) >= 0.0 {
+                continue;
+            }
+            crossing += 1;
+            let cell = Cell {
+                t: [0.0, 1.0],
+                u: [0.0, 1.0],
+                v: [0.0, 1.0],
+            };
+            // `None` only when the slab would reach outside the box (a crossing within half
+            // the tolerance of an end).
+            let Some((lo, hi)) = search.predict_crossing(&cell, None) else {
+                let near_end = [0.0, 1.0].iter().any(|&e: &f64| {
+                    let h = options.tolerance;
+                    g((e - h).max(0.0)) * g((e + h).min(1.0)) <= 0.0
+                });
+                assert!(near_end, "no slab predicted for {q:?}");
+                continue;
+            };
+            predicted += 1;
+            assert!((hi - lo - options.tolerance).abs() <= 1e-15, "{lo} {hi}");
+            assert!(g(lo) * g(hi) <= 0.0, "slab [{lo}, {hi}] misses the crossing of {q:?}");
+        }
+        assert!(crossing > 5_000 && 100 * predicted > 99 * crossing, "{crossing} {predicted}");
     }
 }
