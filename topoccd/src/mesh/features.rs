@@ -226,21 +226,8 @@ impl Features {
             ob.vertex_mask & !(shared >> 12) as u8 & 7,
         );
         let sep = filter.sep;
-        let vbox = &boxes.vertex;
-        let mut vertices_face = |mask: u8, tv: [u32; 3], face: u32, tf: [u32; 3]| {
-            if mask == 0 {
-                return;
-            }
-            let f_box = &boxes.face[face as usize];
-            for i in bits(mask) {
-                let v = tv[i];
-                if vbox[v as usize].near(f_box, sep) && filter.vertex_face(v, tf) {
-                    vf.push([v, face]);
-                }
-            }
-        };
-        vertices_face(a_vertices, va, b, vb);
-        vertices_face(b_vertices, vb, a, va);
+        Self::vertices_face(boxes, a_vertices, va, b, vb, filter, vf);
+        Self::vertices_face(boxes, b_vertices, vb, a, va, filter, vf);
         let mut pairs = SPREAD[oa.edge_mask as usize]
             & (ob.edge_mask as u16 * 0b001_001_001)
             & !shared
@@ -256,6 +243,28 @@ impl Features {
             {
                 let (e, f) = (oa.edges[k], ob.edges[l]);
                 ee.push([e.min(f), e.max(f)]);
+            }
+        }
+    }
+    /// The vertices `tv[i]` for the bits `i` of `mask` against face `face` (vertices `tf`).
+    #[inline(always)]
+    fn vertices_face(
+        boxes: &FeatureBoxes,
+        mask: u8,
+        tv: [u32; 3],
+        face: u32,
+        tf: [u32; 3],
+        filter: &PairFilter<'_>,
+        vf: &mut Vec<[u32; 2]>,
+    ) {
+        if mask == 0 {
+            return;
+        }
+        let f_box = &boxes.face[face as usize];
+        for i in bits(mask) {
+            let v = tv[i];
+            if boxes.vertex[v as usize].near(f_box, filter.sep) && filter.vertex_face(v, tf) {
+                vf.push([v, face]);
             }
         }
     }
