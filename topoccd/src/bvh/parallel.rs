@@ -323,8 +323,12 @@ pub(crate) fn run_batches<W: Sync, S: Send, T: Send>(
     let mut bv_tests = 0;
     for batch in tasks.chunks(batch.max(1)) {
         let mut stop = false;
+        // One task per rayon job: the tasks' costs differ by orders of magnitude, and with
+        // rayon's default splitting of the slice a thread could be left idle for long at the
+        // end while the other worked through a run of heavy tasks.
         let done: Vec<(T, u64)> = batch
             .par_iter()
+            .with_max_len(1)
             .map_init(&scratch, |s, task| {
                 let mut acc = make();
                 let tests = body(s, task, &mut acc);
