@@ -246,6 +246,7 @@ impl Features {
             }
         }
     }
+
     /// The vertices `tv[i]` for the bits `i` of `mask` against face `face` (vertices `tf`).
     #[inline(always)]
     fn vertices_face(

@@ -513,21 +513,25 @@ impl Search<'_> {
         }
     }
 
+    /// The coplanarity function `g(t) = P . (A x B)` at `t`, as the crossing prediction
+    /// computes it.
+    fn coplanarity_at(&self, t: f64) -> f64 {
+        let pr = self.problem;
+        let p = pr.p[0] + self.dp * t;
+        let a = pr.a[0] + self.da * t;
+        let b = pr.b[0] + self.db * t;
+        p.dot(a.cross(b))
+    }
+
     /// Where the coplanarity function `g(t) = P . (A x B)` (the signed volume of the four points,
     /// a cubic in t) changes sign across the box, a slab of width `tolerance` around its
     /// crossing, found by at most [`CROSSING_STEPS`] steps of the Illinois method: `(lo, hi)`
-    /// strictly inside the box. Only a guess to
-    /// split at: the three boxes it makes cover the cell, whatever it is worth.
+    /// strictly inside the box. Only a guess to split at: the three boxes it makes cover the
+    /// cell, whatever it is worth.
     ///
     /// `g_ends`, when known, are the values of `g` at the box's ends, as `g` computes them.
     fn predict_crossing(&self, cell: &Cell, g_ends: Option<[f64; 2]>) -> Option<(f64, f64)> {
-        let pr = self.problem;
-        let g = |t: f64| {
-            let p = pr.p[0] + self.dp * t;
-            let a = pr.a[0] + self.da * t;
-            let b = pr.b[0] + self.db * t;
-            p.dot(a.cross(b))
-        };
+        let g = |t: f64| self.coplanarity_at(t);
         let (mut t0, mut t1) = (cell.t[0], cell.t[1]);
         let [mut g0, mut g1] = g_ends.unwrap_or_else(|| [g(t0), g(t1)]);
         let product = g0 * g1;
@@ -876,12 +880,7 @@ mod tests {
             };
             let problem = Problem::vertex_face(&q);
             let (search, _) = Search::new(&problem, &options);
-            let g = |t: f64| {
-                let p = problem.p[0] + search.dp * t;
-                let a = problem.a[0] + search.da * t;
-                let b = problem.b[0] + search.db * t;
-                p.dot(a.cross(b))
-            };
+            let g = |t: f64| search.coplanarity_at(t);
             if g(0.0) * g(1.0) >= 0.0 {
                 continue;
             }
