@@ -40,14 +40,20 @@ fn recertify(name: &str, step: &Step, options: &ClusterOptions) -> Clustering {
     c
 }
 
-#[test]
-fn partial_leaves_are_certified_disks() {
-    let mut steps: Vec<(String, Step)> = (0..12u64)
+/// `random` smooth random steps, then `crumpled` crumpled sheets of side `side`, named.
+fn random_and_crumpled(random: u64, crumpled: u64, side: usize) -> Vec<(String, Step<'static>)> {
+    let mut steps: Vec<(String, Step)> = (0..random)
         .map(|s| (format!("random {s}"), mesh_util::random_smooth(s)))
         .collect();
-    for s in 0..4u64 {
-        steps.push((format!("crumpled {s}"), mesh_util::crumpled(24, s)));
+    for s in 0..crumpled {
+        steps.push((format!("crumpled {s}"), mesh_util::crumpled(side, s)));
     }
+    steps
+}
+
+#[test]
+fn partial_leaves_are_certified_disks() {
+    let mut steps = random_and_crumpled(12, 4, 24);
     steps.push(("helicoid".into(), mesh_util::sinking_helicoid()));
     steps.push(("tight fold".into(), mesh_util::tight_fold()));
     steps.push(("partial tear".into(), mesh_util::partial_tear()));
@@ -86,12 +92,7 @@ fn partial_leaves_are_certified_disks() {
 fn growth_shortcuts_change_no_decision() {
     use topoccd::broad::cluster::{cluster_with, ClusterWorkspace};
     use topoccd_scenes::SceneKind;
-    let mut steps: Vec<(String, Step)> = (0..6u64)
-        .map(|s| (format!("random {s}"), mesh_util::random_smooth(s)))
-        .collect();
-    for s in 0..3u64 {
-        steps.push((format!("crumpled {s}"), mesh_util::crumpled(40, s)));
-    }
+    let mut steps = random_and_crumpled(6, 3, 40);
     for kind in SceneKind::ALL {
         steps.push((kind.name().to_string(), kind.generate(40, 1)));
     }
