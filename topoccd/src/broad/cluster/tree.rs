@@ -11,6 +11,7 @@
 //! swept k-DOPs, which are computed once and reused by the lazy hierarchies; no node array is
 //! freed between steps.
 
+use crate::broad::triangle_volumes;
 use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf};
 use super::{Clustering, GrownLeaf};
 use crate::kdop::Kdop;
@@ -19,6 +20,23 @@ use crate::mesh::Step;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::Receiver;
+
+/// Rebuilds `bvh` over `triangles`, triangle `t` a leaf with the volume `tri[t]` (a leaf
+/// cluster's lazy hierarchy, whether built ahead or when needed); `items` and `ws` are scratch.
+fn rebuild_over<const H: usize>(
+    bvh: &mut Bvh<Kdop<H>>,
+    tri: &[Kdop<H>],
+    triangles: &[u32],
+    items: &mut Vec<Leaf<Kdop<H>>>,
+    ws: &mut BvhWorkspace,
+) {
+    items.clear();
+    items.extend(triangles.iter().map(|&t| Leaf {
+        id: t,
+        volume: tri[t as usize],
+    }));
+    bvh.rebuild(items, ws);
+}
 
 /// Marks a leaf cluster without a lazy hierarchy, or an intermediate cluster without sub-tree.
 pub(crate) const NONE: u32 = u32::MAX;
@@ -60,15 +78,7 @@ impl<const H: usize> ClusterTree<H> {
     /// Computes the swept volumes of the step's triangles, inflated by `inflation`, on the
     /// rayon pool. They do not depend on the clustering, so this may run while it grows.
     pub fn sweep(&mut self, step: &Step, inflation: f64) {
-        let (x0, x1) = (step.pos0(), step.pos1());
-        step.triangles()
-            .par_iter()
-            .with_min_len(1024)
-            .map(|tri| {
-                let [a, b, c] = tri.map(|i| i as usize);
-                Kdop::swept_triangle_until(&[x0[a], x0[b], x0[c]], &[x1[a], x1[b], x1[c]], 1.0, inflation)
-            })
-            .collect_into_vec(&mut self.tri);
+        triangle_volumes(step, inflation, &mut self.tri);
     }
 
     /// Builds, ahead of need, the hierarchy over the triangles of each leaf cluster received
@@ -80,13 +90,8 @@ impl<const H: usize> ClusterTree<H> {
         self.ahead.clear();
         let tri = &self.tri;
         let build = |(items, ws): &mut (Vec<Leaf<Kdop<H>>>, BvhWorkspace), triangles: &[u32]| {
-            items.clear();
-            items.extend(triangles.iter().map(|&t| Leaf {
-                id: t,
-                volume: tri[t as usize],
-            }));
             let mut bvh = Bvh::new();
-            bvh.rebuild(items, ws);
+            rebuild_over(&mut bvh, tri, triangles, items, ws);
             bvh
         };
         let mut scratch = (Vec::new(), BvhWorkspace::default());
@@ -218,12 +223,7 @@ impl<const H: usize> ClusterTree<H> {
             .for_each_init(
                 || (Vec::new(), BvhWorkspace::default()),
                 |(leaves, ws), (bvh, &l)| {
-                    leaves.clear();
-                    leaves.extend(c.leaf_triangles(l as usize).iter().map(|&t| Leaf {
-                        id: t,
-                        volume: tri[t as usize],
-                    }));
-                    bvh.rebuild(leaves, ws);
+                    rebuild_over(bvh, tri, c.leaf_triangles(l as usize), leaves, ws);
                 },
             );
         ahead
