@@ -268,11 +268,12 @@ impl<'r> StepOut<'r> {
             return String::new();
         };
         format!(
-            "; clustering {:.4} s, merging {:.4} s; {} leaf clusters ({:.1} triangles each), {} intermediate, {} lazy BVHs, {} leaf pairs",
+            "; clustering {:.4} s, merging {:.4} s; {} leaf clusters ({:.1} triangles each, {} carried over), {} intermediate, {} lazy BVHs, {} leaf pairs",
             c.clustering_seconds,
             c.merging_seconds,
             c.leaf,
             c.triangles_per_leaf,
+            c.reused_leaves,
             c.intermediate,
             c.lazy_bvhs,
             c.leaf_pairs

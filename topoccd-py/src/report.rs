@@ -264,6 +264,7 @@ fn stats(py: Python<'_>, r: &LibReport, facts: &StepFacts) -> PyResult<Py<PyDict
         cd.set_item("lazy_bvhs", c.lazy_bvhs)?;
         cd.set_item("leaf_pairs", c.leaf_pairs)?;
         cd.set_item("uncertified_leaves", c.uncertified_leaves)?;
+        cd.set_item("reused_leaves", c.reused_leaves)?;
         d.set_item("cluster", cd)?;
     }
     Ok(d.unbind())

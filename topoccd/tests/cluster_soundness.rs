@@ -8,7 +8,9 @@ mod mesh_util;
 use mesh_util::{grid, sphere};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use topoccd::broad::cluster::{cluster, ClusterOptions, Clustering};
+use topoccd::broad::cluster::{
+    cluster, cluster_into, ClusterOptions, ClusterWorkspace, Clustering,
+};
 use topoccd::math::DVec3;
 use topoccd::mesh::Topology;
 use topoccd::narrow::bernstein::{phi, Verdict};
@@ -130,6 +132,13 @@ fn check(name: &str, step: &Step) -> [Clustering; 2] {
 fn check_with(name: &str, step: &Step, options: &ClusterOptions) -> Clustering {
     let topo = Topology::new(step.triangles(), step.vertex_count());
     let c = cluster(step, &topo, options);
+    verify(name, step, &c);
+    c
+}
+
+/// Checks the bookkeeping of the clustering `c` of `step`, and every intermediate cluster by
+/// brute force.
+fn verify(name: &str, step: &Step, c: &Clustering) {
     let n = step.triangles().len();
     // Bookkeeping: every triangle in exactly one leaf, every leaf in exactly one IC.
     assert_eq!(c.leaf_of_triangle.len(), n);
@@ -189,7 +198,6 @@ fn check_with(name: &str, step: &Step, options: &ClusterOptions) -> Clustering {
         s.merge_rejected_certificate,
         s.disk_failures
     );
-    c
 }
 
 fn assert_has_contacts(name: &str, step: &Step) {
@@ -439,4 +447,111 @@ fn positive_min_separation_turns_clustering_off() {
         .leaves
         .iter()
         .all(|l| l.certificate == topoccd::broad::cluster::LeafCertificate::SingleTriangle));
+}
+
+// ---------------------------------------------------------------- leaves carried over steps
+
+/// Over sequences of one mesh deforming ever more, until it folds through itself, each step
+/// clustered with the workspace of the last (`ClusterOptions::reuse`): the last step's leaves
+/// are offered and certified anew. Every intermediate cluster of every step is brute-forced;
+/// leaves must have been kept, some only their first rings, and others must have failed and
+/// been regrown.
+#[test]
+fn leaves_carried_over_a_deforming_sequence_stay_sound() {
+    let options = ClusterOptions {
+        phi_filter: false,
+        ..ClusterOptions::default()
+    };
+    let frames = 9;
+    let (mut kept, mut trimmed, mut regrown, mut contacts) = (0, 0, 0, 0);
+    for seed in 0..6u64 {
+        let mut workspace = ClusterWorkspace::default();
+        let mut c = Clustering::default();
+        for k in 0..frames - 1 {
+            let step = mesh_util::warped_step(seed, k, frames);
+            let topo = Topology::new(step.triangles(), step.vertex_count());
+            cluster_into(&step, &topo, &options, &mut workspace, &mut c);
+            verify(&format!("sequence {seed} step {k}"), &step, &c);
+            kept += c.stats.reused_leaves;
+            trimmed += c.stats.trimmed_leaves;
+            regrown += c.stats.regrown_leaves;
+            let all: Vec<u32> = (0..step.triangles().len() as u32).collect();
+            contacts += usize::from(!contacts_among(&step, &all, 1).is_empty());
+        }
+    }
+    println!("kept {kept} ({trimmed} trimmed), regrown {regrown}, steps with contacts {contacts}");
+    assert!(kept > 0, "no leaf was carried over");
+    assert!(
+        trimmed > 0,
+        "no leaf was trimmed: the sequences do not test trimming"
+    );
+    assert!(
+        regrown > 0,
+        "every leaf passed again: the sequences do not test the regrowth"
+    );
+    assert!(
+        contacts >= 3,
+        "the sequences should fold through themselves"
+    );
+}
+
+/// The same step clustered again with the same workspace keeps every leaf as grown: the new
+/// certificate of a kept leaf is that of its growth (same direction, same centre), so it
+/// passes, and the clustering is the same.
+#[test]
+fn the_same_step_again_keeps_every_leaf() {
+    let options = ClusterOptions {
+        phi_filter: false,
+        ..ClusterOptions::default()
+    };
+    for seed in 0..12u64 {
+        let step = mesh_util::random_smooth(seed);
+        let topo = Topology::new(step.triangles(), step.vertex_count());
+        let mut workspace = ClusterWorkspace::default();
+        let (mut first, mut again) = (Clustering::default(), Clustering::default());
+        cluster_into(&step, &topo, &options, &mut workspace, &mut first);
+        cluster_into(&step, &topo, &options, &mut workspace, &mut again);
+        assert!(
+            first.leaves.iter().any(|l| l.triangles.len() > 1),
+            "random {seed}"
+        );
+        assert_eq!(first.stats.reused_leaves, 0, "random {seed}");
+        assert_eq!(
+            (again.stats.reused_leaves, again.stats.regrown_leaves),
+            (first.leaves.len(), 0),
+            "random {seed}"
+        );
+        assert_eq!(again.leaves, first.leaves, "random {seed}");
+        assert_eq!(again.leaf_triangles, first.leaf_triangles, "random {seed}");
+        assert_eq!(again.ring_starts, first.ring_starts, "random {seed}");
+        assert_eq!(
+            again.last_ring_vertices, first.last_ring_vertices,
+            "random {seed}"
+        );
+        assert_eq!(
+            again.intermediate_leaves, first.intermediate_leaves,
+            "random {seed}"
+        );
+        // Without reuse, or with other triangles, nothing is carried over.
+        let fresh = ClusterOptions {
+            reuse: false,
+            ..options
+        };
+        cluster_into(&step, &topo, &fresh, &mut workspace, &mut again);
+        assert_eq!(again.stats.reused_leaves, 0, "random {seed}");
+        assert_eq!(again.leaves, first.leaves, "random {seed}");
+        let mut fewer = step.triangles().to_vec();
+        fewer.pop();
+        let (x0, x1) = (step.pos0().to_vec(), step.pos1().to_vec());
+        let cut = Step::new(x0, x1, fewer).unwrap();
+        let cut_topo = Topology::new(cut.triangles(), cut.vertex_count());
+        cluster_into(&step, &topo, &options, &mut workspace, &mut again);
+        cluster_into(&cut, &cut_topo, &options, &mut workspace, &mut again);
+        assert_eq!(
+            again.stats.reused_leaves + again.stats.regrown_leaves,
+            0,
+            "random {seed}"
+        );
+        verify(&format!("random {seed} cut"), &cut, &again);
+    }
 }

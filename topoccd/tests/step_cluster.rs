@@ -423,6 +423,50 @@ fn topology_changing_sequence_matches_the_oracle_at_every_step() {
     }
 }
 
+#[test]
+fn deforming_sequence_matches_the_oracle_at_every_step() {
+    // One query object for the whole sequence of one mesh, deforming ever more until it folds
+    // through itself: the cluster method starts each step from the last step's leaves.
+    for seed in [1, 3] {
+        let mut ccd = Ccd::new();
+        ccd.record_candidates(true);
+        let frames = 9;
+        let (mut collided, mut carried) = (0, 0);
+        for k in 0..frames - 1 {
+            let step = mesh_util::warped_step(seed, k, frames);
+            let oracle = Ccd::new()
+                .query(&step, Method::Brute, &QueryOptions::default())
+                .unwrap();
+            collided += usize::from(oracle.contact_count() > 0);
+            let what = format!("warped sequence {seed} step {k}");
+            let options = QueryOptions::default();
+            // First from the last step's leaves, then every check on this step's.
+            let report = ccd.query(&step, Method::Cluster, &options).unwrap();
+            assert_eq!((&report.vf, &report.ee), (&oracle.vf, &oracle.ee), "{what}");
+            let reused = ccd.clustering().stats.reused_leaves;
+            assert!(
+                k > 0 || reused == 0,
+                "{what}: a leaf carried over from nothing"
+            );
+            carried += reused;
+            check_cluster(
+                &step,
+                &options,
+                &oracle,
+                &[DopKind::K18],
+                true,
+                &mut ccd,
+                &what,
+            );
+        }
+        assert!(
+            collided >= 3,
+            "warped sequence {seed}: too few steps collide"
+        );
+        assert!(carried > 0, "warped sequence {seed}: no leaf carried over");
+    }
+}
+
 // ---------------------------------------------------------------- the real cloth steps
 
 /// The directory of a shared whole-step scene, or `None` (with a loud message) if absent.

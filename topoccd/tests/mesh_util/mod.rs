@@ -285,6 +285,42 @@ pub fn random_smooth(seed: u64) -> Step<'static> {
     }
 }
 
+/// Frame `k` of `frames` of a sheet (or, for odd `seed`, a sphere) deformed ever more by a
+/// random smooth warp: mild at first, folding through itself by the end.
+pub fn warped_frame(seed: u64, k: usize, frames: usize) -> impl Fn(DVec3) -> DVec3 {
+    let mut rng = ChaCha8Rng::seed_from_u64(2000 + seed);
+    let amp: [f64; 3] = [0; 3].map(|_| rng.random_range(0.2..0.7));
+    let freq: [f64; 3] = [0; 3].map(|_| rng.random_range(2.0..9.0));
+    let phase: [f64; 3] = [0; 3].map(|_| rng.random_range(0.0..TAU));
+    let s = k as f64 / (frames - 1) as f64;
+    move |p: DVec3| {
+        p + s * DVec3::new(
+            amp[0] * (freq[0] * p.y + phase[0]).sin(),
+            amp[1] * (freq[1] * p.z + phase[1]).sin(),
+            amp[2] * (freq[2] * p.x + phase[2]).sin(),
+        )
+    }
+}
+
+/// Step `k` (frame `k` to `k + 1`) of the sequence of [`warped_frame`].
+pub fn warped_step(seed: u64, k: usize, frames: usize) -> Step<'static> {
+    let (a, b) = (
+        warped_frame(seed, k, frames),
+        warped_frame(seed, k + 1, frames),
+    );
+    if seed % 2 == 1 {
+        sphere(10, 16, a, b)
+    } else {
+        let sheet = |u: f64, v: f64| DVec3::new(u, v, 0.1 * (3.0 * u).sin());
+        grid(
+            14,
+            10,
+            move |u, v| a(sheet(u, v)),
+            move |u, v| b(sheet(u, v)),
+        )
+    }
+}
+
 /// `Mode::Earliest` reports exactly the pairs of `Mode::All` whose time of impact is within the
 /// tolerance of the earliest, with the same times.
 pub fn assert_earliest_pairs(all: &Report, earliest: &Report, tolerance: f64, what: &str) {

@@ -4,6 +4,7 @@
 
 use crate::narrow::bernstein::{phi, Verdict};
 use super::certificate::{DiskBuilder, DiskFailure};
+use super::reuse::{emit_kept, grow_kept, keep_leaves, Kept, Previous, RESERVED};
 use super::{
     ClusterOptions, ClusterStats, Clustering, GrowthStop, LeafCertificate, LeafCluster,
     LeafDirection, RingGrowth,
@@ -20,7 +21,7 @@ pub(super) struct LeafScratch {
     tri_stamp: Vec<u32>,
     stamp: u32,
     ring: Vec<u32>,
-    frontier: Vec<u32>,
+    pub(super) frontier: Vec<u32>,
     /// Per triangle: the leaf stamp of the leaf whose `V` it failed (never retried there).
     refused: Vec<u32>,
     leaf_stamp: u32,
@@ -37,6 +38,19 @@ pub(super) struct LeafScratch {
     /// round, without the shortcuts that skip offers bound to be refused (a check that they
     /// change no decision).
     pub(super) reference: bool,
+    /// The leaves of the last step that passed their certificate on this one, by seed.
+    pub(super) kept: Vec<Kept>,
+    /// The `V-bar` of the kept leaves.
+    pub(super) kept_bars: Vec<u32>,
+    /// Per leaf of the clustering being made: how its star centre is defined, so that the
+    /// next step can certify it around the same point of the mesh. `0`: the seed's centroid;
+    /// `k > 0`: the mean of the vertices of its first `k` triangles (the patch when growth
+    /// re-centred).
+    pub(super) centre_prefix: Vec<u32>,
+    /// [`LeafScratch::centre_prefix`] of the leaf being grown.
+    pub(super) prefix: u32,
+    /// Per vertex: whether a triangle around it was free once the kept leaves were reserved.
+    pub(super) near_free: Vec<bool>,
 }
 
 /// Rounds of partial growth with at least this many candidates track which refused candidates
@@ -76,6 +90,22 @@ impl LeafScratch {
     }
 }
 
+/// Counts why a leaf stopped growing, and the certificate failure that stopped it if `failed`
+/// (it happened on this step).
+pub(super) fn count_stop(stats: &mut ClusterStats, stop: GrowthStop, failed: bool) {
+    match stop {
+        GrowthStop::Exhausted => stats.stops_exhausted += 1,
+        GrowthStop::Phi => stats.stops_phi += 1,
+        GrowthStop::Certificate(f) => {
+            stats.stops_certificate += 1;
+            if failed {
+                stats.disk_failures.record(f);
+            }
+        }
+        GrowthStop::Disabled => {}
+    }
+}
+
 /// Corner positions of triangle `t` at t=0 and t=1.
 #[inline]
 pub(super) fn corners(step: &Step, t: u32) -> ([DVec3; 3], [DVec3; 3]) {
@@ -91,11 +121,16 @@ pub(super) fn corners(step: &Step, t: u32) -> ([DVec3; 3], [DVec3; 3]) {
 /// `out.ring_starts`, `out.last_ring_vertices` and the leaf counters of `stats`. Each leaf, once
 /// finished, is shown to `on_leaf` (its id and triangles). Sequential: the only rayon calls are
 /// `disk`'s, none when it is [sequential](DiskBuilder::set_sequential).
+///
+/// With `previous` (the last step's leaves, for the same triangles), every previous leaf of two
+/// or more triangles that passes the disk certificate in full on this step is kept whole, as
+/// the leaf of its seed; growth fills in around the kept leaves.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn grow_leaves(
     step: &Step,
     topo: &Topology,
     options: &ClusterOptions,
+    previous: Option<&Previous>,
     scratch: &mut LeafScratch,
     disk: &mut DiskBuilder,
     out: &mut Clustering,
@@ -114,13 +149,41 @@ pub(super) fn grow_leaves(
         scratch.position.resize(n, 0);
     }
     let grow = options.min_separation == 0.0;
+    scratch.kept.clear();
+    scratch.centre_prefix.clear();
+    if let Some(previous) = previous {
+        keep_leaves(step, topo, options, previous, disk, out, scratch, stats);
+    }
+    let mut next_kept = 0;
     for seed in 0..n as u32 {
-        if out.leaf_of_triangle[seed as usize] != UNASSIGNED {
+        let mark = out.leaf_of_triangle[seed as usize];
+        if mark == RESERVED {
+            // Kept leaves are sorted by seed, and a seed is its leaf's lowest triangle.
+            if let (Some(previous), Some(kept)) = (previous, scratch.kept.get(next_kept)) {
+                if kept.seed == seed {
+                    let kept = kept.clone();
+                    next_kept += 1;
+                    let id = out.leaves.len() as u32;
+                    emit_kept(previous, &kept, out, scratch, stats);
+                    if grow {
+                        grow_kept(step, topo, options, &kept, scratch, disk, out);
+                    }
+                    let leaf = &out.leaves[id as usize];
+                    // A kept leaf that did not grow met no failure on this step.
+                    let grew = leaf.triangles.len() > kept.triangles as usize;
+                    count_stop(stats, leaf.stop, grew);
+                    on_leaf(id, &out.leaf_triangles[out.leaves[id as usize].triangles.clone()]);
+                }
+            }
+            continue;
+        }
+        if mark != UNASSIGNED {
             continue;
         }
         let id = out.leaves.len() as u32;
         let first = out.leaf_triangles.len();
         let ring_first = out.ring_starts.len();
+        scratch.prefix = 0;
         out.leaf_of_triangle[seed as usize] = id;
         out.leaf_triangles.push(seed);
         out.ring_starts.push(first as u32);
@@ -188,15 +251,7 @@ pub(super) fn grow_leaves(
         } else {
             stop
         };
-        match stop {
-            GrowthStop::Exhausted => stats.stops_exhausted += 1,
-            GrowthStop::Phi => stats.stops_phi += 1,
-            GrowthStop::Certificate(f) => {
-                stats.stops_certificate += 1;
-                stats.disk_failures.record(f);
-            }
-            GrowthStop::Disabled => {}
-        }
+        count_stop(stats, stop, true);
 
         let bar_first = out.last_ring_vertices.len();
         out.last_ring_vertices.extend_from_slice(&scratch.frontier);
@@ -221,6 +276,9 @@ pub(super) fn grow_leaves(
             certificate,
             stop,
         });
+        scratch
+            .centre_prefix
+            .push(if triangles_len > 1 { scratch.prefix } else { 0 });
         on_leaf(id, &out.leaf_triangles[first..]);
     }
 }
@@ -303,7 +361,7 @@ fn grow_rings(
 /// are the leaf's next ring. Growth ends at a round that adds nothing. On return,
 /// `scratch.frontier` holds the new vertices of the last ring. Deterministic: every order is
 /// that of the topology's incidence lists.
-fn grow_partial_rings(
+pub(super) fn grow_partial_rings(
     step: &Step,
     topo: &Topology,
     scratch: &mut LeafScratch,
@@ -446,6 +504,7 @@ fn grow_partial_rings(
                 {
                     break;
                 }
+                scratch.prefix = (out.leaf_triangles.len() - out.leaves_end_offset()) as u32;
                 // Another centre: every star test may change.
                 for e in scratch.entry.iter_mut() {
                     if let Entry::Refused(_) = e {
@@ -487,7 +546,7 @@ fn unit_normals(step: &Step, t: u32) -> [DVec3; 2] {
 
 /// The direction `V` of a leaf grown from `seed` (any fixed vector serves the disk theorem; this
 /// only decides how far the leaf can grow). Zero when the seed is degenerate.
-fn leaf_direction(step: &Step, topo: &Topology, seed: u32, choice: LeafDirection) -> DVec3 {
+pub(super) fn leaf_direction(step: &Step, topo: &Topology, seed: u32, choice: LeafDirection) -> DVec3 {
     let [n0, n1] = unit_normals(step, seed);
     if n0 == DVec3::ZERO || n1 == DVec3::ZERO {
         return DVec3::ZERO;

@@ -90,6 +90,25 @@
 //! whatever the order of growth. A leaf of one triangle needs no certificate: its features all
 //! share a vertex.
 //!
+//! # Leaf clusters over a sequence
+//! The paper grows every step's leaves afresh. When a step has the triangles of the last step
+//! clustered with the same workspace (no topology change), the last step's leaves are offered
+//! first ([`ClusterOptions::reuse`]): each of two or more triangles is certified anew on the
+//! new positions, in full, exactly as a grown leaf's final patch (hypotheses 1 and 2 for every
+//! triangle, 3 to 5 for the whole boundary, with `V` chosen from the seed as for growth, around
+//! the point of the mesh it was certified around before, else the seed's centroid, else the
+//! mean of the patch's vertices). A leaf that passes is kept whole, with its rings (a single
+//! triangle needs no certificate and is always kept). A leaf that fails is offered again as its
+//! first rings, a few times, each patch certified in full the same way: from the most rings
+//! whose triangles all pass hypotheses 1 and 2 (or one ring fewer, when only the boundary
+//! failed) down to half of them. The triangles of the rings dropped, and of the leaves that
+//! fail every time, are free. Then, by increasing seed as always, a kept leaf grows by partial
+//! rings into the free triangles around it, as if it were a seed, and new leaves grow from the
+//! free triangles left.
+//! So every leaf carries a certificate of this step, whatever the last step was; the reuse only
+//! saves the growth's trials. Leaves that fail leave holes where smaller leaves grow: once the
+//! leaves number a quarter more than when last grown afresh, the next step grows afresh.
+//!
 //! # Intermediate clusters
 //! Leaves are walked in a deterministic order; a leaf `LC_n` adjacent (sharing an edge) to the
 //! last leaf `LC_p` of the current intermediate cluster `IC` joins it when: (i) algorithm 2: the
@@ -108,6 +127,7 @@
 
 pub mod certificate;
 mod leaf;
+mod reuse;
 mod merge;
 pub(crate) mod phase;
 pub(crate) mod traverse;
@@ -130,6 +150,8 @@ use std::time::Instant;
 pub struct ClusterWorkspace {
     disk: DiskBuilder,
     leaf: leaf::LeafScratch,
+    /// The leaves of the last clustering made with this workspace ([`ClusterOptions::reuse`]).
+    previous: reuse::Previous,
 }
 
 #[cfg(feature = "internals")]
@@ -172,7 +194,11 @@ pub fn cluster(step: &Step, topo: &Topology, options: &ClusterOptions) -> Cluste
     cluster_with(step, topo, options, &mut workspace)
 }
 
-/// [`cluster`] with caller-owned scratch memory, for repeated use over many steps.
+/// [`cluster`] with caller-owned scratch memory, for repeated use over many steps. With
+/// [`ClusterOptions::reuse`], a step whose triangles are those of the last step clustered with
+/// `workspace` (and the same options) starts from that step's leaf clusters, each certified
+/// anew (see the [module documentation](self)): the clustering may then differ from a fresh
+/// one, never its guarantee.
 pub fn cluster_with(
     step: &Step,
     topo: &Topology,
@@ -233,10 +259,12 @@ pub(crate) fn cluster_into_beside(
                     let _ = send.send((id, triangles.to_vec()));
                 }
             };
+            let previous = workspace.previous.applies(step, options);
             leaf::grow_leaves(
                 step,
                 topo,
                 options,
+                previous.then_some(&workspace.previous),
                 &mut workspace.leaf,
                 &mut workspace.disk,
                 out,
@@ -264,4 +292,5 @@ pub(crate) fn cluster_into_beside(
         stats.triangles_per_intermediate = stats.triangles as f64 / stats.intermediates as f64;
     }
     out.stats = stats;
+    workspace.previous.save(step, options, out, &workspace.leaf);
 }

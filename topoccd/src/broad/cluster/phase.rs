@@ -33,6 +33,9 @@ pub struct ClusterFigures {
     /// Leaf clusters tested for self-contact because they carry no certificate (always `0`
     /// with the clustering of this crate, whose leaves are all certified).
     pub uncertified_leaves: usize,
+    /// Leaf clusters carried over from the last step (same triangles) and certified anew, not
+    /// regrown (see [`ClusterOptions::reuse`](super::ClusterOptions::reuse)).
+    pub reused_leaves: usize,
     /// Seconds spent growing the leaf clusters.
     pub clustering_seconds: f64,
     /// Seconds spent merging them into intermediate clusters.
@@ -99,6 +102,7 @@ impl ClusterPhase {
             lazy_bvhs: counts.lazy_bvhs,
             leaf_pairs: counts.leaf_pairs,
             uncertified_leaves: counts.uncertified_leaves,
+            reused_leaves: cs.reused_leaves,
             clustering_seconds: cs.clustering_seconds,
             merging_seconds: cs.merging_seconds,
         };

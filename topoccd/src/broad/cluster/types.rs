@@ -38,6 +38,13 @@ pub struct ClusterOptions {
     /// whole rings or the paper's filter, the seed's normal at t=0). Default
     /// [`LeafDirection::Seed`].
     pub direction: LeafDirection,
+    /// Whether a step whose triangles are those of the last step clustered with the same
+    /// workspace and options (with [`RingGrowth::Partial`] and the paper's filter off) starts
+    /// from the last step's leaf clusters: each of two or more triangles is certified anew,
+    /// in full, on the new positions, and kept whole when it passes; the triangles of those
+    /// that fail are grown afresh (see the [module documentation](super)). Soundness rests on
+    /// the new certificate alone, as for a grown leaf. Default `true`.
+    pub reuse: bool,
 }
 
 /// How a leaf cluster's direction `V` is chosen (any fixed vector makes the disk theorem hold;
@@ -74,6 +81,7 @@ impl Default for ClusterOptions {
             phi_filter: true,
             rings: RingGrowth::default(),
             direction: LeafDirection::default(),
+            reuse: true,
         }
     }
 }
@@ -120,7 +128,8 @@ pub struct LeafCluster {
     pub centre: [DVec3; 2],
     /// What makes it free of self-contact.
     pub certificate: LeafCertificate,
-    /// Why it stopped growing.
+    /// Why it stopped growing (for a leaf kept from the last step that did not grow, why it
+    /// stopped when it last grew).
     pub stop: GrowthStop,
 }
 
@@ -195,6 +204,12 @@ pub struct ClusterStats {
     pub merge_rejected_phi: usize,
     /// Merge attempts refused because neither certificate route held.
     pub merge_rejected_certificate: usize,
+    /// Leaf clusters taken over from the last step and certified anew ([`ClusterOptions::reuse`]).
+    pub reused_leaves: usize,
+    /// Of those, the leaves kept only in part: their first rings (the others are free again).
+    pub trimmed_leaves: usize,
+    /// Leaf clusters of the last step that failed their new certificate and were grown afresh.
+    pub regrown_leaves: usize,
     /// Wall time of the leaf clustering, in seconds.
     pub clustering_seconds: f64,
     /// Wall time of the merging into intermediate clusters, in seconds.
