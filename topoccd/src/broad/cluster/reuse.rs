@@ -23,9 +23,10 @@ pub(super) struct Previous {
     /// The options of the clustering kept (`None`: none is).
     options: Option<ClusterOptions>,
     triangles: Vec<[u32; 3]>,
-    /// The positions of the step clustered.
-    x0: Vec<DVec3>,
-    x1: Vec<DVec3>,
+    vertex_count: usize,
+    /// A fingerprint of the positions of the step clustered, taken only when the leaves are too
+    /// fragmented to be offered to another step ([`Previous::applies`]).
+    positions: Option<u64>,
     leaves: Vec<LeafCluster>,
     leaf_triangles: Vec<u32>,
     ring_starts: Vec<u32>,
@@ -60,16 +61,19 @@ impl Previous {
         self.options = Some(*options);
         self.triangles.clear();
         self.triangles.extend_from_slice(step.triangles());
-        self.x0.clear();
-        self.x0.extend_from_slice(step.pos0());
-        self.x1.clear();
-        self.x1.extend_from_slice(step.pos1());
+        self.vertex_count = step.vertex_count();
         self.leaves.clone_from(&out.leaves);
         self.leaf_triangles.clone_from(&out.leaf_triangles);
         self.ring_starts.clone_from(&out.ring_starts);
         self.last_ring_vertices.clone_from(&out.last_ring_vertices);
         self.centre_prefix.clone_from(&scratch.centre_prefix);
         debug_assert_eq!(self.centre_prefix.len(), self.leaves.len());
+        self.positions = self.fragmented().then(|| fingerprint(step));
+    }
+
+    /// Whether the leaves are too many, against the last fresh growth ([`FRAGMENTATION`]).
+    fn fragmented(&self) -> bool {
+        self.leaves.len() as f64 > FRAGMENTATION * self.fresh_leaves as f64
     }
 
     /// Whether the leaves saved are proposed for `step` clustered with `options`: same options,
@@ -79,11 +83,24 @@ impl Previous {
     pub(super) fn applies(&self, step: &Step, options: &ClusterOptions) -> bool {
         reusable(options)
             && self.options == Some(*options)
-            && self.x0.len() == step.vertex_count()
+            && self.vertex_count == step.vertex_count()
             && self.triangles == step.triangles()
-            && (self.leaves.len() as f64 <= FRAGMENTATION * self.fresh_leaves as f64
-                || (self.x0 == step.pos0() && self.x1 == step.pos1()))
+            && (!self.fragmented() || self.positions == Some(fingerprint(step)))
     }
+}
+
+/// A fingerprint of the step's positions (their bits, four lanes of multiply and rotate). Two
+/// steps with the same one are taken to be the same step; should two different steps ever
+/// share one, the leaves would still be certified anew on the step at hand.
+fn fingerprint(step: &Step) -> u64 {
+    const K: u64 = 0x9e37_79b9_7f4a_7c15;
+    let mut lanes = [1u64, 2, 3, 4];
+    for p in step.pos0().iter().chain(step.pos1()) {
+        for (lane, x) in lanes.iter_mut().zip([p.x, p.y, p.z, 0.0]) {
+            *lane = (*lane ^ x.to_bits()).wrapping_mul(K).rotate_left(29);
+        }
+    }
+    lanes.iter().fold(0, |h, &l| (h ^ l).wrapping_mul(K).rotate_left(31))
 }
 
 /// Whether `options` let a step start from the last step's leaves.
