@@ -8,7 +8,8 @@ new alternately, `--reps` times each, and prints the median over the repetitions
 step totals over steps 1.. (step 0 starts from nothing), of the summed leaf-growth seconds and
 leaf clusters (cluster method), and the new/base ratio. Python 3 standard library only.
 
-`--substeps N` also times, for every sequence, a copy of its first step cut into N steps of
+`--substeps N` also times, for every sequence (or scene folder with `frames/`, such as the shared
+real steps, which is then timed this way only), a copy of its first step cut into N steps of
 equal duration (the positions interpolated linearly; the parents file, if any, dropped, so use
 it on sequences that do not change topology): the small motion per step of a simulator that
 takes several substeps per frame.
@@ -21,6 +22,7 @@ Example:
 
 import argparse
 import json
+import re
 import statistics
 import struct
 import subprocess
@@ -30,21 +32,43 @@ from pathlib import Path
 
 
 def read_ply(path):
-    """(header bytes, positions, rest) of a binary little-endian PLY with double x, y, z."""
+    """(header bytes, positions, rest, struct code) of a binary PLY whose vertices are x, y, z
+    only (float or double, either byte order)."""
     data = path.read_bytes()
     end = data.index(b"end_header\n") + len(b"end_header\n")
-    header = data[:end]
-    if b"format binary_little_endian" not in header or b"property double z" not in header:
-        raise SystemExit(f"{path}: --substeps needs binary little-endian PLY with double x, y, z")
-    n = int(header.split(b"element vertex ")[1].split()[0])
-    positions = struct.unpack_from(f"<{3 * n}d", data, end)
-    return header, positions, data[end + 24 * n:]
+    header = data[:end].decode("ascii", "replace")
+    order = "<" if "binary_little_endian" in header else ">" if "binary_big_endian" in header else None
+    lines = header.splitlines()
+    start = next(i for i, l in enumerate(lines) if l.startswith("element vertex"))
+    props = []
+    for l in lines[start + 1:]:
+        if not l.startswith("property"):
+            break
+        props.append(l.split())
+    kinds = {p[1] for p in props}
+    if order is None or [p[-1] for p in props] != ["x", "y", "z"] or len(kinds) != 1 or kinds - {"float", "double"}:
+        raise SystemExit(f"{path}: --substeps needs binary PLY vertices of x, y, z (float or double)")
+    code = "d" if "double" in kinds else "f"
+    n = int(lines[start].split()[2])
+    positions = struct.unpack_from(f"{order}{3 * n}{code}", data, end)
+    return data[:end], positions, data[end + struct.calcsize(f"{order}{3 * n}{code}"):], order + code
+
+
+def first_frames(seq):
+    """The first two frames of a frame folder (or of a scene folder's `frames/`), by number."""
+    folder = seq / "frames" if (seq / "frames").is_dir() else seq
+    frames = [p for p in folder.iterdir() if p.suffix == ".ply" and re.search(r"\d+$", p.stem)]
+    frames.sort(key=lambda p: int(re.search(r"(\d+)$", p.stem).group(1)))
+    if len(frames) < 2:
+        raise SystemExit(f"{seq}: fewer than two numbered PLY frames")
+    return frames[0], frames[1]
 
 
 def substepped(seq, n, root):
     """A sequence of n steps from the first step of `seq`, written under `root`."""
-    h0, p0, faces0 = read_ply(seq / "0000.ply")
-    _, p1, faces1 = read_ply(seq / "0001.ply")
+    f0, f1 = first_frames(seq)
+    h0, p0, faces0, code = read_ply(f0)
+    _, p1, faces1, _ = read_ply(f1)
     if faces0 != faces1 or len(p0) != len(p1):
         raise SystemExit(f"{seq}: its first step changes topology; --substeps needs one that does not")
     out = Path(root) / f"{seq.name}-sub{n}"
@@ -52,7 +76,7 @@ def substepped(seq, n, root):
     for k in range(n + 1):
         t = k / n
         p = [a + (b - a) * t for a, b in zip(p0, p1)]
-        (out / f"{k:04d}.ply").write_bytes(h0 + struct.pack(f"<{len(p)}d", *p) + faces0)
+        (out / f"{k:04d}.ply").write_bytes(h0 + struct.pack(f"{code[0]}{len(p)}{code[1]}", *p) + faces0)
     return out
 
 
@@ -83,9 +107,11 @@ def main():
     ap.add_argument("sequences", nargs="+", help="frame folders (0000.ply, 0001.ply, ...)")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory(prefix="topoccd-seq-") as tmp:
-        seqs = [Path(s) for s in args.sequences]
+        given = [Path(s) for s in args.sequences]
+        # A scene folder with only a pair of frames (frames/) is timed by its substeps alone.
+        seqs = [s for s in given if not (s / "frames").is_dir()]
         if args.substeps > 1:
-            seqs += [substepped(s, args.substeps, tmp) for s in list(seqs)]
+            seqs += [substepped(s, args.substeps, tmp) for s in given]
         print("steps 1.. of each sequence, medians; ms as base / new; ratio = base / new "
               "(above 1: new is faster)\n")
         print("| sequence | method | thr | total base | total new | ratio | growth base | growth new | leaves base | leaves new |")
