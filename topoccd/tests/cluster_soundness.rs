@@ -495,6 +495,54 @@ fn leaves_carried_over_a_deforming_sequence_stay_sound() {
     );
 }
 
+/// The leaves carried over a sequence, certified anew on the rayon pool, are the same on one
+/// thread as on three.
+#[test]
+fn leaves_carried_over_are_the_same_on_any_thread_count() {
+    let options = ClusterOptions {
+        phi_filter: false,
+        ..ClusterOptions::default()
+    };
+    let frames = 9;
+    let on = |threads: usize, seed: u64| -> Vec<Clustering> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut workspace = ClusterWorkspace::default();
+            (0..frames - 1)
+                .map(|k| {
+                    let step = mesh_util::warped_step(seed, k, frames);
+                    let topo = Topology::new(step.triangles(), step.vertex_count());
+                    let mut c = Clustering::default();
+                    cluster_into(&step, &topo, &options, &mut workspace, &mut c);
+                    c
+                })
+                .collect()
+        })
+    };
+    for seed in [0, 3] {
+        let (one, three) = (on(1, seed), on(3, seed));
+        for (k, (a, b)) in one.iter().zip(&three).enumerate() {
+            let what = format!("sequence {seed} step {k}");
+            assert_eq!(a.leaves, b.leaves, "{what}");
+            assert_eq!(a.leaf_triangles, b.leaf_triangles, "{what}");
+            assert_eq!(a.last_ring_vertices, b.last_ring_vertices, "{what}");
+            assert_eq!(a.intermediate_leaves, b.intermediate_leaves, "{what}");
+            let counts = |c: &Clustering| {
+                let s = &c.stats;
+                (s.reused_leaves, s.trimmed_leaves, s.regrown_leaves)
+            };
+            assert_eq!(counts(a), counts(b), "{what}");
+        }
+        assert!(
+            one.iter().any(|c| c.stats.reused_leaves > 0),
+            "sequence {seed}"
+        );
+    }
+}
+
 /// The same step clustered again with the same workspace keeps every leaf as grown: the new
 /// certificate of a kept leaf is that of its growth (same direction, same centre), so it
 /// passes, and the clustering is the same.

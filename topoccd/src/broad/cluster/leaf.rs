@@ -4,7 +4,7 @@
 
 use crate::narrow::bernstein::{phi, Verdict};
 use super::certificate::{DiskBuilder, DiskFailure};
-use super::reuse::{emit_kept, grow_kept, keep_leaves, Kept, Previous, RESERVED};
+use super::reuse::{emit_kept, grow_kept, Kept, Previous, RESERVED};
 use super::{
     ClusterOptions, ClusterStats, Clustering, GrowthStop, LeafCertificate, LeafCluster,
     LeafDirection, RingGrowth,
@@ -90,6 +90,14 @@ impl LeafScratch {
     }
 }
 
+/// Makes every triangle of `step` free in `out.leaf_of_triangle` and forgets the kept leaves,
+/// before [`keep_leaves`](super::reuse::keep_leaves) and [`grow_leaves`].
+pub(super) fn start_leaves(step: &Step, out: &mut Clustering, scratch: &mut LeafScratch) {
+    out.leaf_of_triangle.clear();
+    out.leaf_of_triangle.resize(step.triangles().len(), UNASSIGNED);
+    scratch.kept.clear();
+}
+
 /// Counts why a leaf stopped growing, and the certificate failure that stopped it if `failed`
 /// (it happened on this step).
 pub(super) fn count_stop(stats: &mut ClusterStats, stop: GrowthStop, failed: bool) {
@@ -122,9 +130,11 @@ pub(super) fn corners(step: &Step, t: u32) -> ([DVec3; 3], [DVec3; 3]) {
 /// finished, is shown to `on_leaf` (its id and triangles). Sequential: the only rayon calls are
 /// `disk`'s, none when it is [sequential](DiskBuilder::set_sequential).
 ///
-/// With `previous` (the last step's leaves, for the same triangles), every previous leaf of two
-/// or more triangles that passes the disk certificate in full on this step is kept whole, as
-/// the leaf of its seed; growth fills in around the kept leaves.
+/// `out.leaf_of_triangle` must hold [`UNASSIGNED`] for every triangle, but those of the last
+/// step's leaves kept by [`keep_leaves`](super::reuse::keep_leaves) ([`RESERVED`], listed in
+/// `scratch.kept`; none without `previous`, see [`start_leaves`]): each kept leaf becomes the
+/// leaf of its seed and grows into the free triangles around it; growth fills in around the
+/// kept leaves.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn grow_leaves(
     step: &Step,
@@ -138,8 +148,7 @@ pub(super) fn grow_leaves(
     on_leaf: &mut dyn FnMut(u32, &[u32]),
 ) {
     let n = step.triangles().len();
-    out.leaf_of_triangle.clear();
-    out.leaf_of_triangle.resize(n, UNASSIGNED);
+    debug_assert_eq!(out.leaf_of_triangle.len(), n);
     if scratch.tri_stamp.len() != n {
         scratch.tri_stamp.clear();
         scratch.tri_stamp.resize(n, 0);
@@ -149,11 +158,7 @@ pub(super) fn grow_leaves(
         scratch.position.resize(n, 0);
     }
     let grow = options.min_separation == 0.0;
-    scratch.kept.clear();
     scratch.centre_prefix.clear();
-    if let Some(previous) = previous {
-        keep_leaves(step, topo, options, previous, disk, out, scratch, stats);
-    }
     let mut next_kept = 0;
     for seed in 0..n as u32 {
         let mark = out.leaf_of_triangle[seed as usize];

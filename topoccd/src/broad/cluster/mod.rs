@@ -152,6 +152,8 @@ pub struct ClusterWorkspace {
     leaf: leaf::LeafScratch,
     /// The leaves of the last clustering made with this workspace ([`ClusterOptions::reuse`]).
     previous: reuse::Previous,
+    /// One disk builder per thread for certifying those leaves anew.
+    disks: Vec<DiskBuilder>,
 }
 
 #[cfg(feature = "internals")]
@@ -250,6 +252,21 @@ pub(crate) fn cluster_into_beside(
     // No rayon call may run on the growth's side of the join while `send` lives: a thread
     // waiting there could take up `beside`, which waits for `send` to close. So the disk
     // builder stays on its thread while leaves are sent.
+    // The last step's leaves that still hold, found on the whole pool before growth starts.
+    leaf::start_leaves(step, out, &mut workspace.leaf);
+    let reuse = workspace.previous.applies(step, options);
+    if reuse {
+        reuse::keep_leaves(
+            step,
+            topo,
+            options,
+            &workspace.previous,
+            &mut workspace.disks,
+            out,
+            &mut workspace.leaf,
+            &mut stats,
+        );
+    }
     workspace.disk.set_sequential(min_triangles != usize::MAX);
     rayon::join(
         || {
@@ -259,12 +276,11 @@ pub(crate) fn cluster_into_beside(
                     let _ = send.send((id, triangles.to_vec()));
                 }
             };
-            let previous = workspace.previous.applies(step, options);
             leaf::grow_leaves(
                 step,
                 topo,
                 options,
-                previous.then_some(&workspace.previous),
+                reuse.then_some(&workspace.previous),
                 &mut workspace.leaf,
                 &mut workspace.disk,
                 out,

@@ -9,6 +9,7 @@ use super::{
     ClusterOptions, ClusterStats, Clustering, GrowthStop, LeafCertificate, LeafCluster, RingGrowth,
 };
 use crate::math::DVec3;
+use rayon::prelude::*;
 use crate::mesh::{Step, Topology};
 
 /// Marker of a triangle of a leaf cluster taken over from the last step, certified anew, whose
@@ -130,36 +131,71 @@ pub(super) struct Kept {
 }
 
 /// Certifies every leaf of `previous` anew on `step` ([`recertify`]), whole or trimmed to
-/// its first rings. The triangles kept are marked [`RESERVED`] in `out.leaf_of_triangle`, and
-/// the kept leaves listed in `scratch.kept` by seed; the rest stays free.
+/// its first rings, on the current rayon pool (one builder of `disks` per thread, each leaf's
+/// verdict its own, so the same for any thread count). The triangles kept are marked
+/// [`RESERVED`] in `out.leaf_of_triangle` (which must hold [`UNASSIGNED`] only), and the kept
+/// leaves listed in `scratch.kept` by seed; the rest stays free.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn keep_leaves(
     step: &Step,
     topo: &Topology,
     options: &ClusterOptions,
     previous: &Previous,
-    disk: &mut DiskBuilder,
+    disks: &mut Vec<DiskBuilder>,
     out: &mut Clustering,
     scratch: &mut LeafScratch,
     stats: &mut ClusterStats,
 ) {
+    // Runs of leaves of about equal triangle counts, one per thread.
+    let threads = rayon::current_num_threads().max(1);
+    if disks.len() < threads {
+        disks.resize_with(threads, DiskBuilder::default);
+    }
+    let per = previous.leaf_triangles.len().div_ceil(threads).max(1);
+    let mut bounds = vec![0];
+    let mut sum = 0;
+    for (k, leaf) in previous.leaves.iter().enumerate() {
+        sum += leaf.triangles.len();
+        if sum >= per * bounds.len() && bounds.len() < threads {
+            bounds.push(k + 1);
+        }
+    }
+    if bounds.last() != Some(&previous.leaves.len()) {
+        bounds.push(previous.leaves.len());
+    }
+    let runs: Vec<(Vec<Option<Kept>>, Vec<u32>)> = (disks[..bounds.len() - 1].par_iter_mut())
+        .zip(bounds.par_windows(2))
+        .map(|(disk, run)| {
+            let mut bars = Vec::new();
+            let kept = (run[0]..run[1])
+                .map(|k| recertify(step, topo, options, previous, k, disk, &mut bars))
+                .collect();
+            (kept, bars)
+        })
+        .collect();
     scratch.kept_bars.clear();
-    for k in 0..previous.leaves.len() {
-        let triangles = &previous.leaf_triangles[previous.leaves[k].triangles.clone()];
-        // (The last step's leaves are disjoint: a guard, never taken.)
-        if triangles.iter().any(|&t| out.leaf_of_triangle[t as usize] != UNASSIGNED) {
-            continue;
+    for ((verdicts, bars), run) in runs.into_iter().zip(bounds.windows(2)) {
+        let shift = scratch.kept_bars.len() as u32;
+        scratch.kept_bars.extend_from_slice(&bars);
+        for (k, verdict) in (run[0]..run[1]).zip(verdicts) {
+            let triangles = &previous.leaf_triangles[previous.leaves[k].triangles.clone()];
+            let Some(mut kept) = verdict else {
+                stats.regrown_leaves += 1;
+                continue;
+            };
+            let mine = &triangles[..kept.triangles as usize];
+            // (The last step's leaves are disjoint: a guard, never taken.)
+            if mine.iter().any(|&t| out.leaf_of_triangle[t as usize] != UNASSIGNED) {
+                stats.regrown_leaves += 1;
+                continue;
+            }
+            for &t in mine {
+                out.leaf_of_triangle[t as usize] = RESERVED;
+            }
+            stats.trimmed_leaves += usize::from(mine.len() < triangles.len());
+            kept.bar = kept.bar.start + shift..kept.bar.end + shift;
+            scratch.kept.push(kept);
         }
-        let Some(kept) = recertify(step, topo, options, previous, k, disk, &mut scratch.kept_bars)
-        else {
-            stats.regrown_leaves += 1;
-            continue;
-        };
-        for &t in &triangles[..kept.triangles as usize] {
-            out.leaf_of_triangle[t as usize] = RESERVED;
-        }
-        stats.trimmed_leaves += usize::from((kept.triangles as usize) < triangles.len());
-        scratch.kept.push(kept);
     }
     scratch.kept.sort_by_key(|k| k.seed);
     scratch.near_free.clear();
