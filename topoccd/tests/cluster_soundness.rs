@@ -117,14 +117,19 @@ fn contacts_among(step: &Step, tris: &[u32], limit: usize) -> Vec<String> {
     found
 }
 
+/// The options of growth by the disk certificate alone (the paper's filter off), the query's.
+fn certificate_growth() -> ClusterOptions {
+    ClusterOptions {
+        phi_filter: false,
+        ..ClusterOptions::default()
+    }
+}
+
 /// Clusters `step` with the paper's filter and without it (certificate alone), checks every
 /// intermediate cluster by brute force and the bookkeeping; returns both clusterings.
 fn check(name: &str, step: &Step) -> [Clustering; 2] {
     let with_phi = check_with(name, step, &ClusterOptions::default());
-    let options = ClusterOptions {
-        phi_filter: false,
-        ..ClusterOptions::default()
-    };
+    let options = certificate_growth();
     let without = check_with(&format!("{name} (no phi)"), step, &options);
     [with_phi, without]
 }
@@ -458,10 +463,7 @@ fn positive_min_separation_turns_clustering_off() {
 /// been regrown.
 #[test]
 fn leaves_carried_over_a_deforming_sequence_stay_sound() {
-    let options = ClusterOptions {
-        phi_filter: false,
-        ..ClusterOptions::default()
-    };
+    let options = certificate_growth();
     let frames = 9;
     let (mut kept, mut trimmed, mut regrown, mut contacts) = (0, 0, 0, 0);
     for seed in 0..6u64 {
@@ -499,10 +501,7 @@ fn leaves_carried_over_a_deforming_sequence_stay_sound() {
 /// thread as on three.
 #[test]
 fn leaves_carried_over_are_the_same_on_any_thread_count() {
-    let options = ClusterOptions {
-        phi_filter: false,
-        ..ClusterOptions::default()
-    };
+    let options = certificate_growth();
     let frames = 9;
     let on = |threads: usize, seed: u64| -> Vec<Clustering> {
         let pool = rayon::ThreadPoolBuilder::new()
@@ -548,10 +547,7 @@ fn leaves_carried_over_are_the_same_on_any_thread_count() {
 /// passes, and the clustering is the same.
 #[test]
 fn the_same_step_again_keeps_every_leaf() {
-    let options = ClusterOptions {
-        phi_filter: false,
-        ..ClusterOptions::default()
-    };
+    let options = certificate_growth();
     for seed in 0..12u64 {
         let step = mesh_util::random_smooth(seed);
         let topo = Topology::new(step.triangles(), step.vertex_count());
