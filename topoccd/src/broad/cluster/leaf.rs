@@ -170,9 +170,7 @@ pub(super) fn grow_leaves(
                     next_kept += 1;
                     let id = out.leaves.len() as u32;
                     emit_kept(previous, &kept, out, scratch, stats);
-                    if grow {
-                        grow_kept(step, topo, options, &kept, scratch, disk, out);
-                    }
+                    grow_kept(step, topo, options, &kept, scratch, disk, out);
                     let leaf = &out.leaves[id as usize];
                     // A kept leaf that did not grow met no failure on this step.
                     let grew = leaf.triangles.len() > kept.triangles as usize;
@@ -551,7 +549,12 @@ fn unit_normals(step: &Step, t: u32) -> [DVec3; 2] {
 
 /// The direction `V` of a leaf grown from `seed` (any fixed vector serves the disk theorem; this
 /// only decides how far the leaf can grow). Zero when the seed is degenerate.
-pub(super) fn leaf_direction(step: &Step, topo: &Topology, seed: u32, choice: LeafDirection) -> DVec3 {
+pub(super) fn leaf_direction(
+    step: &Step,
+    topo: &Topology,
+    seed: u32,
+    choice: LeafDirection,
+) -> DVec3 {
     let [n0, n1] = unit_normals(step, seed);
     if n0 == DVec3::ZERO || n1 == DVec3::ZERO {
         return DVec3::ZERO;

@@ -127,9 +127,9 @@
 
 pub mod certificate;
 mod leaf;
-mod reuse;
 mod merge;
 pub(crate) mod phase;
+mod reuse;
 pub(crate) mod traverse;
 pub(crate) mod tree;
 mod types;
@@ -249,9 +249,6 @@ pub(crate) fn cluster_into_beside(
     let (send, receive) = channel();
     let done = AtomicBool::new(false);
     let mut grown = started;
-    // No rayon call may run on the growth's side of the join while `send` lives: a thread
-    // waiting there could take up `beside`, which waits for `send` to close. So the disk
-    // builder stays on its thread while leaves are sent.
     // The last step's leaves that still hold, found on the whole pool before growth starts.
     leaf::start_leaves(step, out, &mut workspace.leaf);
     let reuse = workspace.previous.applies(step, options);
@@ -267,6 +264,9 @@ pub(crate) fn cluster_into_beside(
             &mut stats,
         );
     }
+    // No rayon call may run on the growth's side of the join while `send` lives: a thread
+    // waiting there could take up `beside`, which waits for `send` to close. So the disk
+    // builder stays on its thread while leaves are sent.
     workspace.disk.set_sequential(min_triangles != usize::MAX);
     rayon::join(
         || {
@@ -308,5 +308,5 @@ pub(crate) fn cluster_into_beside(
         stats.triangles_per_intermediate = stats.triangles as f64 / stats.intermediates as f64;
     }
     out.stats = stats;
-    workspace.previous.save(step, options, out, &workspace.leaf);
+    workspace.previous.save(step, options, out, &workspace.leaf, !reuse);
 }

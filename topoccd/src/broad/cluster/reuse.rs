@@ -9,8 +9,8 @@ use super::{
     ClusterOptions, ClusterStats, Clustering, GrowthStop, LeafCertificate, LeafCluster, RingGrowth,
 };
 use crate::math::DVec3;
-use rayon::prelude::*;
 use crate::mesh::{Step, Topology};
+use rayon::prelude::*;
 
 /// Marker of a triangle of a leaf cluster taken over from the last step, certified anew, whose
 /// seed has not been reached yet (see [`Previous`]).
@@ -44,19 +44,20 @@ const FRAGMENTATION: f64 = 1.25;
 
 impl Previous {
     /// Remembers the leaf clusters of `out`, just made for `step` with `options` and the
-    /// leaf scratch `scratch`.
+    /// leaf scratch `scratch`, grown afresh when `fresh` (none offered).
     pub(super) fn save(
         &mut self,
         step: &Step,
         options: &ClusterOptions,
         out: &Clustering,
         scratch: &LeafScratch,
+        fresh: bool,
     ) {
         if !reusable(options) {
             // (What is kept stays a valid proposal for later steps with its options.)
             return;
         }
-        if out.stats.reused_leaves == 0 && out.stats.regrown_leaves == 0 {
+        if fresh {
             self.fresh_leaves = out.leaves.len();
         }
         self.options = Some(*options);
@@ -280,7 +281,8 @@ fn recertify(
         Err(_) => r - 1,
     };
     let mut tried = [r; 4];
-    for (i, m) in [most, most.saturating_sub(1), most.saturating_sub(3), most / 2].into_iter().enumerate() {
+    let sizes = [most, most.saturating_sub(1), most.saturating_sub(3), most / 2];
+    for (i, m) in sizes.into_iter().enumerate() {
         if m < 2 || tried.contains(&m) {
             continue;
         }
@@ -444,8 +446,9 @@ fn grown_kept(
     let tris = step.triangles();
     let free = |t: &u32| out.leaf_of_triangle[*t as usize] == UNASSIGNED;
     let near = |&v: &u32| scratch.near_free[v as usize] && topo.triangles_of(v).iter().any(free);
+    let grows = |&t: &u32| tris[t as usize].iter().any(near);
     let direction = kept.direction;
-    if direction == DVec3::ZERO || !direction.is_finite() || !patch.iter().any(|&t| tris[t as usize].iter().any(near)) {
+    if direction == DVec3::ZERO || !direction.is_finite() || !patch.iter().any(grows) {
         return None;
     }
     // The certificate of the kept patch again, which leaves `disk` holding it, as growth
