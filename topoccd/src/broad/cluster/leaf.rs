@@ -172,9 +172,9 @@ pub(super) fn grow_leaves(
                     emit_kept(previous, &kept, out, scratch, stats);
                     grow_kept(step, topo, options, &kept, scratch, disk, out);
                     let leaf = &out.leaves[id as usize];
-                    // A kept leaf that did not grow met no failure on this step.
+                    // A kept leaf that was neither trimmed nor grown met no failure on this step.
                     let grew = leaf.triangles.len() > kept.triangles as usize;
-                    count_stop(stats, leaf.stop, grew);
+                    count_stop(stats, leaf.stop, grew || kept.trimmed.is_some());
                     on_leaf(id, &out.leaf_triangles[out.leaves[id as usize].triangles.clone()]);
                 }
             }

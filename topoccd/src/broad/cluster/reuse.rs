@@ -129,6 +129,8 @@ pub(super) struct Kept {
     prefix: u32,
     /// Its `V-bar` in [`LeafScratch::kept_bars`].
     bar: std::ops::Range<u32>,
+    /// Why the whole leaf failed on this step, when only its first rings are kept.
+    pub(super) trimmed: Option<DiskFailure>,
 }
 
 /// Certifies every leaf of `previous` anew on `step` ([`recertify`]), whole or trimmed to
@@ -237,7 +239,7 @@ fn recertify(
     let observation = [(s0[0] + s0[1] + s0[2]) / 3.0, (s1[0] + s1[1] + s1[2]) / 3.0];
     let direction = leaf_direction(step, topo, seed, options.direction);
     let bar_start = bars.len();
-    let kept = |rings: usize, centre, prefix, bars: &Vec<u32>| Kept {
+    let kept = |rings: usize, centre, prefix, bars: &Vec<u32>, trimmed| Kept {
         seed,
         leaf: k as u32,
         rings: rings as u32,
@@ -247,11 +249,12 @@ fn recertify(
         centre,
         prefix,
         bar: bar_start as u32..bars.len() as u32,
+        trimmed,
     };
     if triangles.len() == 1 {
         // Its features all share a vertex: there is nothing to certify.
         bars.extend_from_slice(&previous.last_ring_vertices[leaf.last_ring_vertices.clone()]);
-        return Some(kept(1, observation, 0, bars));
+        return Some(kept(1, observation, 0, bars, None));
     }
     if direction == DVec3::ZERO || !direction.is_finite() {
         return None;
@@ -269,8 +272,9 @@ fn recertify(
         certify_patch(step, topo, options, disk, &patch, bars)
     };
     let r = ring_starts.len();
-    let most = match attempt(r, disk, bars) {
-        Ok((centre, prefix)) => return Some(kept(r, centre, prefix, bars)),
+    let whole = attempt(r, disk, bars);
+    let most = match whole {
+        Ok((centre, prefix)) => return Some(kept(r, centre, prefix, bars, None)),
         Err(DiskFailure::Normal | DiskFailure::NonManifold) => {
             // The rings up to the first holding a triangle that fails them.
             let sub = options.subdivisions;
@@ -288,7 +292,7 @@ fn recertify(
         }
         tried[i] = m;
         if let Ok((centre, prefix)) = attempt(m, disk, bars) {
-            return Some(kept(m, centre, prefix, bars));
+            return Some(kept(m, centre, prefix, bars, whole.err()));
         }
     }
     bars.truncate(bar_start);
@@ -390,7 +394,6 @@ pub(super) fn emit_kept(
     let bar = kept.bar.start as usize..kept.bar.end as usize;
     out.last_ring_vertices.extend_from_slice(&scratch.kept_bars[bar]);
     stats.reused_leaves += 1;
-    let whole = triangles.len() == leaf.triangles.len();
     out.leaves.push(LeafCluster {
         triangles: first..out.leaf_triangles.len(),
         rings: ring_first..out.ring_starts.len(),
@@ -399,12 +402,8 @@ pub(super) fn emit_kept(
         direction: kept.direction,
         centre: kept.centre,
         certificate: leaf.certificate,
-        // A trimmed leaf stopped where its next ring failed on this step.
-        stop: if whole {
-            leaf.stop
-        } else {
-            GrowthStop::Certificate(DiskFailure::Star)
-        },
+        // A trimmed leaf stops where the whole leaf failed on this step.
+        stop: kept.trimmed.map_or(leaf.stop, GrowthStop::Certificate),
     });
 }
 
@@ -456,7 +455,7 @@ fn grown_kept(
     disk.begin(
         topo,
         step.vertex_count(),
-        kept.direction,
+        direction,
         kept.centre,
         options.subdivisions,
     );
