@@ -22,7 +22,7 @@ fn squeezed(n: usize) -> Step<'static> {
 
 #[test]
 fn the_candidate_buffers_stay_bounded_and_the_answer_does_not_change() {
-    let step = squeezed(24);
+    let step = squeezed(40);
     let (task_limit, sequential_limit) = (500, 2000);
     // Pairs a triangle pair can add past a full buffer (3 + 3 vertex-face, 9 edge-edge).
     let slack = 15;

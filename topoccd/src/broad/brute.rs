@@ -30,8 +30,8 @@ fn sort(items: &mut [Item]) {
 
 /// Appends every candidate pair of the step to `out`: `(vertex, face)`, the vertex not in the
 /// face, and edge indices, smaller first, the edges sharing no vertex, that pass the pair
-/// filter, whose swept boxes come within the separation, and whose owner triangles' swept
-/// k-DOPs (`volumes`, scratch) overlap.
+/// filter (its rule 5 on the owner triangles included), whose swept boxes come within the
+/// separation, and whose owner triangles' swept k-DOPs (`volumes`, scratch) overlap.
 pub(crate) fn candidates<const H: usize>(
     input: &BroadInput<'_, '_>,
     volumes: &mut Vec<Kdop<H>>,
@@ -103,6 +103,7 @@ pub(crate) fn candidates<const H: usize>(
             if a_box.near(bx(b), sep)
                 && filter.vertex_face(v, tris[f as usize])
                 && volumes[owner_of_vertex(v) as usize].overlaps(&volumes[f as usize])
+                && !filter.owners_apart(tris[owner_of_vertex(v) as usize], tris[f as usize])
             {
                 out.buf.vf.push([v, f]);
                 out.check();
@@ -134,6 +135,10 @@ pub(crate) fn candidates<const H: usize>(
                 && filter.edge_edge([a0, a1], [b0, b1])
                 && volumes[edge_owner[a.index as usize] as usize]
                     .overlaps(&volumes[edge_owner[b.index as usize] as usize])
+                && !filter.owners_apart(
+                    tris[edge_owner[a.index as usize] as usize],
+                    tris[edge_owner[b.index as usize] as usize],
+                )
             {
                 out.buf.ee.push([a.index.min(b.index), a.index.max(b.index)]);
                 out.check();

@@ -9,9 +9,11 @@
 //!
 //! # One answer, whatever the method
 //! A vertex-face pair `(v, f)` is a candidate of every method exactly when the two features
-//! share no vertex, pass the pair filter, their swept boxes come within the minimum
-//! separation, and the swept k-DOPs of `v`'s owner triangle and of `f` overlap (each inflated
-//! by the separation); an edge-edge pair likewise with its two owner triangles. The per-step
+//! share no vertex, pass the pair filter (whose last rule drops the pairs whose owner
+//! triangles stay apart along the direction between their mean points), their swept boxes come
+//! within the minimum separation, and the swept k-DOPs of `v`'s owner triangle and of `f`
+//! overlap (each inflated by the separation); an edge-edge pair likewise with its two owner
+//! triangles. The per-step
 //! hierarchy finds exactly these (its traversal reports every overlapping triangle pair); the
 //! oracle tests the k-DOPs of the owners explicitly; the cluster method finds them all except
 //! pairs inside one certified intermediate cluster, which are proved never to touch (see

@@ -195,7 +195,8 @@ impl Features {
     /// Appends the candidate feature pairs of the overlapping triangle pair `[a, b]` (`a != b`)
     /// whose swept boxes (from `boxes`, usually [`Features::boxes`]) come within `sep`:
     /// `(vertex, face)` to `vf`, `(edge, edge)` (indices into `topo.edges`, smaller first) to
-    /// `ee`. See the module documentation.
+    /// `ee`. See the module documentation. Two triangles that share no vertex and that the
+    /// filter finds apart ([`PairFilter::unshared_apart`]) give none.
     ///
     /// Which vertices the two triangles share decides, through [`SHARED`], which of their
     /// owned feature pairs share no vertex; only those are looked at, in a fixed order: the
@@ -219,6 +220,9 @@ impl Features {
             for (j, y) in vb.iter().enumerate() {
                 equal |= usize::from(x == y) << (3 * i + j);
             }
+        }
+        if equal == 0 && filter.unshared_apart(va, vb) {
+            return;
         }
         let shared = SHARED[equal];
         let (a_vertices, b_vertices) = (

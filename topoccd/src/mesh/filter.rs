@@ -8,18 +8,31 @@
 //!    a fresh crack start at the same place and would otherwise all "touch" at t=0;
 //! 3. with group ids, every vertex of one feature is in the group of every vertex of the other;
 //! 4. with a user predicate, it is false for every vertex of one feature against every vertex
-//!    of the other.
+//!    of the other;
+//! 5. the features' owner triangles (see `features`) share no vertex and stay farther apart
+//!    than the minimum separation along the direction between their mean points, over the
+//!    times searched `[0, t_max]` ([`PairFilter::owners_apart`]). Each feature lies in its
+//!    owner, so no pair of their features can come that close either: the rule drops no
+//!    contact, and it drops at once every pair of two triangles that merely pass near each
+//!    other, before their features are looked at.
 //!
 //! Rules 3 and 4 follow the IPC toolkit's `can_collide`: a pair is kept when *some* vertex
 //! pair across the features may collide.
 
 use super::Step;
+use crate::math::DVec3;
+use crate::narrow::prefilter::triangles_separated;
 
 /// The pair filter of one query. Cheap to build: the parent map is written into a buffer the
 /// caller keeps across steps.
 pub(crate) struct PairFilter<'s> {
     /// Minimum separation (`>= 0`): feature boxes farther apart than this are not candidates.
     pub sep: f64,
+    /// Rule 5: the end of the times searched, the positions at t=0 and t=1, and the largest
+    /// absolute coordinate among them.
+    t_max: f64,
+    positions: (&'s [DVec3], &'s [DVec3]),
+    coord: f64,
     /// Each vertex's representative (its parent for a new vertex of the step, else itself);
     /// `None` when no vertex has a parent or the crack filter is off.
     canon: Option<&'s [u32]>,
@@ -29,7 +42,13 @@ pub(crate) struct PairFilter<'s> {
 
 impl<'s> PairFilter<'s> {
     /// The filter of `step`; `canon` is scratch memory for the parent map.
-    pub fn new(step: &'s Step<'_>, sep: f64, crack_filter: bool, canon: &'s mut Vec<u32>) -> Self {
+    pub fn new(
+        step: &'s Step<'_>,
+        sep: f64,
+        t_max: f64,
+        crack_filter: bool,
+        canon: &'s mut Vec<u32>,
+    ) -> Self {
         let parents = step.parents();
         let canon = if crack_filter && !parents.is_empty() {
             canon.clear();
@@ -43,6 +62,9 @@ impl<'s> PairFilter<'s> {
         };
         Self {
             sep,
+            t_max,
+            positions: (step.pos0(), step.pos1()),
+            coord: (step.pos0().iter().chain(step.pos1())).fold(0.0, |m, p| m.max(p.abs().max_element())),
             canon,
             groups: step.groups(),
             can_collide: step.can_collide(),
@@ -66,6 +88,20 @@ impl<'s> PairFilter<'s> {
     #[inline]
     pub fn edge_edge(&self, a: [u32; 2], b: [u32; 2]) -> bool {
         self.only_shared() || self.check(&a, &b)
+    }
+
+    /// Rule 5: whether the triangles with corners `a` and `b` share no vertex and stay apart
+    /// along the direction between their mean points during `[0, t_max]`, so that no feature
+    /// of the one is a candidate against a feature of the other.
+    #[inline]
+    pub fn owners_apart(&self, a: [u32; 3], b: [u32; 3]) -> bool {
+        !a.iter().any(|v| b.contains(v)) && self.unshared_apart(a, b)
+    }
+
+    /// [`PairFilter::owners_apart`] for triangles known to share no vertex.
+    #[inline]
+    pub fn unshared_apart(&self, a: [u32; 3], b: [u32; 3]) -> bool {
+        triangles_separated(self.positions, a, b, self.sep, self.t_max, self.coord)
     }
 
     fn check(&self, a: &[u32], b: &[u32]) -> bool {

@@ -194,7 +194,13 @@ impl Ccd {
             self.features.update(step);
         }
         self.last_tree = None;
-        let filter = PairFilter::new(step, sep, options.crack_filter, &mut self.canon);
+        let filter = PairFilter::new(
+            step,
+            sep,
+            options.narrow.t_max,
+            options.crack_filter,
+            &mut self.canon,
+        );
         let input = BroadInput {
             step,
             features: &self.features,
