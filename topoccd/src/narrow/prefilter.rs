@@ -241,12 +241,33 @@ pub(crate) fn triangles_separated(
     t_end: f64,
     coord: f64,
 ) -> bool {
-    let [a0, a1, a2, b0, b1, b2] = [a[0], a[1], a[2], b[0], b[1], b[2]].map(|i| i as usize);
-    let pts = [
-        [x0[a0], x0[a1], x0[a2], x0[b0], x0[b1], x0[b2]],
-        [x1[a0], x1[a1], x1[a2], x1[b0], x1[b1], x1[b2]],
-    ];
-    direction_separated(&pts, 3, sep, dyadic_end(t_end), coord)
+    let corners = |x: &[DVec3], t: [u32; 3]| t.map(|i| x[i as usize]);
+    let (a0, a1, b0, b1) = (corners(x0, a), corners(x1, a), corners(x0, b), corners(x1, b));
+    // Three times the direction between the mean points (any direction serves).
+    let sum = |p: [DVec3; 3]| p[0] + p[1] + p[2];
+    let d = (sum(b0) + sum(b1)) - (sum(a0) + sum(a1));
+    let t_end = dyadic_end(t_end);
+    let length = if sep > 0.0 { d.length() } else { 0.0 };
+    let rounding = if t_end < 1.0 { 48.0 } else { 16.0 };
+    let need = sep * length * (1.0 + 4.0 * UNIT_ROUNDOFF)
+        + rounding * UNIT_ROUNDOFF * d.abs().element_sum() * coord
+        + UNDERFLOW_ERROR;
+    let (a_end, b_end) = if t_end < 1.0 {
+        let at = |p: [DVec3; 3], q: [DVec3; 3]| std::array::from_fn(|k| lerp(p[k], q[k], t_end));
+        (at(a0, a1), at(b0, b1))
+    } else {
+        (a1, b1)
+    };
+    // The gaps between the projections, second above first and first above second.
+    let gaps = |p: [DVec3; 3], q: [DVec3; 3]| {
+        let (x, y) = (p.map(|v| d.dot(v)), q.map(|v| d.dot(v)));
+        let (lo_x, hi_x) = (lower(lower(x[0], x[1]), x[2]), raise(raise(x[0], x[1]), x[2]));
+        let (lo_y, hi_y) = (lower(lower(y[0], y[1]), y[2]), raise(raise(y[0], y[1]), y[2]));
+        (lo_y - hi_x, lo_x - hi_y)
+    };
+    let (up0, down0) = gaps(a0, b0);
+    let (up1, down1) = gaps(a_end, b_end);
+    (up0 > need && up1 > need) || (down0 > need && down1 > need)
 }
 
 /// `true` when the vertex provably stays farther than `sep` (`>= 0`) from the face during the
