@@ -168,3 +168,79 @@ fn small_objects_match_the_oracle() {
 fn torn_sheets_match_the_oracle() {
     check_kind(SceneKind::TornSheet);
 }
+
+/// One query object over a sequence whose triangles stay the same, as a simulator's: from the
+/// second step on, the topology is kept and the per-step hierarchy refitted to the new volumes
+/// (rebuilt only when it fits them too loosely). Every step must still match the oracle, in
+/// both modes, with the candidates of a query object that starts from nothing, and the tree
+/// must hold its leaves. A step with other triangles in between is rebuilt from scratch.
+#[test]
+fn a_sequence_of_the_same_triangles_refits_the_tree_and_matches_the_oracle() {
+    let mut collided = 0;
+    for seed in 0..4 {
+        let frames = 9;
+        let mut ccd = Ccd::new();
+        ccd.record_candidates(true);
+        let mut refitted = 0;
+        for k in 0..frames - 1 {
+            let step = mesh_util::warped_step(seed, k, frames);
+            let what = format!("warped sequence {seed} step {k}");
+            let mut options = QueryOptions::default();
+            let oracle = Ccd::new().query(&step, Method::Brute, &options).unwrap();
+            collided += usize::from(oracle.contact_count() > 0);
+            let mut fresh = Ccd::new();
+            fresh.record_candidates(true);
+            let cold = fresh.query(&step, Method::Bvh, &options).unwrap();
+            let report = ccd.query(&step, Method::Bvh, &options).unwrap();
+            assert_eq!(ccd.validate_tree(), Ok(()), "{what}");
+            assert!(
+                k > 0 || !ccd.tree_refitted(),
+                "{what}: refitted from nothing"
+            );
+            refitted += usize::from(ccd.tree_refitted());
+            assert_tested_once(&ccd, &report, &what);
+            assert_eq!((&report.vf, &report.ee), (&oracle.vf, &oracle.ee), "{what}");
+            let sorted = |c: &[[u32; 2]]| {
+                let mut c = c.to_vec();
+                c.sort_unstable();
+                c
+            };
+            assert_eq!(
+                (sorted(ccd.candidates().vf), sorted(ccd.candidates().ee)),
+                (sorted(fresh.candidates().vf), sorted(fresh.candidates().ee)),
+                "{what}: the candidates of a fresh query"
+            );
+            assert_eq!(report.stats.vf_tests, cold.stats.vf_tests, "{what}");
+            if k % 3 == 2 {
+                // Earliest in between: its first pass sweeps other times, so the tree is
+                // rebuilt for them, and the next All query rebuilds it again.
+                options.mode = Mode::Earliest;
+                let earliest = ccd.query(&step, Method::Bvh, &options).unwrap();
+                assert_eq!(ccd.validate_tree(), Ok(()), "{what} earliest");
+                assert_eq!(earliest.earliest, oracle.earliest, "{what}: earliest");
+                let tolerance = options.narrow.tolerance;
+                mesh_util::assert_earliest_pairs(&oracle, &earliest, tolerance, &what);
+            }
+        }
+        assert!(
+            refitted >= 3,
+            "warped sequence {seed}: {refitted} steps refitted"
+        );
+        // Other triangles (the other mesh of the warped sequences), then these again.
+        let options = QueryOptions::default();
+        for (s, k) in [(seed + 1, 0), (seed, frames - 2)] {
+            let step = mesh_util::warped_step(s, k, frames);
+            let oracle = Ccd::new().query(&step, Method::Brute, &options).unwrap();
+            let report = ccd.query(&step, Method::Bvh, &options).unwrap();
+            let what = format!("warped sequence {s} step {k} after another mesh");
+            assert!(
+                !ccd.tree_refitted(),
+                "{what}: refitted across a change of triangles"
+            );
+            assert_eq!(ccd.validate_tree(), Ok(()), "{what}");
+            assert_eq!((&report.vf, &report.ee), (&oracle.vf, &oracle.ee), "{what}");
+        }
+    }
+    println!("{collided} of 32 steps collide");
+    assert!(collided >= 6, "too few steps collide: {collided}");
+}

@@ -155,14 +155,35 @@ pub struct Features {
     pub owned: Vec<OwnedFeatures>,
     /// The features' boxes swept over the whole step.
     pub boxes: FeatureBoxes,
+    /// The triangles and vertex count that `topo` and `owned` were derived from, once derived.
+    derived_from: Option<(Vec<[u32; 3]>, usize)>,
 }
 
 impl Features {
-    /// Recomputes everything for `step`.
-    pub fn update(&mut self, step: &Step) {
+    /// Whether `step` has the very triangles (same indices, same order) and vertex count that
+    /// the topology was last derived from: then [`Features::update`] keeps it.
+    pub fn same_topology(&self, step: &Step) -> bool {
+        self.derived_from
+            .as_ref()
+            .is_some_and(|(t, n)| *n == step.vertex_count() && t[..] == *step.triangles())
+    }
+
+    /// Recomputes everything for `step`: the boxes always, the topology and the ownership only
+    /// when `same_topology` is false (the caller's [`Features::same_topology`]; a simulator's
+    /// everyday step keeps its triangles, and an exact comparison of them costs far less than
+    /// the edges' derivation).
+    pub fn update(&mut self, step: &Step, same_topology: bool) {
         let tris = step.triangles();
-        self.topo = Topology::new(tris, step.vertex_count());
         self.boxes.sweep(step, 1.0);
+        if same_topology {
+            debug_assert!(self.same_topology(step));
+            return;
+        }
+        self.topo = Topology::new(tris, step.vertex_count());
+        let (from, count) = self.derived_from.get_or_insert_with(Default::default);
+        from.clear();
+        from.extend_from_slice(tris);
+        *count = step.vertex_count();
 
         // A triangle owns a vertex or an edge when it is the lowest-numbered incident one.
         let topo = &self.topo;

@@ -23,8 +23,11 @@ use crate::mesh::Step;
 use crate::narrow::Certainty;
 
 /// A reusable whole-step CCD query. Keep one per simulation and call [`Ccd::query`] every step:
-/// its buffers (hierarchy, candidate pairs, per-feature data) are reused, while nothing about
-/// the mesh is carried from one step to the next, so the topology may change freely.
+/// its buffers (hierarchy, candidate pairs, per-feature data) are reused, and the topology may
+/// change freely from one step to the next. What it carries over is checked, never trusted:
+/// the topology and the per-step hierarchy's shape are kept only for the very same triangles
+/// (compared exactly), the hierarchy refitted to the new volumes; the cluster method's leaves
+/// are re-certified on the new positions.
 #[derive(Clone, Debug, Default)]
 pub struct Ccd {
     features: Features,
@@ -178,20 +181,26 @@ impl Ccd {
         let sep = options.narrow.min_separation;
         // The end of the per-step hierarchy's first pass, if it makes one.
         let first_end = first_pass_end(options, !self.late);
+        // The triangles of the last step again (a simulator's everyday step): the topology is
+        // kept, and the per-step hierarchy refitted.
+        let same = self.features.same_topology(step);
         if method == Method::Bvh {
             // The per-step hierarchy needs the positions only: it is built beside the topology
             // and the features (at the same time on two threads or more).
-            let end = first_end.unwrap_or(options.narrow.t_max);
+            // (A tree is refitted only if the last query built this very tree, so over the
+            // same triangles.)
+            let end = (first_end.unwrap_or(options.narrow.t_max), sep);
+            let refit = same && self.last_tree == Some((Method::Bvh, options.kdop));
             let (features, ws) = (&mut self.features, &mut self.ws);
             let build = || match options.kdop {
-                DopKind::K6 => self.k6.build(step, end, sep, ws),
-                DopKind::K14 => self.k14.build(step, end, sep, ws),
-                DopKind::K18 => self.k18.build(step, end, sep, ws),
-                DopKind::K26 => self.k26.build(step, end, sep, ws),
+                DopKind::K6 => self.k6.build(step, end, refit, ws),
+                DopKind::K14 => self.k14.build(step, end, refit, ws),
+                DopKind::K18 => self.k18.build(step, end, refit, ws),
+                DopKind::K26 => self.k26.build(step, end, refit, ws),
             };
-            rayon::join(|| features.update(step), build);
+            rayon::join(|| features.update(step, same), build);
         } else {
-            self.features.update(step);
+            self.features.update(step, same);
         }
         self.last_tree = None;
         let filter = PairFilter::new(
@@ -387,6 +396,18 @@ impl Ccd {
             Some((_, DopKind::K14)) => self.k14.validate(),
             Some((_, DopKind::K18)) => self.k18.validate(),
             Some((_, DopKind::K26)) => self.k26.validate(),
+        }
+    }
+
+    /// Whether the last query's per-step hierarchy ([`Method::Bvh`]) was the one of the step
+    /// before, refitted to this step's volumes (the same triangles again), rather than rebuilt.
+    pub fn tree_refitted(&self) -> bool {
+        match self.last_tree {
+            Some((Method::Bvh, DopKind::K6)) => self.k6.refitted,
+            Some((Method::Bvh, DopKind::K14)) => self.k14.refitted,
+            Some((Method::Bvh, DopKind::K18)) => self.k18.refitted,
+            Some((Method::Bvh, DopKind::K26)) => self.k26.refitted,
+            _ => false,
         }
     }
 
