@@ -212,15 +212,18 @@ pub struct InputTables {
     pub agree: bool,
 }
 
-/// Runs every method on every step of one input. Returns the tables and the per-step totals
-/// of each method (for the plot).
+/// Runs every method on every step of one input, each method with its own query object in
+/// `ccds` (one per method, kept across steps as a simulator keeps its own: what one method
+/// derives from a step, such as its topology, is not handed to the next). Returns the tables
+/// and the per-step totals of each method (for the plot).
 pub fn bench_source(
     name: &str,
     source: &Source,
     methods: &[MethodArg],
     options: &QueryOptions,
-    ccd: &mut Ccd,
+    ccds: &mut [Ccd],
 ) -> Result<(InputTables, Vec<Vec<f64>>)> {
+    assert_eq!(ccds.len(), methods.len(), "one query object per method");
     let bar = progress(source.steps(), name);
     let mut samples: Vec<Vec<Sample>> = vec![Vec::new(); methods.len()];
     let mut triangles = [usize::MAX, 0];
@@ -236,7 +239,7 @@ pub fn bench_source(
         }
         let mut reports: Vec<Option<Report>> = (0..methods.len()).map(|_| None).collect();
         for i in order {
-            let report = ccd.query(&step, methods[i].into(), options)?;
+            let report = ccds[i].query(&step, methods[i].into(), options)?;
             samples[i].push(Sample::of(&report));
             reports[i] = Some(report);
         }
@@ -413,7 +416,7 @@ pub fn print_text(t: &InputTables) {
     println!("  What the columns mean:");
     let has = |name: &str| t.methods.iter().any(|m| m.method == name);
     if has("bvh") {
-        println!("    bvh: a bounding-volume hierarchy (a tree of boxes around the triangles) rebuilt every step");
+        println!("    bvh: a bounding-volume hierarchy (a tree of boxes around the triangles), rebuilt when the triangles change");
     }
     if has("cluster") {
         println!(
@@ -467,13 +470,13 @@ pub fn run(args: &Args) -> Result<std::process::ExitCode> {
         crate::cmd_step::refuse_overwrite(plot, &inputs)?;
     }
     let started = Instant::now();
-    let mut ccd = Ccd::new();
+    let mut ccds = vec![Ccd::new(); args.methods.len()];
     let mut all = Vec::new();
     let mut series = Vec::new();
     for input in &args.inputs {
         let source = Source::open(input)?;
         let name = input.display().to_string();
-        let (tables, totals) = bench_source(&name, &source, &args.methods, &options, &mut ccd)?;
+        let (tables, totals) = bench_source(&name, &source, &args.methods, &options, &mut ccds)?;
         if !args.json {
             print_text(&tables);
         }

@@ -88,7 +88,8 @@ pub fn run(args: &Args) -> Result<()> {
     for (k, step) in steps.iter().enumerate() {
         found.add(k, &ccd.query(step, topoccd::Method::Bvh, &options)?);
     }
-    let (tables, _) = bench_source(&name, &Source::Memory(steps), &methods, &options, &mut ccd)?;
+    let mut ccds = vec![Ccd::new(); methods.len()];
+    let (tables, _) = bench_source(&name, &Source::Memory(steps), &methods, &options, &mut ccds)?;
     print_text(&tables);
     println!();
     println!("{}", found.sentence());
