@@ -345,18 +345,27 @@ mod tests {
         best
     }
 
+    /// The separations and ends of the interval looked at that the tests run over, each with
+    /// the solver's options for it.
+    fn cases() -> impl Iterator<Item = (f64, f64, NarrowOptions)> {
+        let cases = [(0.0, 1.0), (0.05, 1.0), (0.0, 0.3), (0.05, 0.01)];
+        cases.into_iter().map(|(sep, t_end)| {
+            let options = NarrowOptions {
+                min_separation: sep,
+                t_max: t_end,
+                ..NarrowOptions::default()
+            };
+            (sep, t_end, options)
+        })
+    }
+
     /// Whenever the filter rejects over `[0, t_end]`, sampled distances over that interval
     /// exceed `sep` and the solver finds no contact there either.
     #[test]
     fn rejections_are_separated() {
         let mut rng = ChaCha8Rng::seed_from_u64(11);
         let (mut rejected, mut total) = (0, 0);
-        for (sep, t_end) in [(0.0, 1.0), (0.05, 1.0), (0.0, 0.3), (0.05, 0.01)] {
-            let options = NarrowOptions {
-                min_separation: sep,
-                t_max: t_end,
-                ..NarrowOptions::default()
-            };
+        for (sep, t_end, options) in cases() {
             for _ in 0..3000 {
                 // Small features moving a lot, as in a crumpled cloth.
                 let base = point(&mut rng);
@@ -396,12 +405,7 @@ mod tests {
     fn triangles_found_apart_have_no_feature_pair_in_contact() {
         let mut rng = ChaCha8Rng::seed_from_u64(12);
         let (mut rejected, mut total) = (0, 0);
-        for (sep, t_end) in [(0.0, 1.0), (0.05, 1.0), (0.0, 0.3), (0.05, 0.01)] {
-            let options = NarrowOptions {
-                min_separation: sep,
-                t_max: t_end,
-                ..NarrowOptions::default()
-            };
+        for (sep, t_end, options) in cases() {
             for _ in 0..1500 {
                 let base = point(&mut rng);
                 // Corners 0..3 the first triangle, 3..6 the second, at t=0 then t=1.
