@@ -37,11 +37,12 @@ const DEPTH: u32 = 3;
 type Points = [[DVec3; 4]; 2];
 
 /// `true` when, along one fixed direction `d` (from the first feature's mean point over the
-/// step to the second's), the features' projections lie apart by more than `sep |d|` at t=0 and
-/// at t=1, on the same side. Then they do so during the whole step: each point's projection is
-/// linear in `t`, so the smallest projection of the one feature is concave in `t`, the largest
-/// of the other convex, and their difference, concave, stays above its smaller end value. The
-/// distance between the features is at least that difference over `|d|`.
+/// step to the second's, times `S (N - S)`), the features' projections lie apart by more than
+/// `sep |d|` at t=0 and at t=1, on the same side. Then they do so during the whole step: each
+/// point's projection is linear in `t`, so the smallest projection of the one feature is
+/// concave in `t`, the largest of the other convex, and their difference, concave, stays above
+/// its smaller end value. The distance between the features is at least that difference over
+/// `|d|`. The first feature is points `..S` of `pts`, the second the other `N - S`.
 ///
 /// Rounding: each computed projection is within `3 u |d|_1 M` of the exact one (`M` the
 /// largest coordinate), and the difference of two within `8 u |d|_1 M`; the test demands twice
@@ -49,24 +50,24 @@ type Points = [[DVec3; 4]; 2];
 ///
 /// Over `[0, t_end]` (`t_end` a power of two at most 1), the second end is the interpolated
 /// position at `t_end`, off by at most `3 u M` per coordinate (the scaling by a power of two is
-/// exact): the margin grows to `48 u |d|_1 M`. `coord` is `M`, the largest coordinate.
+/// exact): the margin grows to `48 u |d|_1 M`. `coord` is `M`, the largest coordinate (or
+/// anything larger).
 #[inline]
-fn direction_separated<const N: usize>(
+fn direction_separated<const N: usize, const S: usize>(
     pts: &[[DVec3; N]; 2],
-    split: usize,
     sep: f64,
     t_end: f64,
     coord: f64,
 ) -> bool {
     let (mut first, mut second) = (DVec3::ZERO, DVec3::ZERO);
     for (k, (&p0, &p1)) in pts[0].iter().zip(&pts[1]).enumerate() {
-        if k < split {
+        if k < S {
             first += p0 + p1;
         } else {
             second += p0 + p1;
         }
     }
-    let d = second / (N - split) as f64 - first / split as f64;
+    let d = second * S as f64 - first * (N - S) as f64;
     let rounding = if t_end < 1.0 { 48.0 } else { 16.0 };
     // (No square root without a separation: a `d` that is not finite still makes `need`
     // infinite or NaN through its 1-norm, and nothing passes.)
@@ -85,7 +86,7 @@ fn direction_separated<const N: usize>(
         let mut lo = [f64::INFINITY; 2];
         let mut hi = [f64::NEG_INFINITY; 2];
         for (k, p) in end.iter().enumerate() {
-            let f = usize::from(k >= split);
+            let f = usize::from(k >= S);
             let x = d.dot(*p);
             lo[f] = lower(lo[f], x);
             hi[f] = raise(hi[f], x);
@@ -113,7 +114,12 @@ fn separated(
     let t_end = dyadic_end(t_end);
     // The largest coordinate of the points (`M` of the rounding bounds).
     let coord = pts.iter().flatten().fold(0.0, |m, x| raise_abs(m, *x));
-    if direction_separated(pts, split, sep, t_end, coord) {
+    let apart = if split == 1 {
+        direction_separated::<4, 1>(pts, sep, t_end, coord)
+    } else {
+        direction_separated::<4, 2>(pts, sep, t_end, coord)
+    };
+    if apart {
         return true;
     }
     let mut c = coplanarity(p, a, b);
@@ -241,33 +247,12 @@ pub(crate) fn triangles_separated(
     t_end: f64,
     coord: f64,
 ) -> bool {
-    let corners = |x: &[DVec3], t: [u32; 3]| t.map(|i| x[i as usize]);
-    let (a0, a1, b0, b1) = (corners(x0, a), corners(x1, a), corners(x0, b), corners(x1, b));
-    // Three times the direction between the mean points (any direction serves).
-    let sum = |p: [DVec3; 3]| p[0] + p[1] + p[2];
-    let d = (sum(b0) + sum(b1)) - (sum(a0) + sum(a1));
-    let t_end = dyadic_end(t_end);
-    let length = if sep > 0.0 { d.length() } else { 0.0 };
-    let rounding = if t_end < 1.0 { 48.0 } else { 16.0 };
-    let need = sep * length * (1.0 + 4.0 * UNIT_ROUNDOFF)
-        + rounding * UNIT_ROUNDOFF * d.abs().element_sum() * coord
-        + UNDERFLOW_ERROR;
-    let (a_end, b_end) = if t_end < 1.0 {
-        let at = |p: [DVec3; 3], q: [DVec3; 3]| std::array::from_fn(|k| lerp(p[k], q[k], t_end));
-        (at(a0, a1), at(b0, b1))
-    } else {
-        (a1, b1)
-    };
-    // The gaps between the projections, second above first and first above second.
-    let gaps = |p: [DVec3; 3], q: [DVec3; 3]| {
-        let (x, y) = (p.map(|v| d.dot(v)), q.map(|v| d.dot(v)));
-        let (lo_x, hi_x) = (lower(lower(x[0], x[1]), x[2]), raise(raise(x[0], x[1]), x[2]));
-        let (lo_y, hi_y) = (lower(lower(y[0], y[1]), y[2]), raise(raise(y[0], y[1]), y[2]));
-        (lo_y - hi_x, lo_x - hi_y)
-    };
-    let (up0, down0) = gaps(a0, b0);
-    let (up1, down1) = gaps(a_end, b_end);
-    (up0 > need && up1 > need) || (down0 > need && down1 > need)
+    let [a0, a1, a2, b0, b1, b2] = [a[0], a[1], a[2], b[0], b[1], b[2]].map(|i| i as usize);
+    let pts = [
+        [x0[a0], x0[a1], x0[a2], x0[b0], x0[b1], x0[b2]],
+        [x1[a0], x1[a1], x1[a2], x1[b0], x1[b1], x1[b2]],
+    ];
+    direction_separated::<6, 3>(&pts, sep, dyadic_end(t_end), coord)
 }
 
 /// `true` when the vertex provably stays farther than `sep` (`>= 0`) from the face during the
