@@ -20,7 +20,7 @@
 //! pair across the features may collide.
 
 use super::Step;
-use crate::math::DVec3;
+use crate::math::{max_abs, DVec3};
 use crate::narrow::prefilter::triangles_separated;
 
 /// The pair filter of one query. Cheap to build: the parent map is written into a buffer the
@@ -64,7 +64,7 @@ impl<'s> PairFilter<'s> {
             sep,
             t_max,
             positions: (step.pos0(), step.pos1()),
-            coord: (step.pos0().iter().chain(step.pos1())).fold(0.0, |m, p| m.max(p.abs().max_element())),
+            coord: (step.pos0().iter().chain(step.pos1())).fold(0.0, |m, &p| m.max(max_abs(p))),
             canon,
             groups: step.groups(),
             can_collide: step.can_collide(),
