@@ -45,6 +45,12 @@ pub(crate) fn candidates<const H: usize>(
     let topo = &features.topo;
     let owner_of_vertex = |v: u32| topo.triangles_of(v)[0];
     let edge_owner = &topo.edge_owner;
+    // The test on the owner triangles of a pair: their k-DOPs overlap, and the filter's rule 5
+    // does not find them apart.
+    let owners_may_meet = |s: u32, t: u32| {
+        let (s, t) = (s as usize, t as usize);
+        volumes[s].overlaps(&volumes[t]) && !filter.owners_apart(tris[s], tris[t])
+    };
     // The edges' swept boxes: the unions of their vertices'.
     let boxes = &features.boxes;
     let edge_boxes: Vec<SweptBox> = topo.edges.iter().map(|&e| boxes.edge(e)).collect();
@@ -102,8 +108,7 @@ pub(crate) fn candidates<const H: usize>(
             tests += 1;
             if a_box.near(bx(b), sep)
                 && filter.vertex_face(v, tris[f as usize])
-                && volumes[owner_of_vertex(v) as usize].overlaps(&volumes[f as usize])
-                && !filter.owners_apart(tris[owner_of_vertex(v) as usize], tris[f as usize])
+                && owners_may_meet(owner_of_vertex(v), f)
             {
                 out.buf.vf.push([v, f]);
                 out.check();
@@ -133,12 +138,7 @@ pub(crate) fn candidates<const H: usize>(
             tests += 1;
             if a_box.near(&edge_boxes[b.index as usize], sep)
                 && filter.edge_edge([a0, a1], [b0, b1])
-                && volumes[edge_owner[a.index as usize] as usize]
-                    .overlaps(&volumes[edge_owner[b.index as usize] as usize])
-                && !filter.owners_apart(
-                    tris[edge_owner[a.index as usize] as usize],
-                    tris[edge_owner[b.index as usize] as usize],
-                )
+                && owners_may_meet(edge_owner[a.index as usize], edge_owner[b.index as usize])
             {
                 out.buf.ee.push([a.index.min(b.index), a.index.max(b.index)]);
                 out.check();
