@@ -45,11 +45,11 @@ pub(crate) fn candidates<const H: usize>(
     let topo = &features.topo;
     let owner_of_vertex = |v: u32| topo.triangles_of(v)[0];
     let edge_owner = &topo.edge_owner;
-    // The test on the owner triangles of a pair: their k-DOPs overlap, and the filter's rule 5
-    // does not find them apart.
+    // The test on the owner triangles of a pair: their k-DOPs overlap, and the filter's rules
+    // 5 and 6 do not drop them.
     let owners_may_meet = |s: u32, t: u32| {
         let (s, t) = (s as usize, t as usize);
-        volumes[s].overlaps(&volumes[t]) && !filter.owners_apart(tris[s], tris[t])
+        volumes[s].overlaps(&volumes[t]) && !filter.owners_dropped(tris[s], tris[t])
     };
     // The edges' swept boxes: the unions of their vertices'.
     let boxes = &features.boxes;

@@ -9,8 +9,9 @@
 //!
 //! # One answer, whatever the method
 //! A vertex-face pair `(v, f)` is a candidate of every method exactly when the two features
-//! share no vertex, pass the pair filter (whose last rule drops the pairs whose owner
-//! triangles stay apart along the direction between their mean points), their swept boxes come
+//! share no vertex, pass the pair filter (whose last two rules drop the pairs whose owner
+//! triangles stay apart along the direction between their mean points, or share a vertex whose
+//! star is certified free of self-contact), their swept boxes come
 //! within the minimum separation, and the swept k-DOPs of `v`'s owner triangle and of `f`
 //! overlap (each inflated by the separation); an edge-edge pair likewise with its two owner
 //! triangles. The per-step

@@ -242,7 +242,11 @@ impl Features {
                 equal |= usize::from(x == y) << (3 * i + j);
             }
         }
-        if equal == 0 && filter.unshared_apart(va, vb) {
+        if equal == 0 {
+            if filter.unshared_apart(va, vb) {
+                return;
+            }
+        } else if filter.shared_star(va, equal) {
             return;
         }
         let shared = SHARED[equal];

@@ -14,7 +14,12 @@
 //!    times searched `[0, t_max]` ([`PairFilter::owners_apart`]). Each feature lies in its
 //!    owner, so no pair of their features can come that close either: the rule drops no
 //!    contact, and it drops at once every pair of two triangles that merely pass near each
-//!    other, before their features are looked at.
+//!    other, before their features are looked at;
+//! 6. without a minimum separation, the owner triangles share a vertex whose star (its
+//!    incident triangles) is certified free of self-contact over the step (`star`): every
+//!    feature of either lies in that star, so no pair of them can touch. Most overlapping
+//!    triangle pairs of a mesh are neighbours whose feature pairs come close without touching;
+//!    the rule drops them all at once.
 //!
 //! Rules 3 and 4 follow the IPC toolkit's `can_collide`: a pair is kept when *some* vertex
 //! pair across the features may collide.
@@ -36,18 +41,22 @@ pub(crate) struct PairFilter<'s> {
     /// Each vertex's representative (its parent for a new vertex of the step, else itself);
     /// `None` when no vertex has a parent or the crack filter is off.
     canon: Option<&'s [u32]>,
+    /// Rule 6: per vertex, whether its star is certified; `None` with a minimum separation.
+    stars: Option<&'s [bool]>,
     groups: Option<&'s [u32]>,
     can_collide: Option<super::step::CanCollide<'s>>,
 }
 
 impl<'s> PairFilter<'s> {
-    /// The filter of `step`; `canon` is scratch memory for the parent map.
+    /// The filter of `step`; `canon` is scratch memory for the parent map, `stars` the
+    /// certified stars of rule 6 (ignored with a minimum separation).
     pub fn new(
         step: &'s Step<'_>,
         sep: f64,
         t_max: f64,
         crack_filter: bool,
         canon: &'s mut Vec<u32>,
+        stars: Option<&'s [bool]>,
     ) -> Self {
         let parents = step.parents();
         let canon = if crack_filter && !parents.is_empty() {
@@ -66,6 +75,7 @@ impl<'s> PairFilter<'s> {
             positions: (step.pos0(), step.pos1()),
             coord: (step.pos0().iter().chain(step.pos1())).fold(0.0, |m, &p| m.max(max_abs(p))),
             canon,
+            stars: stars.filter(|_| sep == 0.0),
             groups: step.groups(),
             can_collide: step.can_collide(),
         }
@@ -90,12 +100,33 @@ impl<'s> PairFilter<'s> {
         self.only_shared() || self.check(&a, &b)
     }
 
-    /// Rule 5: whether the triangles with corners `a` and `b` share no vertex and stay apart
-    /// along the direction between their mean points during `[0, t_max]`, so that no feature
-    /// of the one is a candidate against a feature of the other.
+    /// Rules 5 and 6: whether no feature of the triangle with corners `a` is a candidate
+    /// against a feature of the triangle with corners `b`, because they share no vertex and
+    /// stay apart along the direction between their mean points during `[0, t_max]`, or share
+    /// a vertex whose star is certified.
     #[inline]
-    pub fn owners_apart(&self, a: [u32; 3], b: [u32; 3]) -> bool {
-        !a.iter().any(|v| b.contains(v)) && self.unshared_apart(a, b)
+    pub fn owners_dropped(&self, a: [u32; 3], b: [u32; 3]) -> bool {
+        let mut equal = 0;
+        for (i, x) in a.iter().enumerate() {
+            for (j, y) in b.iter().enumerate() {
+                equal |= usize::from(x == y) << (3 * i + j);
+            }
+        }
+        if equal == 0 {
+            self.unshared_apart(a, b)
+        } else {
+            self.shared_star(a, equal)
+        }
+    }
+
+    /// Rule 6 for triangles `a` and `b` that share the vertices given by `equal` (bit `3 i + j`
+    /// set when `a[i] == b[j]`): whether one of them has a certified star.
+    #[inline]
+    pub fn shared_star(&self, a: [u32; 3], equal: usize) -> bool {
+        let Some(stars) = self.stars else {
+            return false;
+        };
+        (0..3).any(|i| equal >> (3 * i) & 7 != 0 && stars[a[i] as usize])
     }
 
     /// [`PairFilter::owners_apart`] for triangles known to share no vertex.

@@ -4,6 +4,7 @@
 
 pub(crate) mod features;
 pub(crate) mod filter;
+pub(crate) mod star;
 mod step;
 mod topology;
 

@@ -19,6 +19,7 @@ use crate::bvh::{BvhWorkspace, ParOptions};
 use crate::kdop::DopKind;
 use crate::mesh::features::{FeatureBoxes, Features};
 use crate::mesh::filter::PairFilter;
+use crate::mesh::star::Stars;
 use crate::mesh::Step;
 use crate::narrow::Certainty;
 
@@ -35,6 +36,10 @@ pub struct Ccd {
     /// query (see [`bvh_query`]).
     early_boxes: FeatureBoxes,
     canon: Vec<u32>,
+    /// Rule 6 of the pair filter: the certified vertex stars.
+    stars: Stars,
+    /// With `true`, rule 6 is off (for the crate's tests, [`Ccd::distrust_stars`]).
+    distrust_stars: bool,
     ws: BvhWorkspace,
     k6: PerStepBvh<3>,
     k14: PerStepBvh<7>,
@@ -184,6 +189,8 @@ impl Ccd {
         // The triangles of the last step again (a simulator's everyday step): the topology is
         // kept, and the per-step hierarchy refitted.
         let same = self.features.same_topology(step);
+        // Rule 6 of the pair filter (certified vertex stars) holds for contact only.
+        let stars_on = sep == 0.0 && !self.distrust_stars;
         if method == Method::Bvh {
             // The per-step hierarchy needs the positions only: it is built beside the topology
             // and the features (at the same time on two threads or more).
@@ -191,16 +198,25 @@ impl Ccd {
             // same triangles.)
             let end = (first_end.unwrap_or(options.narrow.t_max), sep);
             let refit = same && self.last_tree == Some((Method::Bvh, options.kdop));
-            let (features, ws) = (&mut self.features, &mut self.ws);
+            let (features, stars, ws) = (&mut self.features, &mut self.stars, &mut self.ws);
             let build = || match options.kdop {
                 DopKind::K6 => self.k6.build(step, end, refit, ws),
                 DopKind::K14 => self.k14.build(step, end, refit, ws),
                 DopKind::K18 => self.k18.build(step, end, refit, ws),
                 DopKind::K26 => self.k26.build(step, end, refit, ws),
             };
-            rayon::join(|| features.update(step, same), build);
+            let prepare = || {
+                features.update(step, same);
+                if stars_on {
+                    stars.certify(step, &features.topo);
+                }
+            };
+            rayon::join(prepare, build);
         } else {
             self.features.update(step, same);
+            if stars_on {
+                self.stars.certify(step, &self.features.topo);
+            }
         }
         self.last_tree = None;
         let filter = PairFilter::new(
@@ -209,6 +225,7 @@ impl Ccd {
             options.narrow.t_max,
             options.crack_filter,
             &mut self.canon,
+            stars_on.then_some(&self.stars.certified[..]),
         );
         let input = BroadInput {
             step,
@@ -414,6 +431,13 @@ impl Ccd {
     /// The clustering computed by the last [`Method::Cluster`] query (empty before the first).
     pub fn clustering(&self) -> &crate::broad::cluster::Clustering {
         &self.cluster.clustering
+    }
+
+    /// With `true`, rule 6 of the pair filter is off: no vertex star counts as certified, and
+    /// the neighbours in one give their candidates as with a minimum separation. A check of
+    /// the certificate: the contacts must not change.
+    pub fn distrust_stars(&mut self, distrust: bool) {
+        self.distrust_stars = distrust;
     }
 
     /// With `true`, [`Method::Cluster`] treats every leaf cluster as uncertified: its

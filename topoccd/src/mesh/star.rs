@@ -1,0 +1,305 @@
+//! Rule 6 of the pair filter: vertex stars proved free of self-contact over the step.
+//!
+//! The *star* of a vertex `v` is the set of its incident triangles. When it is a certified disk
+//! (the disk theorem of the cluster method, [`broad::cluster`](crate::broad::cluster), applied
+//! to the star with the centre `c = v`), no two of its features that share no vertex touch at
+//! any time of the step, so two triangles that share `v` give no candidate pair at all: every
+//! feature of either lies in the star. Most overlapping triangle pairs of a mesh are such
+//! neighbours, and their feature pairs, though they never touch, come close enough for their
+//! boxes to overlap.
+//!
+//! # The certificate
+//! For the star of `v`, with triangles `(v, a_i, b_i)` (each rotated to start at `v`, keeping
+//! its orientation), and the direction `V` = the sum of their normals at t=0 and t=1:
+//! 1. the link edges `a_i -> b_i` form one cycle through `k >= 3` distinct vertices (`v` is an
+//!    interior vertex of a consistently oriented manifold: every spoke `v a` lies in exactly
+//!    two triangles of the star, in opposite directions, every link edge in one, and
+//!    `V - E + F = (k + 1) - 2k + k = 1`);
+//! 2. every triangle has `n(t)·V > 0` on `[0, 1]`: the three Bernstein coefficients of the
+//!    quadratic, computed from the triangle's control normals, exceed their rounding bound.
+//!    With the centre `c = v`, this is also the star test of every link edge (hypothesis 4:
+//!    `V·((a - v) x (b - v)) = n·V`);
+//! 3. the link's projected angles around `v` at t=0 sum to less than `4 pi`: each is in
+//!    `(0, pi)` by 2, so the sum is `2 pi` times the winding number, which is then one
+//!    (hypothesis 5). Each angle is bounded by `pi / 3`, `pi / 2` or `pi` from rigorous
+//!    comparisons of its cosine, and the bounds must add up to less than `4 pi`.
+//!
+//! By the disk theorem the star's projection along `V` is then injective at every time of the
+//! step. Certifying over the whole step covers any `[0, t_max]`. The certificate says nothing
+//! about distances, so the rule applies only without a minimum separation.
+
+use rayon::prelude::*;
+
+use super::{Step, Topology};
+use crate::math::{max_abs, DVec3, UNDERFLOW_ERROR, UNIT_ROUNDOFF};
+
+/// Rounding bound of a coefficient `N_j·V` of `n(t)·V`, in units of `u |V|_1 P Q` (`P`, `Q`
+/// the largest coordinates of the triangle's two edge vectors over the step). Analysis: the
+/// edge vectors' own rounding moves each cross product's component by `4 u P Q`, its products
+/// and difference by `6 u P Q`, the mean of two by `2 u P Q` more, and the dot product with
+/// `V` adds `6 u |V|_1 P Q`: at most 20.
+const NORMAL_ERROR: f64 = 64.0;
+/// Rounding bound of the projected dot product and squared lengths of the winding test, in
+/// units of `u |V|_inf^2 A B` (`A`, `B` the largest coordinates of the two arms). Analysis:
+/// each of the two products is at most `9 |V|_inf^2 A B` and is computed within 7 units of
+/// rounding of that, the difference adds 18, the arms' own rounding 72: at most 220.
+const ANGLE_ERROR: f64 = 512.0;
+/// Stars of more triangles than this are not certified (the cycle test is quadratic in it).
+const MAX_VALENCE: usize = 16;
+/// Meshes with at least this many triangles or vertices are certified in parallel chunks.
+const PAR_LEN: usize = 4096;
+
+/// The certified stars of one step, kept by the caller across steps.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Stars {
+    /// Per vertex: whether its star is certified.
+    pub certified: Vec<bool>,
+}
+
+impl Stars {
+    /// Certifies every vertex star of `step` (topology `topo`) over the whole step.
+    pub fn certify(&mut self, step: &Step, topo: &Topology) {
+        let (x0, x1, tris) = (step.pos0(), step.pos1(), step.triangles());
+        let star = |v: usize| star_certified(v as u32, topo, tris, (x0, x1));
+        self.certified.clear();
+        let n = step.vertex_count();
+        if n >= PAR_LEN {
+            (0..n)
+                .into_par_iter()
+                .with_min_len(PAR_LEN / 4)
+                .map(star)
+                .collect_into_vec(&mut self.certified);
+        } else {
+            self.certified.extend((0..n).map(star));
+        }
+    }
+}
+
+/// Whether the star of `v` passes the certificate of the module documentation.
+fn star_certified(
+    v: u32,
+    topo: &Topology,
+    tris: &[[u32; 3]],
+    (x0, x1): (&[DVec3], &[DVec3]),
+) -> bool {
+    let fan = topo.triangles_of(v);
+    let k = fan.len();
+    if !(3..=MAX_VALENCE).contains(&k) {
+        return false;
+    }
+    // Link edges a_i -> b_i.
+    let mut start = [0u32; MAX_VALENCE];
+    let mut end = [0u32; MAX_VALENCE];
+    for (i, &t) in fan.iter().enumerate() {
+        let tri = tris[t as usize];
+        let r = usize::from(tri[1] == v) + 2 * usize::from(tri[2] == v);
+        start[i] = tri[(r + 1) % 3];
+        end[i] = tri[(r + 2) % 3];
+    }
+    // 1. The link edges' starts are distinct, and every end is the start of exactly one edge
+    // (`next[i]`, then also distinct): the directed link splits into cycles (the winding test
+    // below admits only one).
+    let mut next = [0usize; MAX_VALENCE];
+    let mut bad = 0;
+    for i in 0..k {
+        let mut found = 0;
+        for j in 0..k {
+            let hit = end[i] == start[j];
+            found += usize::from(hit);
+            next[i] = if hit { j } else { next[i] };
+            bad += usize::from(j > i && start[i] == start[j]);
+        }
+        bad += usize::from(found != 1);
+    }
+    if bad != 0 {
+        return false;
+    }
+    // The arms from v to the link vertices, at t=0 and t=1.
+    let (c0, c1) = (x0[v as usize], x1[v as usize]);
+    let mut arm0 = [DVec3::ZERO; MAX_VALENCE];
+    let mut arm1 = [DVec3::ZERO; MAX_VALENCE];
+    let mut size = [0.0; MAX_VALENCE];
+    let mut direction = DVec3::ZERO;
+    for i in 0..k {
+        let a = start[i] as usize;
+        arm0[i] = x0[a] - c0;
+        arm1[i] = x1[a] - c1;
+        size[i] = max_abs(arm0[i]).max(max_abs(arm1[i]));
+    }
+    for i in 0..k {
+        let j = next[i];
+        direction += arm0[i].cross(arm0[j]) + arm1[i].cross(arm1[j]);
+    }
+    // 2. n(t)·V > 0 on [0, 1] for every triangle (v, a, b), n = (a - v) x (b - v): its control
+    // coefficients exceed their rounding bound.
+    let v1 = direction.abs().element_sum();
+    let scale = NORMAL_ERROR * UNIT_ROUNDOFF * v1;
+    for i in 0..k {
+        let j = next[i];
+        let (p0, p1, q0, q1) = (arm0[i], arm1[i], arm0[j], arm1[j]);
+        let error = scale * size[i] * size[j] + UNDERFLOW_ERROR;
+        let b0 = direction.dot(p0.cross(q0));
+        let b1 = direction.dot((p0.cross(q1) + p1.cross(q0)) * 0.5);
+        let b2 = direction.dot(p1.cross(q1));
+        if !(b0 > error && b1 > error && b2 > error) {
+            return false;
+        }
+    }
+    // 3. Winding number one at t=0: the angles' bounds, in units of pi / 6, add up to less
+    // than 4 pi. (Several cycles would each wind at least once.) Each angle is at most pi / 2
+    // when its projected cosine is certainly positive, else less than pi; if that is not
+    // enough, the acute ones are looked at again for pi / 3.
+    let vv = direction.dot(direction);
+    let unit = ANGLE_ERROR * UNIT_ROUNDOFF * max_abs(direction).powi(2);
+    let mut along = [0.0; MAX_VALENCE];
+    for i in 0..k {
+        along[i] = arm0[i].dot(direction);
+    }
+    // |V|^2 times the projected cosine's numerator of link edge i, less its rounding bound.
+    let mut low = [0.0; MAX_VALENCE];
+    let mut acute = 0;
+    for i in 0..k {
+        let j = next[i];
+        let (pa, pb) = (arm0[i], arm0[j]);
+        low[i] = pa.dot(pb) * vv - along[i] * along[j] - unit * max_abs(pa) * max_abs(pb);
+        acute += usize::from(low[i] > 0.0);
+    }
+    if 3 * acute + 6 * (k - acute) < 24 {
+        return true;
+    }
+    // |V|^2 times the projected squared lengths, plus their rounding bounds.
+    let length = |i: usize| {
+        let p = arm0[i];
+        p.dot(p) * vv - along[i] * along[i] + unit * max_abs(p).powi(2)
+    };
+    let mut total = 0;
+    for i in 0..k {
+        let l = low[i];
+        total += if l <= 0.0 {
+            6
+        } else if 4.0 * l * l * (1.0 - 1e-9) >= length(i) * length(next[i]) * (1.0 + 1e-9) {
+            2
+        } else {
+            3
+        };
+    }
+    total < 24
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::narrow::{edge_edge, vertex_face, EdgeEdge, NarrowOptions, VertexFace};
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// A fan of `k` triangles around vertex 0, its rim vertices `1..=k` at the given
+    /// positions, oriented counter-clockwise seen from +z.
+    fn fan(k: u32) -> Vec<[u32; 3]> {
+        (0..k).map(|i| [0, 1 + i, 1 + (i + 1) % k]).collect()
+    }
+
+    fn certified(x0: &[DVec3], x1: &[DVec3], tris: &[[u32; 3]]) -> Vec<bool> {
+        let step = Step::new(x0, x1, tris).expect("a valid step");
+        let topo = Topology::new(tris, x0.len());
+        let mut stars = Stars::default();
+        stars.certify(&step, &topo);
+        stars.certified
+    }
+
+    fn rim(k: u32, z: impl Fn(f64) -> f64) -> Vec<DVec3> {
+        let mut x = vec![DVec3::ZERO];
+        for i in 0..k {
+            let a = std::f64::consts::TAU * i as f64 / k as f64;
+            x.push(DVec3::new(a.cos(), a.sin(), z(a)));
+        }
+        x
+    }
+
+    #[test]
+    fn a_flat_or_gently_bent_fan_is_certified_and_a_boundary_vertex_is_not() {
+        for k in [3, 5, 6, 8, 10] {
+            let x0 = rim(k, |_| 0.0);
+            let x1 = rim(k, |a| 0.3 * a.cos());
+            assert!(certified(&x0, &x1, &fan(k))[0], "k {k}");
+            // Rim vertices lie on the boundary: not certified.
+            assert!(certified(&x0, &x1, &fan(k))[1..].iter().all(|&c| !c));
+            // An open fan (one triangle removed): the centre is a boundary vertex.
+            let open: Vec<_> = fan(k).into_iter().skip(1).collect();
+            assert!(!certified(&x0, &x1, &open)[0], "k {k}");
+        }
+    }
+
+    #[test]
+    fn a_folding_flipped_or_doubly_wound_fan_is_not_certified() {
+        let k = 6;
+        let x0 = rim(k, |_| 0.0);
+        // One rim vertex folds through the centre's other side: a triangle's normal turns over.
+        let mut x1 = x0.clone();
+        x1[1] = DVec3::new(-0.5, 0.1, 0.05);
+        assert!(!certified(&x0, &x1, &fan(k))[0]);
+        // One triangle flipped: inconsistent orientation.
+        let mut tris = fan(k);
+        tris[2].swap(1, 2);
+        assert!(!certified(&x0, &x0, &tris)[0]);
+        // Twelve triangles winding twice around the centre (each spans 60 degrees).
+        let mut x = vec![DVec3::ZERO];
+        for i in 0..12 {
+            let a = std::f64::consts::TAU * i as f64 / 6.0;
+            x.push(DVec3::new(a.cos(), a.sin(), 0.01 * i as f64));
+        }
+        assert!(!certified(&x, &x, &fan(12))[0]);
+    }
+
+    /// For random moving fans, every certified star has no pair of features sharing no vertex
+    /// in contact: the elementary tests find none.
+    #[test]
+    fn certified_stars_have_no_feature_pair_in_contact() {
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let options = NarrowOptions::default();
+        let (mut stars, mut checked) = (0, 0);
+        for _ in 0..3000 {
+            let k = rng.random_range(3..=9u32);
+            let jitter = rng.random_range(0.0..1.0);
+            let mut x0 = rim(k, |_| 0.0);
+            let mut x1 = x0.clone();
+            for p in x0.iter_mut().chain(x1.iter_mut()) {
+                *p += jitter * DVec3::new(
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                );
+            }
+            let tris = fan(k);
+            if !certified(&x0, &x1, &tris)[0] {
+                continue;
+            }
+            stars += 1;
+            let topo = Topology::new(&tris, x0.len());
+            let points = |ids: [u32; 4]| -> [DVec3; 8] {
+                std::array::from_fn(|i| {
+                    let x = if i < 4 { &x0 } else { &x1 };
+                    x[ids[i % 4] as usize]
+                })
+            };
+            for tri in &tris {
+                for v in (0..=k).filter(|v| !tri.contains(v)) {
+                    checked += 1;
+                    let q = VertexFace::from_points(points([v, tri[0], tri[1], tri[2]]));
+                    assert!(!vertex_face(&q, &options).is_contact(), "{q:?}");
+                }
+            }
+            for (i, e) in topo.edges.iter().enumerate() {
+                for f in &topo.edges[i + 1..] {
+                    if e.iter().any(|x| f.contains(x)) {
+                        continue;
+                    }
+                    checked += 1;
+                    let q = EdgeEdge::from_points(points([e[0], e[1], f[0], f[1]]));
+                    assert!(!edge_edge(&q, &options).is_contact(), "{q:?}");
+                }
+            }
+        }
+        assert!(stars > 300 && checked > 10_000, "{stars} stars, {checked} pairs");
+    }
+}
