@@ -24,6 +24,7 @@
 //! Rules 3 and 4 follow the IPC toolkit's `can_collide`: a pair is kept when *some* vertex
 //! pair across the features may collide.
 
+use super::star::StarView;
 use super::Step;
 use crate::math::{max_abs, DVec3};
 use crate::narrow::prefilter::triangles_separated;
@@ -41,8 +42,8 @@ pub(crate) struct PairFilter<'s> {
     /// Each vertex's representative (its parent for a new vertex of the step, else itself);
     /// `None` when no vertex has a parent or the crack filter is off.
     canon: Option<&'s [u32]>,
-    /// Rule 6: per vertex, whether its star is certified; `None` with a minimum separation.
-    stars: Option<&'s [bool]>,
+    /// Rule 6: the step's vertex stars; `None` with a minimum separation.
+    stars: Option<StarView<'s>>,
     groups: Option<&'s [u32]>,
     can_collide: Option<super::step::CanCollide<'s>>,
 }
@@ -56,7 +57,7 @@ impl<'s> PairFilter<'s> {
         t_max: f64,
         crack_filter: bool,
         canon: &'s mut Vec<u32>,
-        stars: Option<&'s [bool]>,
+        stars: Option<StarView<'s>>,
     ) -> Self {
         let parents = step.parents();
         let canon = if crack_filter && !parents.is_empty() {
@@ -126,7 +127,7 @@ impl<'s> PairFilter<'s> {
         let Some(stars) = self.stars else {
             return false;
         };
-        (0..3).any(|i| equal >> (3 * i) & 7 != 0 && stars[a[i] as usize])
+        (0..3).any(|i| equal >> (3 * i) & 7 != 0 && stars.certified(a[i]))
     }
 
     /// [`PairFilter::owners_apart`] for triangles known to share no vertex.

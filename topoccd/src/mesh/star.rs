@@ -28,6 +28,8 @@
 //! step. Certifying over the whole step covers any `[0, t_max]`. The certificate says nothing
 //! about distances, so the rule applies only without a minimum separation.
 
+use std::sync::atomic::{AtomicU8, Ordering};
+
 use rayon::prelude::*;
 
 use super::{Step, Topology};
@@ -44,33 +46,93 @@ const NORMAL_ERROR: f64 = 64.0;
 /// each of the two products is at most `9 |V|_inf^2 A B` and is computed within 7 units of
 /// rounding of that, the difference adds 18, the arms' own rounding 72: at most 220.
 const ANGLE_ERROR: f64 = 512.0;
+/// Meshes with at least this many vertices have all their stars certified in parallel chunks.
+const PAR_LEN: usize = 4096;
 /// Stars of more triangles than this are not certified (the cycle test is quadratic in it).
 const MAX_VALENCE: usize = 16;
-/// Meshes with at least this many triangles or vertices are certified in parallel chunks.
-const PAR_LEN: usize = 4096;
 
-/// The certified stars of one step, kept by the caller across steps.
-#[derive(Clone, Debug, Default)]
+/// Which vertex stars of one step are certified, each found out when first asked
+/// ([`StarView::certified`]): the method that skips most neighbouring triangle pairs before
+/// looking at them (the cluster method) asks about few stars. Kept by the caller across steps.
+#[derive(Debug, Default)]
 pub(crate) struct Stars {
-    /// Per vertex: whether its star is certified.
-    pub certified: Vec<bool>,
+    /// Per vertex: [`UNKNOWN`], [`CERTIFIED`] or [`REFUSED`].
+    state: Vec<AtomicU8>,
 }
 
+impl Clone for Stars {
+    /// A fresh, empty one (the states are scratch memory, valid for one step).
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+const UNKNOWN: u8 = 0;
+const CERTIFIED: u8 = 1;
+const REFUSED: u8 = 2;
+
 impl Stars {
-    /// Certifies every vertex star of `step` (topology `topo`) over the whole step.
-    pub fn certify(&mut self, step: &Step, topo: &Topology) {
-        let (x0, x1, tris) = (step.pos0(), step.pos1(), step.triangles());
-        let star = |v: usize| star_certified(v as u32, topo, tris, (x0, x1));
-        self.certified.clear();
-        let n = step.vertex_count();
-        if n >= PAR_LEN {
-            (0..n)
-                .into_par_iter()
-                .with_min_len(PAR_LEN / 4)
-                .map(star)
-                .collect_into_vec(&mut self.certified);
+    /// Forgets every star, for a step with `n` vertices.
+    pub fn reset(&mut self, n: usize) {
+        self.state.truncate(n);
+        for s in &mut self.state {
+            *s.get_mut() = UNKNOWN;
+        }
+        self.state.resize_with(n, || AtomicU8::new(UNKNOWN));
+    }
+
+    /// Certifies every star of `step` (topology `topo`) at once, in parallel, after a
+    /// [`Stars::reset`]: cheaper than one by one when nearly all will be asked about (the
+    /// per-step hierarchy and the oracle ask about every vertex of a mesh).
+    pub fn certify_all(&mut self, step: &Step, topo: &Topology) {
+        let view = self.view(step, topo);
+        let certify = |(v, state): (usize, &AtomicU8)| {
+            let c = star_certified(v as u32, view.topo, view.tris, view.positions);
+            state.store(if c { CERTIFIED } else { REFUSED }, Ordering::Relaxed);
+        };
+        if self.state.len() >= PAR_LEN {
+            self.state.par_iter().enumerate().with_min_len(PAR_LEN / 4).for_each(certify);
         } else {
-            self.certified.extend((0..n).map(star));
+            self.state.iter().enumerate().for_each(certify);
+        }
+    }
+
+    /// The view of `step` (topology `topo`) that tells which stars are certified, certifying
+    /// those not known yet on demand.
+    pub fn view<'s>(&'s self, step: &'s Step, topo: &'s Topology) -> StarView<'s> {
+        debug_assert_eq!(self.state.len(), step.vertex_count());
+        StarView {
+            state: &self.state,
+            topo,
+            tris: step.triangles(),
+            positions: (step.pos0(), step.pos1()),
+        }
+    }
+}
+
+/// The stars of one step, certified when first asked about, from any thread.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct StarView<'s> {
+    state: &'s [AtomicU8],
+    topo: &'s Topology,
+    tris: &'s [[u32; 3]],
+    positions: (&'s [DVec3], &'s [DVec3]),
+}
+
+impl StarView<'_> {
+    /// Whether the star of vertex `v` is certified. The answer is a function of the step
+    /// alone: threads that ask at once may both compute it, and store the same value.
+    #[inline]
+    pub fn certified(&self, v: u32) -> bool {
+        let state = &self.state[v as usize];
+        match state.load(Ordering::Relaxed) {
+            CERTIFIED => true,
+            REFUSED => false,
+            _ => {
+                let c = star_certified(v, self.topo, self.tris, self.positions);
+                state.store(if c { CERTIFIED } else { REFUSED }, Ordering::Relaxed);
+                c
+            }
         }
     }
 }
@@ -203,8 +265,15 @@ mod tests {
         let step = Step::new(x0, x1, tris).expect("a valid step");
         let topo = Topology::new(tris, x0.len());
         let mut stars = Stars::default();
-        stars.certify(&step, &topo);
-        stars.certified
+        stars.reset(x0.len());
+        let view = stars.view(&step, &topo);
+        let lazy: Vec<bool> = (0..x0.len() as u32).map(|v| view.certified(v)).collect();
+        stars.reset(x0.len());
+        stars.certify_all(&step, &topo);
+        let view = stars.view(&step, &topo);
+        let all: Vec<bool> = (0..x0.len() as u32).map(|v| view.certified(v)).collect();
+        assert_eq!(lazy, all);
+        all
     }
 
     fn rim(k: u32, z: impl Fn(f64) -> f64) -> Vec<DVec3> {

@@ -205,17 +205,23 @@ impl Ccd {
                 DopKind::K18 => self.k18.build(step, end, refit, ws),
                 DopKind::K26 => self.k26.build(step, end, refit, ws),
             };
+            // The per-step hierarchy asks about every star: all are certified at once, beside
+            // the tree.
             let prepare = || {
                 features.update(step, same);
+                stars.reset(step.vertex_count());
                 if stars_on {
-                    stars.certify(step, &features.topo);
+                    stars.certify_all(step, &features.topo);
                 }
             };
             rayon::join(prepare, build);
         } else {
             self.features.update(step, same);
-            if stars_on {
-                self.stars.certify(step, &self.features.topo);
+            self.stars.reset(step.vertex_count());
+            // The oracle asks about every star; the cluster method only about those of its
+            // clusters' borders, one by one.
+            if stars_on && method == Method::Brute {
+                self.stars.certify_all(step, &self.features.topo);
             }
         }
         self.last_tree = None;
@@ -225,7 +231,7 @@ impl Ccd {
             options.narrow.t_max,
             options.crack_filter,
             &mut self.canon,
-            stars_on.then_some(&self.stars.certified[..]),
+            stars_on.then(|| self.stars.view(step, &self.features.topo)),
         );
         let input = BroadInput {
             step,
