@@ -11,7 +11,7 @@
 //!    of the other;
 //! 5. the features' owner triangles (see `features`) share no vertex and stay farther apart
 //!    than the minimum separation along the direction between their mean points, over the
-//!    times searched `[0, t_max]` ([`PairFilter::owners_apart`]). Each feature lies in its
+//!    times searched `[0, t_max]` ([`PairFilter::unshared_apart`]). Each feature lies in its
 //!    owner, so no pair of their features can come that close either: the rule drops no
 //!    contact, and it drops at once every pair of two triangles that merely pass near each
 //!    other, before their features are looked at;
@@ -130,7 +130,8 @@ impl<'s> PairFilter<'s> {
         (0..3).any(|i| equal >> (3 * i) & 7 != 0 && stars.certified(a[i]))
     }
 
-    /// [`PairFilter::owners_apart`] for triangles known to share no vertex.
+    /// Rule 5 for triangles known to share no vertex: whether they stay apart along the
+    /// direction between their mean points during `[0, t_max]`.
     #[inline]
     pub fn unshared_apart(&self, a: [u32; 3], b: [u32; 3]) -> bool {
         triangles_separated(self.positions, a, b, self.sep, self.t_max, self.coord)
