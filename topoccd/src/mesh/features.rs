@@ -13,7 +13,7 @@
 
 use rayon::prelude::*;
 
-use super::filter::PairFilter;
+use super::filter::{shared_corners, PairFilter};
 use super::{Step, Topology};
 use crate::math::{DVec3, UNIT_ROUNDOFF};
 
@@ -236,12 +236,7 @@ impl Features {
         debug_assert_ne!(a, b);
         let (oa, ob) = (&self.owned[a as usize], &self.owned[b as usize]);
         let (va, vb) = (oa.vertices, ob.vertices);
-        let mut equal = 0;
-        for (i, x) in va.iter().enumerate() {
-            for (j, y) in vb.iter().enumerate() {
-                equal |= usize::from(x == y) << (3 * i + j);
-            }
-        }
+        let equal = shared_corners(va, vb);
         if equal == 0 {
             if filter.unshared_apart(va, vb) {
                 return;

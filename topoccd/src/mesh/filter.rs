@@ -48,6 +48,18 @@ pub(crate) struct PairFilter<'s> {
     can_collide: Option<super::step::CanCollide<'s>>,
 }
 
+/// Which corners two triangles share: bit `3 i + j` is set when `a[i] == b[j]`.
+#[inline]
+pub(crate) fn shared_corners(a: [u32; 3], b: [u32; 3]) -> usize {
+    let mut equal = 0;
+    for (i, x) in a.iter().enumerate() {
+        for (j, y) in b.iter().enumerate() {
+            equal |= usize::from(x == y) << (3 * i + j);
+        }
+    }
+    equal
+}
+
 impl<'s> PairFilter<'s> {
     /// The filter of `step`; `canon` is scratch memory for the parent map, `stars` the
     /// certified stars of rule 6 (ignored with a minimum separation).
@@ -107,12 +119,7 @@ impl<'s> PairFilter<'s> {
     /// a vertex whose star is certified.
     #[inline]
     pub fn owners_dropped(&self, a: [u32; 3], b: [u32; 3]) -> bool {
-        let mut equal = 0;
-        for (i, x) in a.iter().enumerate() {
-            for (j, y) in b.iter().enumerate() {
-                equal |= usize::from(x == y) << (3 * i + j);
-            }
-        }
+        let equal = shared_corners(a, b);
         if equal == 0 {
             self.unshared_apart(a, b)
         } else {
@@ -120,8 +127,8 @@ impl<'s> PairFilter<'s> {
         }
     }
 
-    /// Rule 6 for triangles `a` and `b` that share the vertices given by `equal` (bit `3 i + j`
-    /// set when `a[i] == b[j]`): whether one of them has a certified star.
+    /// Rule 6 for triangles `a` and `b` that share the vertices given by `equal`
+    /// ([`shared_corners`]): whether one of them has a certified star.
     #[inline]
     pub fn shared_star(&self, a: [u32; 3], equal: usize) -> bool {
         let Some(stars) = self.stars else {

@@ -11,18 +11,21 @@
 //! # The certificate
 //! For the star of `v`, with triangles `(v, a_i, b_i)` (each rotated to start at `v`, keeping
 //! its orientation), and the direction `V` = the sum of their normals at t=0 and t=1:
-//! 1. the link edges `a_i -> b_i` form one cycle through `k >= 3` distinct vertices (`v` is an
-//!    interior vertex of a consistently oriented manifold: every spoke `v a` lies in exactly
-//!    two triangles of the star, in opposite directions, every link edge in one, and
-//!    `V - E + F = (k + 1) - 2k + k = 1`);
+//! 1. the link edges `a_i -> b_i` (`k >= 3` of them) have distinct starts, and every end is the
+//!    start of exactly one of them: the directed link splits into cycles through `k` distinct
+//!    vertices, every spoke `v a` lies in exactly two triangles of the star, in opposite
+//!    directions (the mesh is consistently oriented around `v`), every link edge in one (the
+//!    two triangles `(v, a, b)` and `(v, b, a)` cannot both pass 2), and
+//!    `V - E + F = (k + 1) - 2k + k = 1`;
 //! 2. every triangle has `n(t)·V > 0` on `[0, 1]`: the three Bernstein coefficients of the
 //!    quadratic, computed from the triangle's control normals, exceed their rounding bound.
 //!    With the centre `c = v`, this is also the star test of every link edge (hypothesis 4:
 //!    `V·((a - v) x (b - v)) = n·V`);
 //! 3. the link's projected angles around `v` at t=0 sum to less than `4 pi`: each is in
-//!    `(0, pi)` by 2, so the sum is `2 pi` times the winding number, which is then one
-//!    (hypothesis 5). Each angle is bounded by `pi / 3`, `pi / 2` or `pi` from rigorous
-//!    comparisons of its cosine, and the bounds must add up to less than `4 pi`.
+//!    `(0, pi)` by 2, so each cycle of the link winds at least once around `v` and the sum is
+//!    `2 pi` times the total winding number, which is then one: the link is one cycle, and it
+//!    winds once (hypothesis 5). Each angle is bounded by `pi / 3`, `pi / 2` or `pi` from
+//!    rigorous comparisons of its cosine, and the bounds must add up to less than `4 pi`.
 //!
 //! By the disk theorem the star's projection along `V` is then injective at every time of the
 //! step. Certifying over the whole step covers any `[0, t_max]`. The certificate says nothing
@@ -48,7 +51,7 @@ const NORMAL_ERROR: f64 = 64.0;
 const ANGLE_ERROR: f64 = 512.0;
 /// Meshes with at least this many vertices have all their stars certified in parallel chunks.
 const PAR_LEN: usize = 4096;
-/// Stars of more triangles than this are not certified (the cycle test is quadratic in it).
+/// Stars of more triangles than this are not certified (the link test is quadratic in it).
 const MAX_VALENCE: usize = 16;
 
 /// Which vertex stars of one step are certified, each found out when first asked
