@@ -199,6 +199,7 @@ impl Ccd {
             let end = (first_end.unwrap_or(options.narrow.t_max), sep);
             let refit = same && self.last_tree == Some((Method::Bvh, options.kdop));
             let (features, stars, ws) = (&mut self.features, &mut self.stars, &mut self.ws);
+            let early_boxes = &mut self.early_boxes;
             let build = || match options.kdop {
                 DopKind::K6 => self.k6.build(step, end, refit, ws),
                 DopKind::K14 => self.k14.build(step, end, refit, ws),
@@ -207,11 +208,15 @@ impl Ccd {
             };
             // The per-step hierarchy asks about every star: all are certified at once, beside
             // the tree.
+            // So are an Earliest query's feature boxes over its first pass.
             let prepare = || {
                 features.update(step, same);
                 stars.reset(step.vertex_count());
                 if stars_on {
                     stars.certify_all(step, &features.topo);
+                }
+                if let Some(end) = first_end {
+                    early_boxes.sweep(step, end);
                 }
             };
             rayon::join(prepare, build);
@@ -258,7 +263,7 @@ impl Ccd {
             Method::Bvh => {
                 self.last_tree = Some((Method::Bvh, options.kdop));
                 let ws = &mut self.ws;
-                let early_boxes = &mut self.early_boxes;
+                let early_boxes = &self.early_boxes;
                 let args = (&input, &ctx, record, task_chunk, ws);
                 let out = (&mut found, &mut totals, recorded);
                 let first = first_end;
@@ -521,8 +526,8 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// every thread).
 ///
 /// In [`Mode::Earliest`](super::Mode::Earliest), with `first_end` = `Some(tau)` from
-/// [`first_pass_end`] (`tau = t_max / EARLY`), a first pass uses triangle volumes and feature boxes (`early_boxes`) swept over
-/// `[0, tau]` and solves every candidate over `[0, tau]` first. If it finds contacts whose earliest time `b` has `b + 2 tolerance <= tau`, the answer
+/// [`first_pass_end`] (`tau = t_max / EARLY`), a first pass uses triangle volumes and feature
+/// boxes (`early_boxes`, swept by the caller beside the tree) over `[0, tau]` and solves every candidate over `[0, tau]` first. If it finds contacts whose earliest time `b` has `b + 2 tolerance <= tau`, the answer
 /// is complete: a pair whose first contact lies within the tolerance of `b` touches before
 /// `tau`, so its features' volumes over `[0, tau]` overlap and the first pass tested it.
 /// Otherwise the hierarchy is refitted to the whole step's volumes and traversed again, pruned
@@ -543,7 +548,7 @@ fn bvh_query<const H: usize>(
         usize,
         &mut BvhWorkspace,
     ),
-    early_boxes: &mut FeatureBoxes,
+    early_boxes: &FeatureBoxes,
     first_end: Option<f64>,
     (found, totals, recorded): (&mut Found, &mut Totals, &mut Candidates),
 ) -> (BroadStats, bool) {
@@ -553,10 +558,7 @@ fn bvh_query<const H: usize>(
     let end = first_end.unwrap_or(f64::INFINITY);
     let mut build = 0.0;
     let boxes = if two_pass {
-        let t = Instant::now();
-        early_boxes.sweep(input.step, end);
-        build += t.elapsed().as_secs_f64();
-        &*early_boxes
+        early_boxes
     } else {
         &input.features.boxes
     };
