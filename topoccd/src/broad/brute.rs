@@ -30,8 +30,8 @@ fn sort(items: &mut [Item]) {
 
 /// Appends every candidate pair of the step to `out`: `(vertex, face)`, the vertex not in the
 /// face, and edge indices, smaller first, the edges sharing no vertex, that pass the pair
-/// filter (its rule 5 on the owner triangles included), whose swept boxes come within the
-/// separation, and whose owner triangles' swept k-DOPs (`volumes`, scratch) overlap.
+/// filter (its rules 5 and 6 on the owner triangles included), whose swept boxes come within
+/// the separation, and whose owner triangles' swept k-DOPs (`volumes`, scratch) overlap.
 pub(crate) fn candidates<const H: usize>(
     input: &BroadInput<'_, '_>,
     volumes: &mut Vec<Kdop<H>>,

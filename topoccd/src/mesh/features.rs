@@ -217,7 +217,8 @@ impl Features {
     /// whose swept boxes (from `boxes`, usually [`Features::boxes`]) come within `sep`:
     /// `(vertex, face)` to `vf`, `(edge, edge)` (indices into `topo.edges`, smaller first) to
     /// `ee`. See the module documentation. Two triangles that share no vertex and that the
-    /// filter finds apart ([`PairFilter::unshared_apart`]) give none.
+    /// filter finds apart ([`PairFilter::unshared_apart`]), or that share a vertex whose star
+    /// is certified ([`PairFilter::shared_star`]), give none.
     ///
     /// Which vertices the two triangles share decides, through [`SHARED`], which of their
     /// owned feature pairs share no vertex; only those are looked at, in a fixed order: the

@@ -207,8 +207,7 @@ impl Ccd {
                 DopKind::K26 => self.k26.build(step, end, refit, ws),
             };
             // The per-step hierarchy asks about every star: all are certified at once, beside
-            // the tree.
-            // So are an Earliest query's feature boxes over its first pass.
+            // the tree, and so are an Earliest query's feature boxes over its first pass swept.
             let prepare = || {
                 features.update(step, same);
                 stars.reset(step.vertex_count());
