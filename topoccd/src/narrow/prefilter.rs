@@ -344,6 +344,20 @@ mod tests {
         })
     }
 
+    /// Asserts that the vertex-face (`vf`) or edge-edge pair of `pts` (four points at t=0, then
+    /// the same at t=1) has no contact over `[0, t_end]`, by the solver and by sampled
+    /// distances above `sep`.
+    fn assert_apart(pts: [DVec3; 8], vf: bool, sep: f64, t_end: f64, options: &NarrowOptions) {
+        if vf {
+            let q = VertexFace::from_points(pts);
+            assert!(!vertex_face(&q, options).is_contact(), "{q:?}");
+        } else {
+            let q = EdgeEdge::from_points(pts);
+            assert!(!edge_edge(&q, options).is_contact(), "{q:?}");
+        }
+        assert!(sampled_distance(&pts, vf, t_end) > sep, "{pts:?}");
+    }
+
     /// Whenever the filter rejects over `[0, t_end]`, sampled distances over that interval
     /// exceed `sep` and the solver finds no contact there either.
     #[test]
@@ -363,17 +377,13 @@ mod tests {
                     }
                 });
                 total += 2;
-                let vf = VertexFace::from_points(pts);
-                if vf_separated(&vf, sep, t_end) {
+                if vf_separated(&VertexFace::from_points(pts), sep, t_end) {
                     rejected += 1;
-                    assert!(!vertex_face(&vf, &options).is_contact(), "{vf:?}");
-                    assert!(sampled_distance(&pts, true, t_end) > sep, "{vf:?}");
+                    assert_apart(pts, true, sep, t_end, &options);
                 }
-                let ee = EdgeEdge::from_points(pts);
-                if ee_separated(&ee, sep, t_end) {
+                if ee_separated(&EdgeEdge::from_points(pts), sep, t_end) {
                     rejected += 1;
-                    assert!(!edge_edge(&ee, &options).is_contact(), "{ee:?}");
-                    assert!(sampled_distance(&pts, false, t_end) > sep, "{ee:?}");
+                    assert_apart(pts, false, sep, t_end, &options);
                 }
             }
         }
@@ -409,9 +419,7 @@ mod tests {
                         let c = [v, tf[0], tf[1], tf[2]].map(at);
                         let pts: [DVec3; 8] =
                             std::array::from_fn(|i| if i < 4 { c[i].0 } else { c[i - 4].1 });
-                        let q = VertexFace::from_points(pts);
-                        assert!(!vertex_face(&q, &options).is_contact(), "{q:?}");
-                        assert!(sampled_distance(&pts, true, t_end) > sep, "{q:?}");
+                        assert_apart(pts, true, sep, t_end, &options);
                     }
                 }
                 for k in 0..3 {
@@ -419,9 +427,7 @@ mod tests {
                         let c = [a[k], a[(k + 1) % 3], b[l], b[(l + 1) % 3]].map(at);
                         let pts: [DVec3; 8] =
                             std::array::from_fn(|i| if i < 4 { c[i].0 } else { c[i - 4].1 });
-                        let q = EdgeEdge::from_points(pts);
-                        assert!(!edge_edge(&q, &options).is_contact(), "{q:?}");
-                        assert!(sampled_distance(&pts, false, t_end) > sep, "{q:?}");
+                        assert_apart(pts, false, sep, t_end, &options);
                     }
                 }
             }
