@@ -413,20 +413,18 @@ mod tests {
                     continue;
                 }
                 rejected += 1;
-                let at = |i: u32| (x0[i as usize], x1[i as usize]);
+                // The points of four corners, at t=0 then at t=1.
+                let at = |c: [u32; 4]| -> [DVec3; 8] {
+                    std::array::from_fn(|i| if i < 4 { x0[c[i] as usize] } else { x1[c[i - 4] as usize] })
+                };
                 for (tv, tf) in [(a, b), (b, a)] {
                     for v in tv {
-                        let c = [v, tf[0], tf[1], tf[2]].map(at);
-                        let pts: [DVec3; 8] =
-                            std::array::from_fn(|i| if i < 4 { c[i].0 } else { c[i - 4].1 });
-                        assert_apart(pts, true, sep, t_end, &options);
+                        assert_apart(at([v, tf[0], tf[1], tf[2]]), true, sep, t_end, &options);
                     }
                 }
                 for k in 0..3 {
                     for l in 0..3 {
-                        let c = [a[k], a[(k + 1) % 3], b[l], b[(l + 1) % 3]].map(at);
-                        let pts: [DVec3; 8] =
-                            std::array::from_fn(|i| if i < 4 { c[i].0 } else { c[i - 4].1 });
+                        let pts = at([a[k], a[(k + 1) % 3], b[l], b[(l + 1) % 3]]);
                         assert_apart(pts, false, sep, t_end, &options);
                     }
                 }
