@@ -89,14 +89,15 @@ impl Stars {
     /// per-step hierarchy and the oracle ask about every vertex of a mesh).
     pub fn certify_all(&mut self, step: &Step, topo: &Topology) {
         let view = self.view(step, topo);
-        let certify = |(v, state): (usize, &AtomicU8)| {
-            let c = star_certified(v as u32, view.topo, view.tris, view.positions);
-            state.store(if c { CERTIFIED } else { REFUSED }, Ordering::Relaxed);
+        let n = self.state.len() as u32;
+        // Every state is unknown after the reset: asking certifies.
+        let certify = |v: u32| {
+            view.certified(v);
         };
-        if self.state.len() >= PAR_LEN {
-            self.state.par_iter().enumerate().with_min_len(PAR_LEN / 4).for_each(certify);
+        if n as usize >= PAR_LEN {
+            (0..n).into_par_iter().with_min_len(PAR_LEN / 4).for_each(certify);
         } else {
-            self.state.iter().enumerate().for_each(certify);
+            (0..n).for_each(certify);
         }
     }
 

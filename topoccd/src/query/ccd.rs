@@ -526,10 +526,11 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 ///
 /// In [`Mode::Earliest`](super::Mode::Earliest), with `first_end` = `Some(tau)` from
 /// [`first_pass_end`] (`tau = t_max / EARLY`), a first pass uses triangle volumes and feature
-/// boxes (`early_boxes`, swept by the caller beside the tree) over `[0, tau]` and solves every candidate over `[0, tau]` first. If it finds contacts whose earliest time `b` has `b + 2 tolerance <= tau`, the answer
-/// is complete: a pair whose first contact lies within the tolerance of `b` touches before
-/// `tau`, so its features' volumes over `[0, tau]` overlap and the first pass tested it.
-/// Otherwise the hierarchy is refitted to the whole step's volumes and traversed again, pruned
+/// boxes (`early_boxes`, swept by the caller beside the tree) over `[0, tau]` and solves every
+/// candidate over `[0, tau]` first. If it finds contacts whose earliest time `b` has
+/// `b + 2 tolerance <= tau`, the answer is complete: a pair whose first contact lies within the
+/// tolerance of `b` touches before `tau`, so its features' volumes over `[0, tau]` overlap and
+/// the first pass tested it. Otherwise the hierarchy is refitted to the whole step's volumes and traversed again, pruned
 /// with whatever the first pass found; pairs found twice are reported once. The first pass
 /// pays when contacts are dense at the start of the step (resting contact) and is wasted
 /// otherwise, so it stops after its first batch of tasks unless that batch found a contact
