@@ -389,7 +389,7 @@ fuzz_target!(|input: Input| {
     let bvh = ccd
         .query(&step, Method::Bvh, &options)
         .expect("valid options");
-    assert!(ccd.validate_tree().is_ok(), "invalid bvh");
+    assert!(ccd.validate_tree(&step).is_ok(), "invalid bvh");
     check_report(&bvh, &tris, &options, "bvh");
     assert_eq!(bvh.vf, brute.vf, "vf differs between bvh and brute");
     assert_eq!(bvh.ee, brute.ee, "ee differs between bvh and brute");
@@ -397,7 +397,7 @@ fuzz_target!(|input: Input| {
     let cluster = ccd
         .query(&step, Method::Cluster, &options)
         .expect("valid options");
-    assert!(ccd.validate_tree().is_ok(), "invalid cluster tree");
+    assert!(ccd.validate_tree(&step).is_ok(), "invalid cluster tree");
     check_report(&cluster, &tris, &options, "cluster");
     if exact {
         assert_eq!(cluster.vf, brute.vf, "vf differs between cluster and brute");
@@ -421,7 +421,7 @@ fuzz_target!(|input: Input| {
         (Method::Cluster, &cluster),
     ] {
         let earliest = ccd.query(&step, method, &options).expect("valid options");
-        assert!(ccd.validate_tree().is_ok(), "{method}: invalid tree");
+        assert!(ccd.validate_tree(&step).is_ok(), "{method}: invalid tree");
         check_report(&earliest, &tris, &options, "earliest");
         assert_eq!(
             earliest.earliest.is_some(),

@@ -121,7 +121,7 @@ fn cluster_skips_an_unresolved_pair_its_certificate_rules_out() {
             "{max_iterations}"
         );
         let cluster = ccd.query(&step, Method::Cluster, &options).unwrap();
-        assert_eq!(ccd.validate_tree(), Ok(()));
+        assert_eq!(ccd.validate_tree(&step), Ok(()));
         let unresolved = brute.vf.iter().any(|c| (c.vertex, c.face) == (4, 5));
         assert_eq!(unresolved, max_iterations == 1, "{max_iterations}");
         assert!(!cluster.vf.iter().any(|c| (c.vertex, c.face) == (4, 5)));

@@ -151,7 +151,7 @@ fn check_cluster(
                 ..*options
             };
             let report = ccd.query(step, Method::Cluster, &options).unwrap();
-            assert_eq!(ccd.validate_tree(), Ok(()), "{what}");
+            assert_eq!(ccd.validate_tree(step), Ok(()), "{what}");
             let sets = candidate_sets(ccd, &report, &what);
             assert_eq!(report.vf, reference.vf, "{what}: vertex-face");
             assert_eq!(report.ee, reference.ee, "{what}: edge-edge");
@@ -175,7 +175,7 @@ fn check_cluster(
                 ccd.distrust_certificates(true);
                 let all = ccd.query(step, Method::Cluster, &quick).unwrap();
                 ccd.distrust_certificates(false);
-                assert_eq!(ccd.validate_tree(), Ok(()), "{what}");
+                assert_eq!(ccd.validate_tree(step), Ok(()), "{what}");
                 let again = ccd.clustering();
                 assert!(
                     again.leaf_of_triangle == clustering.leaf_of_triangle
@@ -195,7 +195,7 @@ fn check_cluster(
 
             options.mode = Mode::Earliest;
             let earliest = ccd.query(step, Method::Cluster, &options).unwrap();
-            assert_eq!(ccd.validate_tree(), Ok(()), "{what}");
+            assert_eq!(ccd.validate_tree(step), Ok(()), "{what}");
             candidate_sets(ccd, &earliest, &what);
             assert_eq!(earliest.earliest, reference.earliest, "{what}: earliest");
             mesh_util::assert_earliest_pairs(reference, &earliest, options.narrow.tolerance, &what);
@@ -557,7 +557,7 @@ fn cloth_ball_matches_the_bvh_method_and_the_ground_truth() {
     ccd.record_candidates(true);
     let options = QueryOptions::default();
     let report = ccd.query(&step, Method::Cluster, &options).unwrap();
-    assert_eq!(ccd.validate_tree(), Ok(()));
+    assert_eq!(ccd.validate_tree(&step), Ok(()));
     assert_truth_found(&dir, &report, "cloth-ball cluster");
     let cluster = candidate_sets(&ccd, &report, "cloth-ball");
     let earliest = QueryOptions {
@@ -661,7 +661,7 @@ fn hierarchies_built_ahead_change_nothing() {
                     ccd.record_candidates(true);
                     ccd.set_ahead_triangles(ahead);
                     let report = ccd.query(&step, Method::Cluster, &options).unwrap();
-                    assert_eq!(ccd.validate_tree(), Ok(()), "{what}");
+                    assert_eq!(ccd.validate_tree(&step), Ok(()), "{what}");
                     let sets = candidate_sets(&ccd, &report, &what);
                     let lazies = report.stats.cluster.map(|f| f.lazy_bvhs);
                     let clustering = ccd.clustering().clone();

@@ -105,7 +105,7 @@ fn check_scene(kind: SceneKind, seed: u64, min_separation: f64, ccd: &mut Ccd) -
         options.kdop = kdop;
         options.mode = Mode::All;
         let bvh = ccd.query(&step, Method::Bvh, &options).unwrap();
-        assert_eq!(ccd.validate_tree(), Ok(()), "{what}");
+        assert_eq!(ccd.validate_tree(&step), Ok(()), "{what}");
         assert_tested_once(ccd, &bvh, &what);
         let all_vf: HashSet<[u32; 2]> = ccd.candidates().vf.iter().copied().collect();
         let all_ee: HashSet<[u32; 2]> = ccd.candidates().ee.iter().copied().collect();
@@ -117,7 +117,7 @@ fn check_scene(kind: SceneKind, seed: u64, min_separation: f64, ccd: &mut Ccd) -
 
         options.mode = Mode::Earliest;
         let earliest = ccd.query(&step, Method::Bvh, &options).unwrap();
-        assert_eq!(ccd.validate_tree(), Ok(()), "{what}");
+        assert_eq!(ccd.validate_tree(&step), Ok(()), "{what}");
         // Earliest may look at the step in two passes (its start, then the whole step), so a
         // pair may be tested once per pass; every one is a candidate of All.
         let c = ccd.candidates();
@@ -237,7 +237,7 @@ fn a_sequence_of_the_same_triangles_refits_the_tree_and_matches_the_oracle() {
             fresh.record_candidates(true);
             let cold = fresh.query(&step, Method::Bvh, &options).unwrap();
             let report = ccd.query(&step, Method::Bvh, &options).unwrap();
-            assert_eq!(ccd.validate_tree(), Ok(()), "{what}");
+            assert_eq!(ccd.validate_tree(&step), Ok(()), "{what}");
             assert!(
                 k > 0 || !ccd.tree_refitted(),
                 "{what}: refitted from nothing"
@@ -261,7 +261,7 @@ fn a_sequence_of_the_same_triangles_refits_the_tree_and_matches_the_oracle() {
                 // rebuilt for them, and the next All query rebuilds it again.
                 options.mode = Mode::Earliest;
                 let earliest = ccd.query(&step, Method::Bvh, &options).unwrap();
-                assert_eq!(ccd.validate_tree(), Ok(()), "{what} earliest");
+                assert_eq!(ccd.validate_tree(&step), Ok(()), "{what} earliest");
                 assert_eq!(earliest.earliest, oracle.earliest, "{what}: earliest");
                 let tolerance = options.narrow.tolerance;
                 mesh_util::assert_earliest_pairs(&oracle, &earliest, tolerance, &what);
@@ -282,7 +282,7 @@ fn a_sequence_of_the_same_triangles_refits_the_tree_and_matches_the_oracle() {
                 !ccd.tree_refitted(),
                 "{what}: refitted across a change of triangles"
             );
-            assert_eq!(ccd.validate_tree(), Ok(()), "{what}");
+            assert_eq!(ccd.validate_tree(&step), Ok(()), "{what}");
             assert_eq!((&report.vf, &report.ee), (&oracle.vf, &oracle.ee), "{what}");
         }
     }

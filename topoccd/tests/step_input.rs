@@ -94,7 +94,7 @@ fn empty_and_single_triangle_meshes_have_no_contacts() {
                     ..QueryOptions::default()
                 };
                 let report = ccd.query(step, method, &options).unwrap();
-                assert_eq!(ccd.validate_tree(), Ok(()));
+                assert_eq!(ccd.validate_tree(step), Ok(()));
                 assert_eq!(report.contact_count(), 0);
                 assert_eq!(report.earliest, None);
                 assert_eq!((report.stats.vf_tests, report.stats.ee_tests), (0, 0));

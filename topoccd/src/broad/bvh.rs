@@ -10,17 +10,20 @@
 use std::ops::ControlFlow;
 use std::time::Instant;
 
-use super::{triangle_volumes_until, BroadInput, TaskPairs};
+use super::{triangle_volume, BroadInput, TaskPairs};
 use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf, ParOptions};
 use crate::kdop::Kdop;
+use crate::math::DVec3;
 use crate::mesh::Step;
 
-/// The triangles' volumes (leaf `t` is triangle `t`) and hierarchy of one k-DOP type, kept
-/// for reuse across steps.
+/// The hierarchy of one k-DOP type over the triangles' swept volumes (leaf `t` is triangle
+/// `t`), kept for reuse across steps. The leaves' volumes live in the tree's nodes only: they
+/// are computed from the positions where the build or the refit places them.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct PerStepBvh<const H: usize> {
-    volumes: Vec<Kdop<H>>,
     bvh: Bvh<Kdop<H>>,
+    /// The end of the times the leaves' volumes are swept over, and their inflation.
+    swept: (f64, f64),
     /// What the tree's shape was built for, while it may still be refitted.
     shape: Option<Shape>,
     /// Whether the last [`PerStepBvh::build`] refitted the tree rather than rebuilt it.
@@ -33,8 +36,9 @@ struct Shape {
     /// The end of the times swept and the inflation.
     t_max: f64,
     sep: f64,
-    /// [`spread`] right after the build.
-    spread: f64,
+    /// [`spread`] right after the build; `None` until a refit first needs it (until then the
+    /// tree is as built, so it is measured then).
+    spread: Option<f64>,
 }
 
 /// A refitted tree is kept while its [`spread`] stays within this factor of its spread when
@@ -58,9 +62,9 @@ fn spread<const H: usize>(bvh: &Bvh<Kdop<H>>) -> f64 {
 }
 
 impl<const H: usize> PerStepBvh<H> {
-    /// Computes the volumes swept by the step's triangles over `[0, t_max]` (the whole step
-    /// for `t_max >= 1`), inflated by `sep`, and fits the hierarchy to them. It needs the
-    /// positions and triangles only, not the step's topology.
+    /// Fits the hierarchy to the volumes swept by the step's triangles over `[0, t_max]` (the
+    /// whole step for `t_max >= 1`), inflated by `sep`. It needs the positions and triangles
+    /// only, not the step's topology.
     ///
     /// With `same_triangles` (the step has the very triangles of the last step this was
     /// built for), and volumes swept over the same times with the same inflation, the last
@@ -74,38 +78,68 @@ impl<const H: usize> PerStepBvh<H> {
         same_triangles: bool,
         ws: &mut BvhWorkspace,
     ) {
-        triangle_volumes_until(step, t_max, sep, &mut self.volumes);
+        let volume = triangle_volume::<H>(step, t_max, sep);
+        self.swept = (t_max, sep);
         let kept = self.shape.filter(|s| same_triangles && s.t_max == t_max && s.sep == sep);
         if let Some(shape) = kept {
-            let volumes = &self.volumes;
-            self.bvh.refit(|id| volumes[id as usize]);
-            self.refitted = spread(&self.bvh) <= REFIT_SPREAD * shape.spread;
+            let built = shape.spread.unwrap_or_else(|| spread(&self.bvh));
+            self.bvh.refit(volume);
+            self.refitted = spread(&self.bvh) <= REFIT_SPREAD * built;
             if self.refitted {
+                self.shape = Some(Shape {
+                    spread: Some(built),
+                    ..shape
+                });
                 return;
             }
         }
         self.refitted = false;
-        self.bvh.rebuild_from_volumes(&self.volumes, ws);
-        let spread = spread(&self.bvh);
-        self.shape = Some(Shape { t_max, sep, spread });
+        let (x0, x1, tris) = (step.pos0(), step.pos1(), step.triangles());
+        // A leaf stands for its triangle's box at 0 and at `t_max` when splitting.
+        let t_end = t_max.clamp(0.0, 1.0);
+        let center = |t: usize| {
+            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            for &v in &tris[t] {
+                let (a, b) = (x0[v as usize], x1[v as usize]);
+                let c = a + (b - a) * t_end;
+                lo = lo.min(a).min(c);
+                hi = hi.max(a).max(c);
+            }
+            (lo + hi) * 0.5
+        };
+        self.bvh.rebuild_from_fn(tris.len(), center, volume, ws);
+        self.shape = Some(Shape {
+            t_max,
+            sep,
+            spread: None,
+        });
     }
 
-    /// Recomputes the volumes over the whole step and refits the hierarchy to them (same
-    /// tree, linear time). Returns the seconds spent.
+    /// Refits the hierarchy to the volumes swept over the whole step (same tree, linear
+    /// time). Returns the seconds spent.
     pub fn refit_whole_step(&mut self, input: &BroadInput<'_, '_>) -> f64 {
         let start = Instant::now();
-        triangle_volumes_until(input.step, 1.0, input.filter.sep, &mut self.volumes);
-        let volumes = &self.volumes;
-        self.bvh.refit(|id| volumes[id as usize]);
+        // The tree is about to stop being as built: measure its fit first.
+        if let Some(shape) = &mut self.shape {
+            if shape.spread.is_none() {
+                shape.spread = Some(spread(&self.bvh));
+            }
+        }
+        let sep = input.filter.sep;
+        self.swept = (1.0, sep);
+        self.bvh.refit(triangle_volume::<H>(input.step, 1.0, sep));
         start.elapsed().as_secs_f64()
     }
 
-    /// Checks the hierarchy of the last step against its leaves.
-    pub fn validate(&self) -> Result<(), BvhError> {
-        let leaves: Vec<Leaf<Kdop<H>>> = (self.volumes.iter().enumerate())
-            .map(|(t, &volume)| Leaf {
-                id: t as u32,
-                volume,
+    /// Checks the hierarchy of the last step, `step`, against its leaves: the triangles'
+    /// volumes swept over the times it was last fitted to.
+    pub fn validate(&self, step: &Step) -> Result<(), BvhError> {
+        let (t_max, sep) = self.swept;
+        let volume = triangle_volume::<H>(step, t_max, sep);
+        let leaves: Vec<Leaf<Kdop<H>>> = (0..step.triangles().len() as u32)
+            .map(|t| Leaf {
+                id: t,
+                volume: volume(t),
             })
             .collect();
         self.bvh.validate(&leaves)
@@ -131,7 +165,6 @@ impl<const H: usize> TaskPairs for PerStepBvh<H> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::DVec3;
 
     /// A strip of `n` triangles along x, each vertex at `place(i)`, not moving in the step.
     fn strip(n: u32, place: impl Fn(u32) -> DVec3) -> Step<'static> {
@@ -153,24 +186,26 @@ mod tests {
         assert!(!tree.refitted, "nothing to refit at first");
         // Shifted and slightly stretched: the same neighbours, refitted.
         let moved = |i: u32| along(i) * 1.01 + DVec3::new(3.0, 1.0, 0.0);
-        tree.build(&strip(400, moved), whole, true, &mut ws);
+        let step = strip(400, moved);
+        tree.build(&step, whole, true, &mut ws);
         assert!(tree.refitted);
-        assert_eq!(tree.validate(), Ok(()));
+        assert_eq!(tree.validate(&step), Ok(()));
         // The strip folded in two onto itself: leaves far apart in the tree overlap now, and
         // the refitted tree fits them loosely.
         let folded = |i: u32| {
             let x = (i as f64 * 0.5) % 100.0;
             DVec3::new(if i < 201 { x } else { 100.0 - x }, (i % 2) as f64, 0.0)
         };
-        tree.build(&strip(400, folded), whole, true, &mut ws);
+        let step = strip(400, folded);
+        tree.build(&step, whole, true, &mut ws);
         assert!(!tree.refitted, "a tree this loose is rebuilt");
-        assert_eq!(tree.validate(), Ok(()));
-        tree.build(&strip(400, folded), (0.5, 0.0), true, &mut ws);
+        assert_eq!(tree.validate(&step), Ok(()));
+        tree.build(&step, (0.5, 0.0), true, &mut ws);
         assert!(!tree.refitted, "other times swept");
-        tree.build(&strip(400, folded), (0.5, 0.0), false, &mut ws);
+        tree.build(&step, (0.5, 0.0), false, &mut ws);
         assert!(!tree.refitted, "other triangles");
-        tree.build(&strip(400, folded), (0.5, 0.0), true, &mut ws);
+        tree.build(&step, (0.5, 0.0), true, &mut ws);
         assert!(tree.refitted);
-        assert_eq!(tree.validate(), Ok(()));
+        assert_eq!(tree.validate(&step), Ok(()));
     }
 }

@@ -164,12 +164,28 @@ pub(crate) fn triangle_volumes_until<const H: usize>(
     inflation: f64,
     out: &mut Vec<Kdop<H>>,
 ) {
-    let (x0, x1) = (step.pos0(), step.pos1());
+    let volume = triangle_volume(step, t_max, inflation);
     out.clear();
     // On the current rayon pool, in order.
-    out.par_extend(step.triangles().par_iter().with_min_len(1 << 12).map(|tri| {
-        let [a, b, c] = tri.map(|i| i as usize);
+    out.par_extend(
+        (0..step.triangles().len() as u32)
+            .into_par_iter()
+            .with_min_len(1 << 12)
+            .map(volume),
+    );
+}
+
+/// The k-DOP swept by triangle `t` over `[0, t_max]` (the whole step for `t_max >= 1`),
+/// inflated by `inflation`, as a function of `t`.
+pub(crate) fn triangle_volume<'a, const H: usize>(
+    step: &'a Step<'_>,
+    t_max: f64,
+    inflation: f64,
+) -> impl Fn(u32) -> Kdop<H> + Sync + Send + Copy + 'a {
+    let (x0, x1, tris) = (step.pos0(), step.pos1(), step.triangles());
+    move |t| {
+        let [a, b, c] = tris[t as usize].map(|i| i as usize);
         let (t0, t1) = ([x0[a], x0[b], x0[c]], [x1[a], x1[b], x1[c]]);
         Kdop::swept_triangle_until(&t0, &t1, t_max, inflation)
-    }));
+    }
 }

@@ -5,6 +5,7 @@
 use rayon::prelude::*;
 
 use super::{BoundingVolume, Bvh, BvhWorkspace, Leaf, Node, LEAF};
+use crate::math::DVec3;
 
 /// Ranges of at least this many leaves have their two halves built as two rayon tasks. Below
 /// it, a task costs more than it saves. (The output does not depend on it.)
@@ -60,19 +61,46 @@ impl<V: BoundingVolume> Bvh<V> {
     /// assert!(bvh.validate(&leaves).is_ok());
     /// ```
     pub fn rebuild(&mut self, leaves: &[Leaf<V>], ws: &mut BvhWorkspace) {
-        self.rebuild_with(leaves.len(), |i| (leaves[i].volume, leaves[i].id), ws);
+        self.rebuild_with(
+            leaves.len(),
+            |i| leaves[i].volume.center(),
+            |i| (leaves[i].volume, leaves[i].id),
+            ws,
+        );
     }
 
-    /// [`Bvh::rebuild`] over `volumes`, leaf `i` having id `i`: the same tree as over the
-    /// leaves `Leaf { id: i, volume: volumes[i] }`, without copying them.
-    pub fn rebuild_from_volumes(&mut self, volumes: &[V], ws: &mut BvhWorkspace) {
-        self.rebuild_with(volumes.len(), |i| (volumes[i], i as u32), ws);
+    /// [`Bvh::rebuild`] over `n` leaves whose volumes a function computes: leaf `i` has id `i`
+    /// and volume `volume(i)`, computed once, where the build places the leaf (no array of the
+    /// volumes is made); `center(i)` stands for the leaf when splitting (any point that
+    /// represents its volume, e.g. its box's centre). The tree is the one [`Bvh::rebuild`]
+    /// builds over leaves with those volumes whose [`BoundingVolume::center`] is `center(i)`.
+    ///
+    /// ```
+    /// use topoccd::bvh::{Bvh, BvhWorkspace, Leaf};
+    /// use topoccd::kdop::Kdop;
+    /// use topoccd::math::DVec3;
+    /// let volume = |i: u32| Kdop::<9>::from_point(DVec3::splat(i as f64));
+    /// let mut bvh = Bvh::new();
+    /// bvh.rebuild_from_fn(10, |i| DVec3::splat(i as f64), volume, &mut BvhWorkspace::default());
+    /// let leaves: Vec<_> = (0..10).map(|i| Leaf { id: i, volume: volume(i) }).collect();
+    /// assert!(bvh.validate(&leaves).is_ok());
+    /// ```
+    pub fn rebuild_from_fn(
+        &mut self,
+        n: usize,
+        center: impl Fn(usize) -> DVec3 + Sync,
+        volume: impl Fn(u32) -> V + Sync,
+        ws: &mut BvhWorkspace,
+    ) {
+        self.rebuild_with(n, center, |i| (volume(i as u32), i as u32), ws);
     }
 
-    /// The build over `n` leaves, leaf `i` being `leaf(i) = (volume, id)`.
+    /// The build over `n` leaves, leaf `i` being `leaf(i) = (volume, id)` and splitting by
+    /// `center(i)`.
     fn rebuild_with(
         &mut self,
         n: usize,
+        center: impl Fn(usize) -> DVec3 + Sync,
         leaf: impl Fn(usize) -> (V, u32) + Sync,
         ws: &mut BvhWorkspace,
     ) {
@@ -83,7 +111,7 @@ impl<V: BoundingVolume> Bvh<V> {
         // Node indices are u32 with the top bit free (the traversals tag pairs with it).
         assert!(n <= 1 << 30, "too many leaves for a hierarchy: at most 2^30");
         let items = &mut ws.items;
-        let item = |i: usize| (leaf(i).0.center().to_array().map(key), i as u32);
+        let item = |i: usize| (center(i).to_array().map(key), i as u32);
         if n >= PARALLEL_LEAVES {
             (0..n).into_par_iter().map(item).collect_into_vec(items);
         } else {
@@ -108,55 +136,56 @@ impl<V: BoundingVolume> Bvh<V> {
             self.nodes.resize(len, placeholder);
         }
         let (root, rest) = self.nodes.split_at_mut(1);
-        root[0] = build(&leaf, items, rest, 1);
+        build(&leaf, items, &mut root[0], rest, 1);
     }
 }
 
-/// Builds the subtree over `items` (not empty) and returns its root node; writes its other
-/// `2 m - 2` nodes into `block`, whose first node has index `base` in the whole array.
+/// Builds the subtree over `items` (not empty): writes its root node into `out` and its
+/// other `2 m - 2` nodes into `block`, whose first node has index `base` in the whole array.
+/// (Nodes are written where they go, never returned: they are big.)
 fn build<V: BoundingVolume>(
     leaf: &(impl Fn(usize) -> (V, u32) + Sync),
     items: &mut [Item],
+    out: &mut Node<V>,
     block: &mut [Node<V>],
     base: u32,
-) -> Node<V> {
+) {
     debug_assert_eq!(block.len() + 2, 2 * items.len());
     let len = items.len();
     if len == 1 {
         let (volume, id) = leaf(items[0].1 as usize);
-        return Node {
+        *out = Node {
             volume,
             a: id,
             b: LEAF,
         };
+        return;
     }
-    let axis = longest_axis(items);
     let mid = len / 2;
-    items.select_nth_unstable_by(mid, |x, y| (x.0[axis], x.1).cmp(&(y.0[axis], y.1)));
+    // Two leaves need no split (their order in the array is as deterministic as any).
+    if len > 2 {
+        let axis = longest_axis(items);
+        items.select_nth_unstable_by(mid, |x, y| (x.0[axis], x.1).cmp(&(y.0[axis], y.1)));
+    }
     let (first, second) = items.split_at_mut(mid);
     let (pair, rest) = block.split_at_mut(2);
+    let (out1, out2) = pair.split_at_mut(1);
+    let (out1, out2) = (&mut out1[0], &mut out2[0]);
     let (block1, block2) = rest.split_at_mut(2 * first.len() - 2);
     let base1 = base + 2;
     let base2 = base1 + block1.len() as u32;
-    let (n1, n2) = if len >= PARALLEL_LEAVES {
+    if len >= PARALLEL_LEAVES {
         rayon::join(
-            || build(leaf, first, block1, base1),
-            || build(leaf, second, block2, base2),
-        )
+            || build(leaf, first, out1, block1, base1),
+            || build(leaf, second, out2, block2, base2),
+        );
     } else {
-        (
-            build(leaf, first, block1, base1),
-            build(leaf, second, block2, base2),
-        )
-    };
-    let volume = n1.volume.merge(&n2.volume);
-    pair[0] = n1;
-    pair[1] = n2;
-    Node {
-        volume,
-        a: base,
-        b: base + 1,
+        build(leaf, first, out1, block1, base1);
+        build(leaf, second, out2, block2, base2);
     }
+    out.volume = out1.volume.merge(&out2.volume);
+    out.a = base;
+    out.b = base + 1;
 }
 
 /// The axis along which the centres spread most.

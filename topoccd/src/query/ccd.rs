@@ -413,16 +413,17 @@ impl Ccd {
     }
 
     /// Runs [`Bvh::validate`](crate::bvh::Bvh::validate) on the hierarchy built by the last
-    /// query (for [`Method::Cluster`]: on every level of its hierarchy). `Ok` when the last
-    /// query built none (as [`Method::Brute`] does).
-    pub fn validate_tree(&self) -> Result<(), crate::bvh::BvhError> {
+    /// query, `step` (for [`Method::Cluster`]: on every level of its hierarchy), against the
+    /// volumes of the step's triangles. `Ok` when the last query built none (as
+    /// [`Method::Brute`] does).
+    pub fn validate_tree(&self, step: &Step<'_>) -> Result<(), crate::bvh::BvhError> {
         match self.last_tree {
             None => Ok(()),
             Some((Method::Cluster, kind)) => self.cluster.validate(kind),
-            Some((_, DopKind::K6)) => self.k6.validate(),
-            Some((_, DopKind::K14)) => self.k14.validate(),
-            Some((_, DopKind::K18)) => self.k18.validate(),
-            Some((_, DopKind::K26)) => self.k26.validate(),
+            Some((_, DopKind::K6)) => self.k6.validate(step),
+            Some((_, DopKind::K14)) => self.k14.validate(step),
+            Some((_, DopKind::K18)) => self.k18.validate(step),
+            Some((_, DopKind::K26)) => self.k26.validate(step),
         }
     }
 
