@@ -153,7 +153,8 @@ pub struct Features {
     pub topo: Topology,
     /// Per triangle: its vertices and the features it owns.
     pub owned: Vec<OwnedFeatures>,
-    /// The features' boxes swept over the whole step.
+    /// The features' boxes, swept over the whole step (over its start only for the first pass
+    /// of an Earliest query).
     pub boxes: FeatureBoxes,
     /// The triangles and vertex count that `topo` and `owned` were derived from, once derived.
     derived_from: Option<(Vec<[u32; 3]>, usize)>,
@@ -168,13 +169,13 @@ impl Features {
             .is_some_and(|(t, n)| *n == step.vertex_count() && t[..] == *step.triangles())
     }
 
-    /// Recomputes everything for `step`: the boxes always, the topology and the ownership only
-    /// when `same_topology` is false (the caller's [`Features::same_topology`]; a simulator's
-    /// everyday step keeps its triangles, and an exact comparison of them costs far less than
-    /// the edges' derivation).
-    pub fn update(&mut self, step: &Step, same_topology: bool) {
+    /// Recomputes everything for `step`: the boxes always (swept over `[0, t_max]`, the whole
+    /// step for `t_max >= 1`), the topology and the ownership only when `same_topology` is
+    /// false (the caller's [`Features::same_topology`]; a simulator's everyday step keeps its
+    /// triangles, and an exact comparison of them costs far less than the edges' derivation).
+    pub fn update(&mut self, step: &Step, same_topology: bool, t_max: f64) {
         let tris = step.triangles();
-        self.boxes.sweep(step, 1.0);
+        self.boxes.sweep(step, t_max);
         if same_topology {
             debug_assert!(self.same_topology(step));
             return;

@@ -32,9 +32,10 @@ use crate::narrow::Certainty;
 #[derive(Clone, Debug, Default)]
 pub struct Ccd {
     features: Features,
-    /// The features' boxes over the start of the step, for the first pass of an Earliest
-    /// query (see [`bvh_query`]).
-    early_boxes: FeatureBoxes,
+    /// The features' boxes over the whole step, for the second pass of an Earliest query
+    /// whose first pass (which sweeps `features.boxes` over the start of the step only) did
+    /// not find the answer (see [`bvh_query`]); swept only then.
+    late_boxes: FeatureBoxes,
     canon: Vec<u32>,
     /// Rule 6 of the pair filter: the certified vertex stars.
     stars: Stars,
@@ -199,7 +200,6 @@ impl Ccd {
             let end = (first_end.unwrap_or(options.narrow.t_max), sep);
             let refit = same && self.last_tree == Some((Method::Bvh, options.kdop));
             let (features, stars, ws) = (&mut self.features, &mut self.stars, &mut self.ws);
-            let early_boxes = &mut self.early_boxes;
             let build = || match options.kdop {
                 DopKind::K6 => self.k6.build(step, end, refit, ws),
                 DopKind::K14 => self.k14.build(step, end, refit, ws),
@@ -207,20 +207,17 @@ impl Ccd {
                 DopKind::K26 => self.k26.build(step, end, refit, ws),
             };
             // The per-step hierarchy asks about every star: all are certified at once, beside
-            // the tree, and so are an Earliest query's feature boxes over its first pass swept.
+            // the tree. (With a first pass, the features' boxes are those of the first pass.)
             let prepare = || {
-                features.update(step, same);
+                features.update(step, same, first_end.unwrap_or(1.0));
                 stars.reset(step.vertex_count());
                 if stars_on {
                     stars.certify_all(step, &features.topo);
                 }
-                if let Some(end) = first_end {
-                    early_boxes.sweep(step, end);
-                }
             };
             rayon::join(prepare, build);
         } else {
-            self.features.update(step, same);
+            self.features.update(step, same, 1.0);
             self.stars.reset(step.vertex_count());
             // The oracle asks about every star; the cluster method only about those of its
             // clusters' borders, one by one.
@@ -262,15 +259,15 @@ impl Ccd {
             Method::Bvh => {
                 self.last_tree = Some((Method::Bvh, options.kdop));
                 let ws = &mut self.ws;
-                let early_boxes = &self.early_boxes;
+                let late_boxes = &mut self.late_boxes;
                 let args = (&input, &ctx, record, task_chunk, ws);
                 let out = (&mut found, &mut totals, recorded);
                 let first = first_end;
                 let (stats, late) = match options.kdop {
-                    DopKind::K6 => bvh_query(&mut self.k6, args, early_boxes, first, out),
-                    DopKind::K14 => bvh_query(&mut self.k14, args, early_boxes, first, out),
-                    DopKind::K18 => bvh_query(&mut self.k18, args, early_boxes, first, out),
-                    DopKind::K26 => bvh_query(&mut self.k26, args, early_boxes, first, out),
+                    DopKind::K6 => bvh_query(&mut self.k6, args, late_boxes, first, out),
+                    DopKind::K14 => bvh_query(&mut self.k14, args, late_boxes, first, out),
+                    DopKind::K18 => bvh_query(&mut self.k18, args, late_boxes, first, out),
+                    DopKind::K26 => bvh_query(&mut self.k26, args, late_boxes, first, out),
                 };
                 if options.mode == super::Mode::Earliest {
                     self.late = late;
@@ -527,12 +524,14 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 ///
 /// In [`Mode::Earliest`](super::Mode::Earliest), with `first_end` = `Some(tau)` from
 /// [`first_pass_end`] (`tau = t_max / EARLY`), a first pass uses triangle volumes and feature
-/// boxes (`early_boxes`, swept by the caller beside the tree) over `[0, tau]` and solves every
+/// boxes (the features' own, swept by the caller over `[0, tau]`) and solves every
 /// candidate over `[0, tau]` first. If it finds contacts whose earliest time `b` has
 /// `b + 2 tolerance <= tau`, the answer is complete: a pair whose first contact lies within the
 /// tolerance of `b` touches before `tau`, so its features' volumes over `[0, tau]` overlap and
-/// the first pass tested it. Otherwise the hierarchy is refitted to the whole step's volumes and traversed again, pruned
-/// with whatever the first pass found; pairs found twice are reported once. The first pass
+/// the first pass tested it. Otherwise the hierarchy is refitted to the whole step's volumes,
+/// the features' boxes over the whole step are swept into `late_boxes`, and the hierarchy is
+/// traversed again, pruned with whatever the first pass found; pairs found twice are reported
+/// once. The first pass
 /// pays when contacts are dense at the start of the step (resting contact) and is wasted
 /// otherwise, so it stops after its first batch of tasks unless that batch found a contact
 /// early enough, and [`Ccd`] tries it only while the last Earliest query's contact came early
@@ -549,7 +548,7 @@ fn bvh_query<const H: usize>(
         usize,
         &mut BvhWorkspace,
     ),
-    early_boxes: &FeatureBoxes,
+    late_boxes: &mut FeatureBoxes,
     first_end: Option<f64>,
     (found, totals, recorded): (&mut Found, &mut Totals, &mut Candidates),
 ) -> (BroadStats, bool) {
@@ -558,16 +557,11 @@ fn bvh_query<const H: usize>(
     let two_pass = first_end.is_some();
     let end = first_end.unwrap_or(f64::INFINITY);
     let mut build = 0.0;
-    let boxes = if two_pass {
-        early_boxes
-    } else {
-        &input.features.boxes
-    };
     let t = Instant::now();
     let mut bv_tests = traverse_pass(
         tree,
         (input, ctx, record, task_chunk, ws),
-        boxes,
+        &input.features.boxes,
         (end, two_pass),
         (found, totals, recorded),
     );
@@ -580,11 +574,14 @@ fn bvh_query<const H: usize>(
         if !complete {
             build += tree.refit_whole_step(input);
             let t = Instant::now();
+            late_boxes.sweep(input.step, 1.0);
+            build += t.elapsed().as_secs_f64();
+            let t = Instant::now();
             let limit = ctx.limit(best);
             bv_tests += traverse_pass(
                 tree,
                 (input, ctx, record, task_chunk, ws),
-                &input.features.boxes,
+                late_boxes,
                 (limit, false),
                 (found, totals, recorded),
             );
