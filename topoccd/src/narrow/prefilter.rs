@@ -160,20 +160,29 @@ fn separated(
     piece.separated(c, 0.0, t_end, 0)
 }
 
-/// The smallest power of two at least `t` (1 for `t >= 1` or NaN, and at least `2^-900`), so
-/// that the pieces' ends `k t_end / 2^DEPTH` are exact and the cubic's coefficients on each
+/// The smallest power of two at least `t` (1 for `t >= 1` or NaN, and at least
+/// [`DYADIC_FLOOR`]), so that the pieces' ends `k t_end / 2^DEPTH` are exact and the cubic's coefficients on each
 /// piece describe exactly the piece whose boxes are tested.
 #[inline]
 fn dyadic_end(t: f64) -> f64 {
     if t.is_nan() || t >= 1.0 {
         return 1.0;
     }
-    let mut end = 1.0;
-    while end * 0.5 >= t && end > 1e-270 {
-        end *= 0.5;
+    if t <= DYADIC_FLOOR {
+        return DYADIC_FLOOR;
     }
-    end
+    // `t` is positive and normal: clearing its mantissa gives the power of two at most `t`.
+    let below = f64::from_bits(t.to_bits() & 0x7ff0_0000_0000_0000);
+    if below == t {
+        t
+    } else {
+        2.0 * below
+    }
 }
+
+/// The smallest end [`dyadic_end`] gives, `2^-897` (the first power of two below `1e-270`):
+/// far above the subnormals, so the pieces' ends stay exact.
+const DYADIC_FLOOR: f64 = f64::from_bits((1023 - 897) << 52);
 
 /// The fixed data of the recursive check of one pair.
 struct Piece<'a> {
@@ -297,6 +306,30 @@ mod tests {
     use crate::narrow::{edge_edge, vertex_face, NarrowOptions};
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
+
+    /// `dyadic_end` is the smallest power of two at least `t` (halving 1 until the next half
+    /// would be below `t`), 1 at and beyond 1 and for NaN, and never below `2^-897`.
+    #[test]
+    fn dyadic_end_is_the_next_power_of_two() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let floor = 0.5f64.powi(897);
+        assert_eq!(DYADIC_FLOOR, floor);
+        let mut ts = vec![f64::NAN, 1.0, 1.5, 0.5, 0.25, 0.3, 1e-6, 0.0, -1.0, 1e-300, floor];
+        ts.extend((0..2000).map(|_| 10f64.powf(rng.random_range(-280.0..0.0))));
+        ts.extend((1..60).map(|k| 0.5f64.powi(k)));
+        for t in ts {
+            let end = dyadic_end(t);
+            if t.is_nan() || t >= 1.0 {
+                assert_eq!(end, 1.0, "{t}");
+            } else if t <= floor {
+                assert_eq!(end, floor, "{t}");
+            } else {
+                let power = end.log2();
+                assert_eq!(power, power.round(), "{t}: {end} is not a power of two");
+                assert!(end >= t && end * 0.5 < t, "{t}: {end}");
+            }
+        }
+    }
 
     fn point(rng: &mut ChaCha8Rng) -> DVec3 {
         DVec3::new(
