@@ -8,7 +8,6 @@
 //! narrow phase inside the tasks on bounded buffers.
 
 use std::ops::ControlFlow;
-use std::time::Instant;
 
 use super::{triangle_volume, BroadInput, TaskPairs};
 use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf, ParOptions};
@@ -116,9 +115,8 @@ impl<const H: usize> PerStepBvh<H> {
     }
 
     /// Refits the hierarchy to the volumes swept over the whole step (same tree, linear
-    /// time). Returns the seconds spent.
-    pub fn refit_whole_step(&mut self, input: &BroadInput<'_, '_>) -> f64 {
-        let start = Instant::now();
+    /// time).
+    pub fn refit_whole_step(&mut self, input: &BroadInput<'_, '_>) {
         // The tree is about to stop being as built: measure its fit first.
         if let Some(shape) = &mut self.shape {
             if shape.spread.is_none() {
@@ -128,7 +126,6 @@ impl<const H: usize> PerStepBvh<H> {
         let sep = input.filter.sep;
         self.swept = (1.0, sep);
         self.bvh.refit(triangle_volume::<H>(input.step, 1.0, sep));
-        start.elapsed().as_secs_f64()
     }
 
     /// Checks the hierarchy of the last step, `step`, against its leaves: the triangles'

@@ -153,18 +153,7 @@ pub(crate) fn triangle_volumes<const H: usize>(
     inflation: f64,
     out: &mut Vec<Kdop<H>>,
 ) {
-    triangle_volumes_until(step, 1.0, inflation, out);
-}
-
-/// The k-DOP swept by every triangle over `[0, t_max]` only (the whole step for `t_max >= 1`),
-/// inflated by `inflation`, into `out`.
-pub(crate) fn triangle_volumes_until<const H: usize>(
-    step: &Step<'_>,
-    t_max: f64,
-    inflation: f64,
-    out: &mut Vec<Kdop<H>>,
-) {
-    let volume = triangle_volume(step, t_max, inflation);
+    let volume = triangle_volume(step, 1.0, inflation);
     out.clear();
     // On the current rayon pool, in order.
     out.par_extend(

@@ -38,7 +38,8 @@ impl<V: BoundingVolume> Bvh<V> {
     ///
     /// Top-down: a range of leaves is split at its median along the axis where the leaves'
     /// centres ([`BoundingVolume::center`]) spread most, ties broken by the leaves' positions in
-    /// `leaves`, so the tree depends only on the input. The depth is `ceil(log2 n)`, and the
+    /// `leaves` (a range of two keeps the order the split above it left), so the tree depends
+    /// only on the input. The depth is `ceil(log2 n)`, and the
     /// two children of a node are adjacent in [`Bvh::nodes`] and come after it: an internal
     /// node over `m` leaves with children at `c, c + 1` has the descendants of its first child
     /// (`2 m_1 - 2` nodes) at `c + 2..`, then those of its second child.

@@ -531,9 +531,8 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// the first pass tested it. Otherwise the hierarchy is refitted to the whole step's volumes,
 /// the features' boxes over the whole step are swept into `late_boxes`, and the hierarchy is
 /// traversed again, pruned with whatever the first pass found; pairs found twice are reported
-/// once. The first pass
-/// pays when contacts are dense at the start of the step (resting contact) and is wasted
-/// otherwise, so it stops after its first batch of tasks unless that batch found a contact
+/// once. The first pass pays when contacts are dense at the start of the step (resting
+/// contact) and is wasted otherwise, so it stops after its first batch of tasks unless that batch found a contact
 /// early enough, and [`Ccd`] tries it only while the last Earliest query's contact came early
 /// (`early`); the answer is the same either way (the second pass alone is complete). Also
 /// returns whether this step's earliest contact came late (after `t_max / EARLY`, or none),
@@ -572,8 +571,8 @@ fn bvh_query<const H: usize>(
         lower(&mut best, found.ee.iter().map(|c| c.toi));
         let complete = best.is_some_and(|b| ctx.limit(Some(b)) <= end);
         if !complete {
-            build += tree.refit_whole_step(input);
             let t = Instant::now();
+            tree.refit_whole_step(input);
             late_boxes.sweep(input.step, 1.0);
             build += t.elapsed().as_secs_f64();
             let t = Instant::now();
