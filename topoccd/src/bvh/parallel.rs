@@ -24,6 +24,10 @@ pub struct ParOptions {
     /// next, so that at most one batch of results is alive at once. Default `usize::MAX` (one
     /// batch). `0` counts as 1.
     pub batch: usize,
+    /// Double the batch after each batch (`batch`, `2 batch`, `4 batch`, ...): a caller that
+    /// learns most from the first batches (an earliest-contact query's best time) waits for
+    /// them, then the threads wait for each other less often. Default `false`.
+    pub grow: bool,
 }
 
 impl Default for ParOptions {
@@ -32,6 +36,7 @@ impl Default for ParOptions {
             min_tasks: 512,
             min_nodes: 2048,
             batch: usize::MAX,
+            grow: false,
         }
     }
 }
@@ -302,10 +307,11 @@ fn par_run<V: BoundingVolume, T: Send>(
         stack.push((a, b));
         run(na, nb, stack, &mut |x, y| leaf_pair(acc, x, y))
     };
-    bv_tests + run_batches(&t.entries, options.batch, Vec::new, body, make, finish, &mut consume)
+    bv_tests + run_batches(&t.entries, options, Vec::new, body, make, finish, &mut consume)
 }
 
-/// Runs `tasks` on the rayon pool, `batch` at a time: each task's accumulator (made by `make`)
+/// Runs `tasks` on the rayon pool, a batch at a time ([`ParOptions::batch`], doubled after
+/// each batch with [`ParOptions::grow`]): each task's accumulator (made by `make`)
 /// is filled by `body(scratch, task, acc)`, which returns its bounding-volume tests, and
 /// finished by `finish` on the task's thread; the accumulators go to `consume` in task order,
 /// so what `consume` sees does not depend on the thread count. Once `consume` returns
@@ -313,7 +319,7 @@ fn par_run<V: BoundingVolume, T: Send>(
 /// `scratch` makes per-thread scratch memory. Returns the bounding-volume tests made.
 pub(crate) fn run_batches<W: Sync, S: Send, T: Send>(
     tasks: &[W],
-    batch: usize,
+    options: &ParOptions,
     scratch: impl Fn() -> S + Sync + Send,
     body: impl Fn(&mut S, &W, &mut T) -> u64 + Sync + Send,
     make: impl Fn() -> T + Sync + Send,
@@ -321,7 +327,13 @@ pub(crate) fn run_batches<W: Sync, S: Send, T: Send>(
     consume: &mut impl FnMut(T) -> ControlFlow<()>,
 ) -> u64 {
     let mut bv_tests = 0;
-    for batch in tasks.chunks(batch.max(1)) {
+    let (mut size, mut rest) = (options.batch.max(1), tasks);
+    while !rest.is_empty() {
+        let (batch, later) = rest.split_at(size.min(rest.len()));
+        rest = later;
+        if options.grow {
+            size = size.saturating_mul(2);
+        }
         let mut stop = false;
         // One task per rayon job: the tasks' costs differ by orders of magnitude, and with
         // rayon's default splitting of the slice a thread could be left idle for long at the

@@ -171,9 +171,10 @@ fn batches_and_task_counts_give_the_same_pairs_in_the_same_order() {
     let all = x.par_self_pairs(&mut ws, Vec::new, |v, p, q| v.push((p, q)));
     let cross = x.par_tree_pairs(&y, &mut ws, Vec::new, |v, p, q| v.push((p, q)));
     for threads in [1, 2] {
-        for batch in [1, 7, 100_000] {
+        for (batch, grow) in [(1, false), (7, false), (100_000, false), (1, true), (7, true)] {
             let options = ParOptions {
                 batch,
+                grow,
                 ..ParOptions::default()
             };
             let (own, two) = pool(threads).install(|| {
@@ -186,8 +187,8 @@ fn batches_and_task_counts_give_the_same_pairs_in_the_same_order() {
                 assert_eq!((t1, t2), (all.bv_tests, cross.bv_tests));
                 (own, two)
             });
-            assert_eq!(own, all.results, "{threads} threads, batch {batch}");
-            assert_eq!(two, cross.results, "{threads} threads, batch {batch}");
+            assert_eq!(own, all.results, "{threads} threads, batch {batch}, {grow}");
+            assert_eq!(two, cross.results, "{threads} threads, batch {batch}, {grow}");
         }
     }
     // Other task counts: other tasks, the same pairs.
@@ -217,7 +218,7 @@ fn batches_and_task_counts_give_the_same_pairs_in_the_same_order() {
 
 /// A traversal whose `consume` asks to stop hands over the batch under way in full, then
 /// stops: its results are a prefix of the whole traversal's, cut at a batch boundary, the
-/// same for any thread count.
+/// same for any thread count; with growing batches, the second batch is twice the first.
 #[test]
 fn a_traversal_stops_after_the_batch_where_consume_asks() {
     use std::ops::ControlFlow;
@@ -229,33 +230,38 @@ fn a_traversal_stops_after_the_batch_where_consume_asks() {
     });
     assert!(all.results.len() > 100, "{} tasks", all.results.len());
     let batch = 16;
-    let options = ParOptions {
-        batch,
-        ..ParOptions::default()
-    };
-    for threads in [1, 2] {
-        // Ask to stop at the 20th result (the first, of the splitting, then the batches).
-        let got = pool(threads).install(|| {
-            let mut got = Vec::new();
-            x.par_self_pairs_until(
-                &mut BvhWorkspace::default(),
-                &options,
-                Vec::new,
-                |v, p, q| v.push((p, q)),
-                |_| {},
-                |r| {
-                    got.push(r);
-                    if got.len() >= 20 {
-                        ControlFlow::Break(())
-                    } else {
-                        ControlFlow::Continue(())
-                    }
-                },
-            );
-            got
-        });
-        // The first result, then two whole batches (results 2..=17 and 18..=33).
-        assert_eq!(got.len(), 1 + 2 * batch, "{threads} threads");
-        assert_eq!(got, all.results[..got.len()], "{threads} threads");
+    // The first result (of the splitting), then two whole batches: results 2..=17 and
+    // 18..=33, or 18..=49 when the batches grow.
+    for (grow, expected) in [(false, 1 + 2 * batch), (true, 1 + 3 * batch)] {
+        let options = ParOptions {
+            batch,
+            grow,
+            ..ParOptions::default()
+        };
+        for threads in [1, 2] {
+            // Ask to stop at the 20th result.
+            let got = pool(threads).install(|| {
+                let mut got = Vec::new();
+                x.par_self_pairs_until(
+                    &mut BvhWorkspace::default(),
+                    &options,
+                    Vec::new,
+                    |v, p, q| v.push((p, q)),
+                    |_| {},
+                    |r| {
+                        got.push(r);
+                        if got.len() >= 20 {
+                            ControlFlow::Break(())
+                        } else {
+                            ControlFlow::Continue(())
+                        }
+                    },
+                );
+                got
+            });
+            assert_eq!(got.len(), expected, "{threads} threads, grow {grow}");
+            assert_eq!(got, all.results[..got.len()], "{threads} threads, grow {grow}");
+        }
     }
 }
+

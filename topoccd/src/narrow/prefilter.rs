@@ -161,8 +161,8 @@ fn separated(
 }
 
 /// The smallest power of two at least `t` (1 for `t >= 1` or NaN, and at least
-/// [`DYADIC_FLOOR`]), so that the pieces' ends `k t_end / 2^DEPTH` are exact and the cubic's coefficients on each
-/// piece describe exactly the piece whose boxes are tested.
+/// [`DYADIC_FLOOR`]), so that the pieces' ends `k t_end / 2^DEPTH` are exact and the cubic's
+/// coefficients on each piece describe exactly the piece whose boxes are tested.
 #[inline]
 fn dyadic_end(t: f64) -> f64 {
     if t.is_nan() || t >= 1.0 {

@@ -60,13 +60,14 @@ pub struct Ccd {
     last_tree: Option<(Method, DopKind)>,
 }
 
-/// Candidates a task of the parallel traversal buffers before solving them: with
-/// [`TASK_BATCH`] tasks alive at once, what is buffered stays below a few tens of MiB
-/// whatever the number of candidates.
+/// Candidates a task of the parallel traversal buffers before solving them: a task drops its
+/// buffer when it finishes, so what is buffered stays below a few MiB per thread whatever the
+/// number of candidates.
 const TASK_CHUNK: usize = 1 << 15;
-/// Tasks of the parallel traversal run, and are handed over, this many at a time; in
-/// [`Mode::Earliest`](super::Mode::Earliest) each batch is pruned with the best time of the
-/// batches before.
+/// In [`Mode::Earliest`](super::Mode::Earliest), the tasks of the parallel traversal run, and
+/// are handed over, in batches of this many, then twice as many after each batch; each batch
+/// is pruned with the best time of the batches before. (The first batches set the best time;
+/// the later, bigger ones make the threads wait for each other less often.)
 const TASK_BATCH: usize = 64;
 
 /// The state of one task of the parallel traversal: its buffer and what it found.
@@ -532,12 +533,12 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// the features' boxes over the whole step are swept into `late_boxes`, and the hierarchy is
 /// traversed again, pruned with whatever the first pass found; pairs found twice are reported
 /// once. The first pass pays when contacts are dense at the start of the step (resting
-/// contact) and is wasted otherwise, so it stops after its first batch of tasks unless that batch found a contact
-/// early enough, and [`Ccd`] tries it only while the last Earliest query's contact came early
-/// (`early`); the answer is the same either way (the second pass alone is complete). Also
-/// returns whether this step's earliest contact came late (after `t_max / EARLY`, or none),
-/// with one pass or two. `tree` must have been built for this step, over `[0, tau]` for two
-/// passes, else over the whole step.
+/// contact) and is wasted otherwise, so it stops after its first batch of tasks unless that
+/// batch found a contact early enough, and [`Ccd`] tries it only while the last Earliest
+/// query's contact came early (`early`); the answer is the same either way (the second pass
+/// alone is complete). Also returns whether this step's earliest contact came late (after
+/// `t_max / EARLY`, or none), with one pass or two. `tree` must have been built for this
+/// step, over `[0, tau]` for two passes, else over the whole step.
 fn bvh_query<const H: usize>(
     tree: &mut PerStepBvh<H>,
     (input, ctx, record, task_chunk, ws): (
@@ -626,8 +627,9 @@ fn traverse_pass(
     let (features, filter) = (input.features, input.filter);
     // The limit of the batches handed over so far (f64 bits; only lowered between batches).
     let limit = AtomicU64::new(start.to_bits());
-    // Earliest: batches, each pruned with what the batches before found. All: one batch (a
-    // finished task keeps only what it found, so the buffers alive are the running tasks').
+    // Earliest: growing batches, each pruned with what the batches before found. All: one
+    // batch (a finished task keeps only what it found, so the buffers alive are the running
+    // tasks').
     let batch = if ctx.options.mode == super::Mode::Earliest {
         TASK_BATCH
     } else {
@@ -635,6 +637,7 @@ fn traverse_pass(
     };
     let par = ParOptions {
         batch,
+        grow: true,
         ..ParOptions::default()
     };
     let make = || Task::new(f64::from_bits(limit.load(Ordering::Acquire)), record);

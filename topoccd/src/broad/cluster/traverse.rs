@@ -452,7 +452,7 @@ impl<const H: usize> TaskPairs for TrianglePairs<'_, H> {
             }
             tests
         };
-        run_batches(&tasks, par.batch, Default::default, body, make, finish, &mut consume)
+        run_batches(&tasks, par, Default::default, body, make, finish, &mut consume)
     }
 }
 
