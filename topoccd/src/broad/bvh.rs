@@ -12,7 +12,7 @@ use std::ops::ControlFlow;
 use super::{triangle_volume, BroadInput, TaskPairs};
 use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf, ParOptions};
 use crate::kdop::Kdop;
-use crate::math::DVec3;
+use crate::math::{lerp, DVec3};
 use crate::mesh::Step;
 
 /// The hierarchy of one k-DOP type over the triangles' swept volumes (leaf `t` is triangle
@@ -100,7 +100,7 @@ impl<const H: usize> PerStepBvh<H> {
             let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
             for &v in &tris[t] {
                 let (a, b) = (x0[v as usize], x1[v as usize]);
-                let c = a + (b - a) * t_end;
+                let c = lerp(a, b, t_end);
                 lo = lo.min(a).min(c);
                 hi = hi.max(a).max(c);
             }
