@@ -264,4 +264,3 @@ fn a_traversal_stops_after_the_batch_where_consume_asks() {
         }
     }
 }
-

@@ -15,7 +15,7 @@ use rayon::prelude::*;
 
 use super::filter::{shared_corners, PairFilter};
 use super::{Step, Topology};
-use crate::math::{DVec3, UNIT_ROUNDOFF};
+use crate::math::{lerp, DVec3, UNIT_ROUNDOFF};
 
 /// An axis-aligned box swept by a feature (or a set of triangles) over the step: a point
 /// moving linearly stays in the box of its two end positions. Exact: min and max do not round.
@@ -101,7 +101,7 @@ impl FeatureBoxes {
         } else {
             let t = t_max.max(0.0);
             self.vertex.par_extend(ends.map(|(&a, &b)| {
-                let c = a + (b - a) * t;
+                let c = lerp(a, b, t);
                 let pad = 8.0 * UNIT_ROUNDOFF * a.abs().max(b.abs());
                 SweptBox {
                     lo: a.min(c) - pad,
