@@ -158,14 +158,8 @@ fn separated(
         let norm = n00.length().max(n1.length()).max(n11.length());
         margin += sep * (norm + COEFFICIENT_ERROR * UNIT_ROUNDOFF * ab);
     }
-    if short {
-        let (lo, hi) = (
-            c[0].min(c[1]).min(c[2].min(c[3])),
-            c[0].max(c[1]).max(c[2].max(c[3])),
-        );
-        if lo > margin || hi < -margin || apart() {
-            return true;
-        }
+    if short && (keeps_sign(c, margin) || apart()) {
+        return true;
     }
     let piece = Piece {
         pts,
@@ -207,6 +201,17 @@ const SHORT: f64 = 1.0 / 16.0;
 /// far above the subnormals, so the pieces' ends stay exact.
 const DYADIC_FLOOR: f64 = f64::from_bits((1023 - 897) << 52);
 
+/// Whether every Bernstein coefficient `c` of a cubic exceeds `margin`, or every one is below
+/// `-margin`: then so is the cubic over its interval.
+#[inline]
+fn keeps_sign(c: [f64; 4], margin: f64) -> bool {
+    let (lo, hi) = (
+        c[0].min(c[1]).min(c[2].min(c[3])),
+        c[0].max(c[1]).max(c[2].max(c[3])),
+    );
+    lo > margin || hi < -margin
+}
+
 /// The fixed data of the recursive check of one pair.
 struct Piece<'a> {
     pts: &'a Points,
@@ -221,11 +226,7 @@ impl Piece<'_> {
     /// Whether the pair stays apart during `[ta, tb]`, where `c` are the cubic's Bernstein
     /// coefficients on that interval.
     fn separated(&self, c: [f64; 4], ta: f64, tb: f64, depth: u32) -> bool {
-        let (lo, hi) = (
-            c[0].min(c[1]).min(c[2].min(c[3])),
-            c[0].max(c[1]).max(c[2].max(c[3])),
-        );
-        if lo > self.margin || hi < -self.margin {
+        if keeps_sign(c, self.margin) {
             return true;
         }
         if depth > 0 && self.boxes_apart(ta, tb) {
