@@ -240,7 +240,10 @@ impl Features {
         let (va, vb) = (oa.vertices, ob.vertices);
         let equal = shared_corners(va, vb);
         if equal == 0 {
-            if filter.unshared_apart(va, vb) {
+            // Rule 5 only where some feature pair is left to drop.
+            let nothing = oa.vertex_mask | ob.vertex_mask == 0
+                && SPREAD[oa.edge_mask as usize] & (ob.edge_mask as u16 * 0b001_001_001) == 0;
+            if nothing || filter.unshared_apart(va, vb) {
                 return;
             }
         } else if filter.shared_star(va, equal) {

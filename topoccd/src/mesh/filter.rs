@@ -94,6 +94,12 @@ impl<'s> PairFilter<'s> {
         }
     }
 
+    /// The largest absolute coordinate of the step's positions at t=0 and t=1.
+    #[inline]
+    pub fn coord(&self) -> f64 {
+        self.coord
+    }
+
     /// `true` when only shared vertices are filtered (the common case, checked once per pair).
     #[inline]
     fn only_shared(&self) -> bool {

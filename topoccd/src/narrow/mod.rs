@@ -9,6 +9,7 @@ pub mod bernstein;
 pub mod closest;
 mod edge_edge;
 mod extremes;
+mod lanes;
 mod options;
 pub mod prefilter;
 pub mod solver;

@@ -23,9 +23,9 @@
 //! margin of `256 u P A B`, and pads `N` likewise, so it never rejects a pair that comes within
 //! `min_separation` in exact arithmetic. It rejects only; a pair it passes goes to the solver.
 
-use crate::math::{lerp, max_abs, DVec3, UNDERFLOW_ERROR, UNIT_ROUNDOFF};
-use super::bernstein::coplanarity;
-use super::extremes::{lower, lower3, raise, raise3, raise_abs};
+use crate::math::{lerp, DVec3, UNDERFLOW_ERROR, UNIT_ROUNDOFF};
+use super::extremes::{lower3, raise3, raise_abs};
+use super::lanes::{Real, Vector, F4, V3};
 use super::{EdgeEdge, VertexFace};
 
 /// Margin on the coefficients, in units of `u P A B`.
@@ -54,75 +54,137 @@ type Points = [[DVec3; 4]; 2];
 /// position at `t_end`, off by at most `3 u M` per coordinate (the scaling by a power of two is
 /// exact): the margin grows to `48 u |d|_1 M`. `coord` is `M`, the largest coordinate (or
 /// anything larger).
-#[inline]
-fn direction_separated<const N: usize, const S: usize>(
-    pts: &[[DVec3; N]; 2],
+/// The test runs on one pair (`T = f64`) or on four side by side (`T = F4`, each lane exactly
+/// as one pair alone); it answers per lane.
+#[inline(always)]
+fn direction_separated<T: Real, V: Vector<R = T>, const N: usize, const S: usize>(
+    pts: &[[V; N]; 2],
     sep: f64,
     t_end: f64,
-    coord: f64,
-) -> bool {
-    let (mut first, mut second) = (DVec3::ZERO, DVec3::ZERO);
+    coord: T,
+) -> T::Mask {
+    let (mut first, mut second) = (V::zero(), V::zero());
     for (k, (&p0, &p1)) in pts[0].iter().zip(&pts[1]).enumerate() {
         if k < S {
-            first += p0 + p1;
+            first = first + (p0 + p1);
         } else {
-            second += p0 + p1;
+            second = second + (p0 + p1);
         }
     }
-    let d = second * S as f64 - first * (N - S) as f64;
+    let d = second.scale(T::splat(S as f64)) - first.scale(T::splat((N - S) as f64));
     let rounding = if t_end < 1.0 { 48.0 } else { 16.0 };
     // (No square root without a separation: a `d` that is not finite still makes `need`
     // infinite or NaN through its 1-norm, and nothing passes.)
-    let length = if sep > 0.0 { d.length() } else { 0.0 };
-    let need = sep * length * (1.0 + 4.0 * UNIT_ROUNDOFF)
-        + rounding * UNIT_ROUNDOFF * d.abs().element_sum() * coord
-        + UNDERFLOW_ERROR;
-    let last: [DVec3; N] = if t_end < 1.0 {
-        std::array::from_fn(|k| lerp(pts[0][k], pts[1][k], t_end))
+    let length = if sep > 0.0 { d.length() } else { T::splat(0.0) };
+    let need = T::splat(sep) * length * T::splat(1.0 + 4.0 * UNIT_ROUNDOFF)
+        + T::splat(rounding * UNIT_ROUNDOFF) * d.abs_sum() * coord
+        + T::splat(UNDERFLOW_ERROR);
+    let last: [V; N] = if t_end < 1.0 {
+        let t = T::splat(t_end);
+        std::array::from_fn(|k| pts[0][k] + (pts[1][k] - pts[0][k]).scale(t))
     } else {
         pts[1]
     };
     // Whether the second feature lies above the first along `d` at both ends, and below.
-    let (mut above, mut below) = (true, true);
+    let mut above = None;
+    let mut below = None;
     for end in [&pts[0], &last] {
-        let mut lo = [f64::INFINITY; 2];
-        let mut hi = [f64::NEG_INFINITY; 2];
+        let mut lo = [T::splat(f64::INFINITY); 2];
+        let mut hi = [T::splat(f64::NEG_INFINITY); 2];
         for (k, p) in end.iter().enumerate() {
             let f = usize::from(k >= S);
             let x = d.dot(*p);
-            lo[f] = lower(lo[f], x);
-            hi[f] = raise(hi[f], x);
+            lo[f] = T::select(x.lt(lo[f]), x, lo[f]);
+            hi[f] = T::select(x.gt(hi[f]), x, hi[f]);
         }
-        above &= lo[1] - hi[0] > need;
-        below &= lo[0] - hi[1] > need;
+        let (up, down) = ((lo[1] - hi[0]).gt(need), (lo[0] - hi[1]).gt(need));
+        above = Some(above.map_or(up, |a| T::and(a, up)));
+        below = Some(below.map_or(down, |b| T::and(b, down)));
     }
-    above || below
+    match (above, below) {
+        (Some(a), Some(b)) => T::or(a, b),
+        _ => unreachable!("two ends"),
+    }
 }
 
-/// `true` when the pair provably stays farther apart than `sep` over the whole step: apart
-/// along a fixed direction ([`direction_separated`]), or, on every piece of the step, either the cubic `p . (a x b)` (each of `p, a, b` linear from `_0` at
-/// t=0 to `_1` at t=1) keeps its sign beyond the margin, or the axis-aligned boxes of the
-/// features over that piece stay farther apart than `sep`.
+/// The vertex-plane or line-line cubic `p . (a x b)` over `[0, t_end]` (`t_end` a power of two
+/// at most 1): its Bernstein coefficients, and the margin they must clear for the pair to be
+/// apart by `sep` (see the module documentation). Per lane, as [`direction_separated`].
+#[inline(always)]
+fn cubic<T: Real, V: Vector<R = T>>(p: [V; 2], a: [V; 2], b: [V; 2], sep: f64, t_end: f64) -> ([T; 4], T) {
+    // The coefficients, as `bernstein::coplanarity` computes them.
+    let n = [a[0].cross(b[0]), a[1].cross(b[1])];
+    let n01 = a[0].cross(b[1]);
+    let n10 = a[1].cross(b[0]);
+    let third = T::splat(3.0);
+    let mut c = [
+        p[0].dot(n[0]),
+        (p[1].dot(n[0]) + p[0].dot(n10) + p[0].dot(n01)) / third,
+        (p[0].dot(n[1]) + p[1].dot(n10) + p[1].dot(n01)) / third,
+        p[1].dot(n[1]),
+    ];
+    let pm = p[0].max_abs().max(p[1].max_abs());
+    let am = a[0].max_abs().max(a[1].max_abs());
+    let bm = b[0].max_abs().max(b[1].max_abs());
+    let ab = am * bm;
+    let cm = c.iter().fold(T::splat(0.0), |m, &x| {
+        let x = x.abs();
+        T::select(x.gt(m), x, m)
+    });
+    // Rounding of the triple products, then of up to DEPTH levels of halving (and of the
+    // split at `t_end`, three levels of interpolation between values at most `cm`).
+    let mut margin = T::splat(COEFFICIENT_ERROR * UNIT_ROUNDOFF) * pm * ab
+        + T::splat(4.0 * (DEPTH + 4) as f64 * UNIT_ROUNDOFF) * cm
+        + T::splat(UNDERFLOW_ERROR);
+    if t_end < 1.0 {
+        // De Casteljau at `t_end`: the coefficients of the cubic on `[0, t_end]`.
+        let t = T::splat(t_end);
+        let l = |x: T, y: T| x + (y - x) * t;
+        let (c01, c12, c23) = (l(c[0], c[1]), l(c[1], c[2]), l(c[2], c[3]));
+        let (c012, c123) = (l(c01, c12), l(c12, c23));
+        c = [c[0], c01, c012, l(c012, c123)];
+    }
+    if sep > 0.0 {
+        // The normal n(t) = a(t) x b(t), a quadratic: its Bernstein coefficients.
+        let half = T::splat(0.5);
+        let n1 = (n01 + n10).scale(half);
+        let norm = n[0].length().max(n1.length()).max(n[1].length());
+        margin = margin + T::splat(sep) * (norm + T::splat(COEFFICIENT_ERROR * UNIT_ROUNDOFF) * ab);
+    }
+    (c, margin)
+}
+
+/// The vectors of the cubic `p . (a x b)` at t=0 and t=1, from the four points of a pair (see
+/// the module documentation): a vertex and a face's corners (`S = 1`), or two edges' ends
+/// (`S = 2`).
+#[inline(always)]
+fn differences<V: Vector, const S: usize>(pts: &[[V; 4]; 2]) -> [[V; 2]; 3] {
+    let d = |f: fn(&[V; 4]) -> V| [f(&pts[0]), f(&pts[1])];
+    if S == 1 {
+        [d(|x| x[0] - x[1]), d(|x| x[2] - x[1]), d(|x| x[3] - x[1])]
+    } else {
+        [d(|x| x[2] - x[0]), d(|x| x[1] - x[0]), d(|x| x[3] - x[2])]
+    }
+}
+
+/// What is left to check of a pair that the first tests (the direction, the cubic's
+/// coefficients over the whole interval) did not reject: those coefficients and their margin.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Rest {
+    c: [f64; 4],
+    margin: f64,
+}
+
+/// `true` when the pair provably stays farther apart than `sep` over `[0, t_end]` (`t_end` as
+/// given, rounded up to a power of two by [`dyadic_end`]): apart along a fixed direction
+/// ([`direction_separated`]), or, on every piece of the interval, either the cubic `p . (a x b)`
+/// (each of `p, a, b` linear from `_0` at t=0 to `_1` at t=1) keeps its sign beyond the margin,
+/// or the axis-aligned boxes of the features over that piece stay farther apart than `sep`.
+/// The pair's points are `pts`, the first feature's `..S`.
 #[inline]
-fn separated(
-    p: [DVec3; 2],
-    a: [DVec3; 2],
-    b: [DVec3; 2],
-    sep: f64,
-    pts: &Points,
-    split: usize,
-    t_end: f64,
-) -> bool {
+fn separated<const S: usize>(pts: &Points, sep: f64, t_end: f64, coord: f64) -> bool {
     let t_end = dyadic_end(t_end);
-    // The largest coordinate of the points (`M` of the rounding bounds).
-    let coord = pts.iter().flatten().fold(0.0, |m, x| raise_abs(m, *x));
-    let apart = || {
-        if split == 1 {
-            direction_separated::<4, 1>(pts, sep, t_end, coord)
-        } else {
-            direction_separated::<4, 2>(pts, sep, t_end, coord)
-        }
-    };
+    let apart = || direction_separated::<f64, DVec3, 4, S>(pts, sep, t_end, coord);
     // Over the whole step the direction test rejects most pairs, and goes first. Over a short
     // start of it (an Earliest query's first pass, or one pruned by its best time) the features
     // have barely moved and the cubic, near the static plane distance, rejects most: on
@@ -132,45 +194,148 @@ fn separated(
     if !short && apart() {
         return true;
     }
-    let mut c = coplanarity(p, a, b);
-    let pm = max_abs(p[0]).max(max_abs(p[1]));
-    let am = max_abs(a[0]).max(max_abs(a[1]));
-    let bm = max_abs(b[0]).max(max_abs(b[1]));
-    let ab = am * bm;
-    let cm = c.iter().fold(0.0, |m, x| raise(m, x.abs()));
-    // Rounding of the triple products, then of up to DEPTH levels of halving (and of the
-    // split at `t_end`, three levels of interpolation between values at most `cm`).
-    let mut margin = COEFFICIENT_ERROR * UNIT_ROUNDOFF * pm * ab
-        + 4.0 * (DEPTH + 4) as f64 * UNIT_ROUNDOFF * cm
-        + UNDERFLOW_ERROR;
-    if t_end < 1.0 {
-        // De Casteljau at `t_end`: the coefficients of the cubic on `[0, t_end]`.
-        let l = |x: f64, y: f64| x + (y - x) * t_end;
-        let (c01, c12, c23) = (l(c[0], c[1]), l(c[1], c[2]), l(c[2], c[3]));
-        let (c012, c123) = (l(c01, c12), l(c12, c23));
-        c = [c[0], c01, c012, l(c012, c123)];
-    }
-    if sep > 0.0 {
-        // The normal n(t) = a(t) x b(t), a quadratic: its Bernstein coefficients.
-        let n00 = a[0].cross(b[0]);
-        let n11 = a[1].cross(b[1]);
-        let n1 = 0.5 * (a[0].cross(b[1]) + a[1].cross(b[0]));
-        let norm = n00.length().max(n1.length()).max(n11.length());
-        margin += sep * (norm + COEFFICIENT_ERROR * UNIT_ROUNDOFF * ab);
-    }
+    let [p, a, b] = differences::<DVec3, S>(pts);
+    let (c, margin) = cubic(p, a, b, sep, t_end);
     if short && (keeps_sign(c, margin) || apart()) {
         return true;
     }
+    rest_separated(pts, S, sep, t_end, coord, Rest { c, margin })
+}
+
+/// The first tests of [`separated`] on four pairs at once, each pair's verdict exactly the one
+/// it gets alone: pair `i` has the points `x0[corners[i][k]]` at t=0 and `x1[corners[i][k]]`
+/// at t=1, the first feature's `k < S`: see [`Firsts`]. With AVX2 the four go side by side in vector
+/// registers.
+#[inline]
+fn first_tests_x4<const S: usize>(
+    x: (&[DVec3], &[DVec3]),
+    corners: &[[u32; 4]; 4],
+    sep: f64,
+    t_end: f64,
+    coord: f64,
+) -> Firsts {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2, just checked.
+        return unsafe { first_tests_x4_avx2::<S>(x, corners, sep, t_end, coord) };
+    }
+    first_tests_x4_lanes::<S>(gather(x.0, x.1, corners), sep, t_end, coord)
+}
+
+/// [`first_tests_x4_lanes`] compiled for AVX2, the points gathered with AVX2's gathers.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn first_tests_x4_avx2<const S: usize>(
+    (x0, x1): (&[DVec3], &[DVec3]),
+    corners: &[[u32; 4]; 4],
+    sep: f64,
+    t_end: f64,
+    coord: f64,
+) -> Firsts {
+    use std::arch::x86_64::{_mm256_i64gather_pd, _mm256_set_epi64x, _mm256_storeu_pd};
+    const _: () = assert!(std::mem::size_of::<DVec3>() == 24);
+    const _: () = assert!(std::mem::align_of::<DVec3>() == 8);
+    let n = x0.len().min(x1.len());
+    if corners.iter().flatten().any(|&c| c as usize >= n) {
+        // (Never with a valid step; the indexing below then panics as the scalar path does.)
+        return first_tests_x4_lanes::<S>(gather(x0, x1, corners), sep, t_end, coord);
+    }
+    let at = |x: &[DVec3], k: usize| {
+        let i = |l: usize| 3 * i64::from(corners[l][k]);
+        let index = _mm256_set_epi64x(i(3), i(2), i(1), i(0));
+        let base = x.as_ptr().cast::<f64>();
+        let coordinate = |c: usize| {
+            let mut lanes = [0.0; 4];
+            // SAFETY: `DVec3` is three `f64` without padding (size and alignment checked
+            // above), so `base` points at `3 x.len()` aligned `f64`; every corner is below
+            // `x.len()` (checked above), so each gathered `base[3 corner + c]`, `c < 3`, lies
+            // inside `x`.
+            unsafe { _mm256_storeu_pd(lanes.as_mut_ptr(), _mm256_i64gather_pd::<8>(base.add(c), index)) };
+            F4(lanes)
+        };
+        V3 {
+            x: coordinate(0),
+            y: coordinate(1),
+            z: coordinate(2),
+        }
+    };
+    let v = [
+        [at(x0, 0), at(x0, 1), at(x0, 2), at(x0, 3)],
+        [at(x1, 0), at(x1, 1), at(x1, 2), at(x1, 3)],
+    ];
+    first_tests_x4_lanes::<S>(v, sep, t_end, coord)
+}
+
+/// The points of four pairs side by side: `[end][k]` holds the `k`-th point of each pair at
+/// t=0 (`end` 0, from `x0`) or t=1 (from `x1`).
+#[inline(always)]
+fn gather(x0: &[DVec3], x1: &[DVec3], corners: &[[u32; 4]; 4]) -> [[V3; 4]; 2] {
+    let at = |x: &[DVec3], k: usize| {
+        let c = |i: usize| x[corners[i][k] as usize];
+        V3::gather([c(0), c(1), c(2), c(3)])
+    };
+    [
+        [at(x0, 0), at(x0, 1), at(x0, 2), at(x0, 3)],
+        [at(x1, 0), at(x1, 1), at(x1, 2), at(x1, 3)],
+    ]
+}
+
+/// [`first_tests_x4`] on [`F4`] lanes, the pairs' points side by side in `v` ([`gather`]).
+#[inline(always)]
+fn first_tests_x4_lanes<const S: usize>(v: [[V3; 4]; 2], sep: f64, t_end: f64, coord: f64) -> Firsts {
+    let t_end = dyadic_end(t_end);
+    let apart = direction_separated::<F4, V3, 4, S>(&v, sep, t_end, F4::splat(coord));
+    if apart == [true; 4] {
+        return Firsts {
+            left: [false; 4],
+            c: [F4::splat(0.0); 4],
+            margin: F4::splat(0.0),
+        };
+    }
+    let [p, a, b] = differences::<V3, S>(&v);
+    let (c, margin) = cubic(p, a, b, sep, t_end);
+    let keeps = keeps_sign(c, margin);
+    let left = [0, 1, 2, 3].map(|i| !(apart[i] || keeps[i]));
+    Firsts { left, c, margin }
+}
+
+/// What the first tests leave of four pairs ([`vf_first_x4`], [`ee_first_x4`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Firsts {
+    /// Whether pair `i` is left (neither test rejected it).
+    left: [bool; 4],
+    c: [F4; 4],
+    margin: F4,
+}
+
+impl Firsts {
+    /// `None` when pair `i` was found separated, else what [`rest_separated`] has left to
+    /// check of it.
+    #[inline(always)]
+    pub fn rest(&self, i: usize) -> Option<Rest> {
+        self.left[i].then(|| Rest {
+            c: [self.c[0].0[i], self.c[1].0[i], self.c[2].0[i], self.c[3].0[i]],
+            margin: self.margin.0[i],
+        })
+    }
+}
+
+/// The rest of [`separated`] for a pair (points `pts`, the first feature's `..split`) that its
+/// first tests over `[0, t_end]` (a power of two) left as `rest`: the pieces.
+fn rest_separated(pts: &Points, split: usize, sep: f64, t_end: f64, coord: f64, rest: Rest) -> bool {
     let piece = Piece {
         pts,
         split,
         sep,
-        margin,
+        margin: rest.margin,
         // Each interpolated coordinate `a + (b - a) t` is within `5 u M` of the exact one
         // (`M` the largest coordinate): two roundings of at most `2 u M`, one of `u M`.
         pad: 8.0 * UNIT_ROUNDOFF * coord,
     };
-    piece.separated(c, 0.0, t_end, 0)
+    piece.separated(rest.c, 0.0, t_end, 0)
 }
 
 /// The smallest power of two at least `t` (1 for `t >= 1` or NaN, and at least
@@ -202,14 +367,14 @@ const SHORT: f64 = 1.0 / 16.0;
 const DYADIC_FLOOR: f64 = f64::from_bits((1023 - 897) << 52);
 
 /// Whether every Bernstein coefficient `c` of a cubic exceeds `margin`, or every one is below
-/// `-margin`: then so is the cubic over its interval.
-#[inline]
-fn keeps_sign(c: [f64; 4], margin: f64) -> bool {
+/// `-margin`: then so is the cubic over its interval. Per lane.
+#[inline(always)]
+fn keeps_sign<T: Real>(c: [T; 4], margin: T) -> T::Mask {
     let (lo, hi) = (
         c[0].min(c[1]).min(c[2].min(c[3])),
         c[0].max(c[1]).max(c[2].max(c[3])),
     );
-    lo > margin || hi < -margin
+    T::or(lo.gt(margin), hi.lt(-margin))
 }
 
 /// The fixed data of the recursive check of one pair.
@@ -285,43 +450,102 @@ pub(crate) fn triangles_separated(
         [x0[a0], x0[a1], x0[a2], x0[b0], x0[b1], x0[b2]],
         [x1[a0], x1[a1], x1[a2], x1[b0], x1[b1], x1[b2]],
     ];
-    direction_separated::<6, 3>(&pts, sep, dyadic_end(t_end), coord)
+    direction_separated::<f64, DVec3, 6, 3>(&pts, sep, dyadic_end(t_end), coord)
+}
+
+/// The largest absolute coordinate of the points at both ends (`M` of the rounding bounds).
+#[inline]
+fn largest_coordinate(pts: &Points) -> f64 {
+    pts.iter().flatten().fold(0.0, |m, x| raise_abs(m, *x))
+}
+
+/// The points of a vertex-face pair: the vertex, then the face's corners, at t=0 and t=1.
+#[inline(always)]
+fn vf_points(q: &VertexFace) -> Points {
+    [
+        [q.v_t0, q.f0_t0, q.f1_t0, q.f2_t0],
+        [q.v_t1, q.f0_t1, q.f1_t1, q.f2_t1],
+    ]
+}
+
+/// The points of an edge-edge pair: the first edge's ends, then the second's, at t=0 and t=1.
+#[inline(always)]
+fn ee_points(q: &EdgeEdge) -> Points {
+    [
+        [q.ea0_t0, q.ea1_t0, q.eb0_t0, q.eb1_t0],
+        [q.ea0_t1, q.ea1_t1, q.eb0_t1, q.eb1_t1],
+    ]
 }
 
 /// `true` when the vertex provably stays farther than `sep` (`>= 0`) from the face during the
 /// times `[0, t_end]` (clamped to the whole step; a little more may be looked at).
 #[inline]
 pub fn vf_separated(q: &VertexFace, sep: f64, t_end: f64) -> bool {
-    separated(
-        [q.v_t0 - q.f0_t0, q.v_t1 - q.f0_t1],
-        [q.f1_t0 - q.f0_t0, q.f1_t1 - q.f0_t1],
-        [q.f2_t0 - q.f0_t0, q.f2_t1 - q.f0_t1],
-        sep,
-        &[
-            [q.v_t0, q.f0_t0, q.f1_t0, q.f2_t0],
-            [q.v_t1, q.f0_t1, q.f1_t1, q.f2_t1],
-        ],
-        1,
-        t_end,
-    )
+    let pts = vf_points(q);
+    separated::<1>(&pts, sep, t_end, largest_coordinate(&pts))
 }
 
 /// `true` when the edges provably stay farther apart than `sep` (`>= 0`) during the times
 /// `[0, t_end]` (clamped to the whole step; a little more may be looked at).
 #[inline]
 pub fn ee_separated(q: &EdgeEdge, sep: f64, t_end: f64) -> bool {
-    separated(
-        [q.eb0_t0 - q.ea0_t0, q.eb0_t1 - q.ea0_t1],
-        [q.ea1_t0 - q.ea0_t0, q.ea1_t1 - q.ea0_t1],
-        [q.eb1_t0 - q.eb0_t0, q.eb1_t1 - q.eb0_t1],
-        sep,
-        &[
-            [q.ea0_t0, q.ea1_t0, q.eb0_t0, q.eb1_t0],
-            [q.ea0_t1, q.ea1_t1, q.eb0_t1, q.eb1_t1],
-        ],
-        2,
-        t_end,
-    )
+    let pts = ee_points(q);
+    separated::<2>(&pts, sep, t_end, largest_coordinate(&pts))
+}
+
+/// [`vf_separated`] with `coord` as for [`vf_first_x4`].
+#[inline]
+pub(crate) fn vf_separated_within(q: &VertexFace, sep: f64, t_end: f64, coord: f64) -> bool {
+    separated::<1>(&vf_points(q), sep, t_end, coord)
+}
+
+/// [`ee_separated`] with `coord` as for [`vf_first_x4`].
+#[inline]
+pub(crate) fn ee_separated_within(q: &EdgeEdge, sep: f64, t_end: f64, coord: f64) -> bool {
+    separated::<2>(&ee_points(q), sep, t_end, coord)
+}
+
+/// [`vf_separated`] on four pairs at once, the verdict of each exactly the one it gets alone:
+/// pair `i` is vertex `corners[i][0]` against the face with corners `corners[i][1..]`, with
+/// positions `x0` at t=0 and `x1` at t=1, and `coord` at least the largest absolute coordinate
+/// of every pair's points (the rounding bounds hold for any larger `M`, so a caller may pass
+/// one bound for a whole step). [`Firsts::rest`] says, for each pair, what
+/// [`vf_rest_separated`] has left to check.
+#[inline]
+pub(crate) fn vf_first_x4(
+    x: (&[DVec3], &[DVec3]),
+    corners: &[[u32; 4]; 4],
+    sep: f64,
+    t_end: f64,
+    coord: f64,
+) -> Firsts {
+    first_tests_x4::<1>(x, corners, sep, t_end, coord)
+}
+
+/// The rest of [`vf_separated`] for a pair that [`vf_first_x4`] left as `rest` (the same
+/// `sep`, `t_end` and `coord`): `true` when the pair is found separated after all.
+#[inline]
+pub(crate) fn vf_rest_separated(q: &VertexFace, sep: f64, t_end: f64, coord: f64, rest: Rest) -> bool {
+    rest_separated(&vf_points(q), 1, sep, dyadic_end(t_end), coord, rest)
+}
+
+/// [`vf_first_x4`] for edge-edge pairs: pair `i` is the edge from `corners[i][0]` to
+/// `corners[i][1]` against the one from `corners[i][2]` to `corners[i][3]`.
+#[inline]
+pub(crate) fn ee_first_x4(
+    x: (&[DVec3], &[DVec3]),
+    corners: &[[u32; 4]; 4],
+    sep: f64,
+    t_end: f64,
+    coord: f64,
+) -> Firsts {
+    first_tests_x4::<2>(x, corners, sep, t_end, coord)
+}
+
+/// [`vf_rest_separated`] for edge-edge pairs.
+#[inline]
+pub(crate) fn ee_rest_separated(q: &EdgeEdge, sep: f64, t_end: f64, coord: f64, rest: Rest) -> bool {
+    rest_separated(&ee_points(q), 2, sep, dyadic_end(t_end), coord, rest)
 }
 
 #[cfg(test)]
@@ -505,6 +729,75 @@ mod tests {
         assert!(apart(moved(1.0, 0.5), 0.3));
         assert!(!apart(moved(1.0, 0.5), 0.55));
         assert!(!apart(moved(1.0, -1.0), 0.0));
+    }
+
+    /// The batched first tests ([`first_tests_x4`], with AVX2 where the CPU has it, and on
+    /// plain lanes) give every pair exactly what it gets alone: the same verdict, and for a
+    /// pair they leave, the same cubic coefficients and margin, bit for bit.
+    #[test]
+    fn four_at_once_is_one_at_a_time() {
+        let mut rng = ChaCha8Rng::seed_from_u64(13);
+        let (mut rejected, mut left) = (0, 0);
+        for round in 0..400 {
+            // A few vertices near each other, moving, at scales from tiny to huge; some
+            // rounds with coincident or still points.
+            let scale = 10f64.powi(rng.random_range(-200..200));
+            let n = 12;
+            let x0: Vec<DVec3> = (0..n).map(|_| scale * point(&mut rng)).collect();
+            let x1: Vec<DVec3> = x0
+                .iter()
+                .map(|&p| if round % 7 == 0 { p } else { p + 0.6 * scale * point(&mut rng) })
+                .collect();
+            let coord = x0.iter().chain(&x1).fold(0.0, |m, p| raise_abs(m, *p));
+            let corners: [[u32; 4]; 4] =
+                std::array::from_fn(|_| std::array::from_fn(|_| rng.random_range(0..n as u32)));
+            for (sep, t_end, _) in cases().chain([(0.0, 1.0 / 256.0, NarrowOptions::default())]) {
+                let sep = sep * scale;
+                let check = |firsts: Firsts, split: usize| {
+                    let (mut rejected, mut left) = (0, 0);
+                    for (i, c) in corners.iter().enumerate() {
+                        let pts: Points = [0, 1].map(|e| c.map(|k| [&x0, &x1][e][k as usize]));
+                        let alone = if split == 1 {
+                            separated::<1>(&pts, sep, t_end, coord)
+                        } else {
+                            separated::<2>(&pts, sep, t_end, coord)
+                        };
+                        let t = dyadic_end(t_end);
+                        let batched = match firsts.rest(i) {
+                            None => {
+                                rejected += 1;
+                                true
+                            }
+                            Some(rest) => {
+                                left += 1;
+                                let [p, a, b] = if split == 1 {
+                                    differences::<DVec3, 1>(&pts)
+                                } else {
+                                    differences::<DVec3, 2>(&pts)
+                                };
+                                let (c, margin) = cubic(p, a, b, sep, t);
+                                assert_eq!(c.map(f64::to_bits), rest.c.map(f64::to_bits), "{pts:?}");
+                                assert_eq!(margin.to_bits(), rest.margin.to_bits(), "{pts:?}");
+                                rest_separated(&pts, split, sep, t, coord, rest)
+                            }
+                        };
+                        assert_eq!(alone, batched, "{pts:?} sep {sep} t_end {t_end}");
+                    }
+                    (rejected, left)
+                };
+                let x = (&x0[..], &x1[..]);
+                for (r, l) in [
+                    check(first_tests_x4::<1>(x, &corners, sep, t_end, coord), 1),
+                    check(first_tests_x4::<2>(x, &corners, sep, t_end, coord), 2),
+                    check(first_tests_x4_lanes::<1>(gather(&x0, &x1, &corners), sep, t_end, coord), 1),
+                    check(first_tests_x4_lanes::<2>(gather(&x0, &x1, &corners), sep, t_end, coord), 2),
+                ] {
+                    rejected += r;
+                    left += l;
+                }
+            }
+        }
+        assert!(rejected > 1000 && left > 1000, "both outcomes: {rejected} rejected, {left} left");
     }
 
     #[test]

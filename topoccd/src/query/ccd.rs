@@ -246,6 +246,7 @@ impl Ccd {
             step,
             edges,
             options,
+            coord: filter.coord(),
         };
         let mut found = Found::default();
         let mut totals = Totals::default();

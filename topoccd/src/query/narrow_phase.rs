@@ -8,7 +8,10 @@ use super::report::{Contact, EeContact, VfContact};
 use super::{Mode, QueryOptions};
 use crate::broad::Candidates;
 use crate::mesh::Step;
-use crate::narrow::prefilter::{ee_separated, vf_separated};
+use crate::narrow::prefilter::{
+    ee_first_x4, ee_rest_separated, ee_separated_within, vf_first_x4, vf_rest_separated,
+    vf_separated_within, Firsts, Rest,
+};
 use crate::narrow::{edge_edge, vertex_face, Certainty, EdgeEdge, NarrowOptions, Outcome, VertexFace};
 
 /// Pairs solved between two updates of the best time in [`Mode::Earliest`]. Fixed, so that
@@ -38,7 +41,9 @@ fn vf_query(step: &Step, [v, f]: [u32; 2]) -> VertexFace {
     }
 }
 
-fn ee_query(step: &Step, [a0, a1]: [u32; 2], [b0, b1]: [u32; 2]) -> EdgeEdge {
+fn ee_query(step: &Step, edges: &[[u32; 2]], [e, f]: [u32; 2]) -> EdgeEdge {
+    let ([a0, a1], [b0, b1]) = (edges[e as usize], edges[f as usize]);
+    debug_assert!([a0, a1] < [b0, b1]);
     let (x0, x1) = (step.pos0(), step.pos1());
     let [a0, a1, b0, b1] = [a0, a1, b0, b1].map(|i| i as usize);
     EdgeEdge {
@@ -54,50 +59,118 @@ fn ee_query(step: &Step, [a0, a1]: [u32; 2], [b0, b1]: [u32; 2]) -> EdgeEdge {
 }
 
 /// One candidate's elementary test, its prefilter first: `limit` is the end of the interval
-/// that can still matter (see [`pruned`]).
+/// that can still matter (see [`pruned`]), `coord` the step's largest absolute coordinate.
 fn vf_contact(
     step: &Step,
     pair: [u32; 2],
     options: &QueryOptions,
     limit: f64,
+    coord: f64,
 ) -> Option<VfContact> {
     let q = vf_query(step, pair);
     let t_end = limit.min(options.narrow.t_max);
-    if vf_separated(&q, options.narrow.min_separation, t_end) {
+    if vf_separated_within(&q, options.narrow.min_separation, t_end, coord) {
         return None;
     }
-    let (toi, certainty) = pruned(&options.narrow, limit, |o| vertex_face(&q, o))?;
+    vf_solved(&q, pair, options, limit)
+}
+
+/// The elementary test of a candidate that its prefilter passed.
+fn vf_solved(q: &VertexFace, pair: [u32; 2], options: &QueryOptions, limit: f64) -> Option<VfContact> {
+    let (toi, certainty) = pruned(&options.narrow, limit, |o| vertex_face(q, o))?;
     Some(VfContact {
         vertex: pair[0],
         face: pair[1],
         toi,
         certainty,
-        geometry: options.geometry.then(|| geometry::vertex_face(&q, toi)),
+        geometry: options.geometry.then(|| geometry::vertex_face(q, toi)),
     })
 }
 
 fn ee_contact(
     step: &Step,
     edges: &[[u32; 2]],
+    pair: [u32; 2],
+    options: &QueryOptions,
+    limit: f64,
+    coord: f64,
+) -> Option<EeContact> {
+    let q = ee_query(step, edges, pair);
+    let t_end = limit.min(options.narrow.t_max);
+    if ee_separated_within(&q, options.narrow.min_separation, t_end, coord) {
+        return None;
+    }
+    ee_solved(&q, edges, pair, options, limit)
+}
+
+fn ee_solved(
+    q: &EdgeEdge,
+    edges: &[[u32; 2]],
     [e, f]: [u32; 2],
     options: &QueryOptions,
     limit: f64,
 ) -> Option<EeContact> {
-    let (a, b) = (edges[e as usize], edges[f as usize]);
-    debug_assert!(a < b);
-    let q = ee_query(step, a, b);
-    let t_end = limit.min(options.narrow.t_max);
-    if ee_separated(&q, options.narrow.min_separation, t_end) {
-        return None;
-    }
-    let (toi, certainty) = pruned(&options.narrow, limit, |o| edge_edge(&q, o))?;
+    let (toi, certainty) = pruned(&options.narrow, limit, |o| edge_edge(q, o))?;
     Some(EeContact {
-        a,
-        b,
+        a: edges[e as usize],
+        b: edges[f as usize],
         toi,
         certainty,
-        geometry: options.geometry.then(|| geometry::edge_edge(&q, toi)),
+        geometry: options.geometry.then(|| geometry::edge_edge(q, toi)),
     })
+}
+
+/// Solves `pairs` in order, four at a time through the batched prefilter (`first` on the
+/// pairs' `corners`, then `rest` on the query of each pair it leaves), appending the contacts
+/// to `out` and, in [`Mode::Earliest`], lowering `limit` as they come (`lowered`). A pair gets
+/// exactly what it gets alone (`alone`, [`vf_contact`]): where a contact earlier in its four
+/// lowered the limit, it is solved alone with the new one.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn solve_in_fours<Q, C>(
+    pairs: &[[u32; 2]],
+    t_max: f64,
+    limit: &mut f64,
+    out: &mut Vec<C>,
+    corners: impl Fn([u32; 2]) -> [u32; 4],
+    first: impl Fn(&[[u32; 4]; 4], f64) -> Firsts,
+    query: impl Fn([u32; 2]) -> Q,
+    rest: impl Fn(&Q, f64, Rest) -> bool,
+    solved: impl Fn(&Q, [u32; 2], f64) -> Option<C>,
+    alone: impl Fn([u32; 2], f64) -> Option<C>,
+    lowered: impl Fn(f64, &C) -> f64,
+) {
+    let mut fours = pairs.chunks_exact(4);
+    for four in &mut fours {
+        let start = *limit;
+        let t_end = start.min(t_max);
+        let four = [four[0], four[1], four[2], four[3]];
+        let passed = first(&four.map(&corners), t_end);
+        for (i, pair) in four.into_iter().enumerate() {
+            let contact = if *limit == start {
+                passed.rest(i).and_then(|r| {
+                    let q = query(pair);
+                    if rest(&q, t_end, r) {
+                        None
+                    } else {
+                        solved(&q, pair, start)
+                    }
+                })
+            } else {
+                alone(pair, *limit)
+            };
+            if let Some(c) = contact {
+                *limit = lowered(*limit, &c);
+                out.push(c);
+            }
+        }
+    }
+    for &pair in fours.remainder() {
+        if let Some(c) = alone(pair, *limit) {
+            *limit = lowered(*limit, &c);
+            out.push(c);
+        }
+    }
 }
 
 /// What the narrow phase reads besides the candidates.
@@ -106,6 +179,9 @@ pub(crate) struct Context<'a, 's> {
     /// The step's edges, sorted lexicographically (edge-edge candidates index them).
     pub edges: &'a [[u32; 2]],
     pub options: &'a QueryOptions,
+    /// The largest absolute coordinate of the step's positions (the prefilter's rounding
+    /// bounds hold for it).
+    pub coord: f64,
 }
 
 impl Context<'_, '_> {
@@ -123,23 +199,49 @@ impl Context<'_, '_> {
     /// Solves the candidates in order on this thread, appending the contacts to `found`.
     /// `limit` (see [`Context::limit`]) is lowered as contacts are found.
     pub fn solve(&self, candidates: &Candidates, limit: &mut f64, found: &mut Found) {
-        let earliest = self.options.mode == Mode::Earliest;
-        for &pair in &candidates.vf {
-            if let Some(c) = vf_contact(self.step, pair, self.options, *limit) {
-                if earliest {
-                    *limit = limit.min(self.limit(Some(c.toi)));
-                }
-                found.vf.push(c);
+        let (step, edges, options, coord) = (self.step, self.edges, self.options, self.coord);
+        let (sep, t_max) = (options.narrow.min_separation, options.narrow.t_max);
+        let (x, tris) = ((step.pos0(), step.pos1()), step.triangles());
+        let earliest = options.mode == Mode::Earliest;
+        let lowered = |limit: f64, toi: f64| {
+            if earliest {
+                limit.min(self.limit(Some(toi)))
+            } else {
+                limit
             }
-        }
-        for &pair in &candidates.ee {
-            if let Some(c) = ee_contact(self.step, self.edges, pair, self.options, *limit) {
-                if earliest {
-                    *limit = limit.min(self.limit(Some(c.toi)));
-                }
-                found.ee.push(c);
-            }
-        }
+        };
+        solve_in_fours(
+            &candidates.vf,
+            t_max,
+            limit,
+            &mut found.vf,
+            |[v, f]| {
+                let [f0, f1, f2] = tris[f as usize];
+                [v, f0, f1, f2]
+            },
+            |corners, t_end| vf_first_x4(x, corners, sep, t_end, coord),
+            |pair| vf_query(step, pair),
+            |q, t_end, r| vf_rest_separated(q, sep, t_end, coord, r),
+            |q, pair, limit| vf_solved(q, pair, options, limit),
+            |pair, limit| vf_contact(step, pair, options, limit, coord),
+            |limit, c| lowered(limit, c.toi),
+        );
+        solve_in_fours(
+            &candidates.ee,
+            t_max,
+            limit,
+            &mut found.ee,
+            |[e, f]| {
+                let ([a0, a1], [b0, b1]) = (edges[e as usize], edges[f as usize]);
+                [a0, a1, b0, b1]
+            },
+            |corners, t_end| ee_first_x4(x, corners, sep, t_end, coord),
+            |pair| ee_query(step, edges, pair),
+            |q, t_end, r| ee_rest_separated(q, sep, t_end, coord, r),
+            |q, pair, limit| ee_solved(q, edges, pair, options, limit),
+            |pair, limit| ee_contact(step, edges, pair, options, limit, coord),
+            |limit, c| lowered(limit, c.toi),
+        );
     }
 
     /// Solves a buffer of candidates on the current rayon pool, appending the contacts to
@@ -150,6 +252,7 @@ impl Context<'_, '_> {
         let step = self.step;
         let options = self.options;
         let edges = self.edges;
+        let coord = self.coord;
         match options.mode {
             Mode::All => {
                 let limit = f64::INFINITY;
@@ -158,14 +261,14 @@ impl Context<'_, '_> {
                         .vf
                         .par_iter()
                         .with_min_len(256)
-                        .filter_map(|&pair| vf_contact(step, pair, options, limit)),
+                        .filter_map(|&pair| vf_contact(step, pair, options, limit, coord)),
                 );
                 found.ee.par_extend(
                     candidates
                         .ee
                         .par_iter()
                         .with_min_len(256)
-                        .filter_map(|&pair| ee_contact(step, edges, pair, options, limit)),
+                        .filter_map(|&pair| ee_contact(step, edges, pair, options, limit, coord)),
                 );
             }
             Mode::Earliest => {
@@ -176,7 +279,7 @@ impl Context<'_, '_> {
                         chunk
                             .par_iter()
                             .with_min_len(64)
-                            .filter_map(|&pair| vf_contact(step, pair, options, limit)),
+                            .filter_map(|&pair| vf_contact(step, pair, options, limit, coord)),
                     );
                     lower(best, found.vf[start..].iter().map(|c| c.toi));
                 }
@@ -187,7 +290,7 @@ impl Context<'_, '_> {
                         chunk
                             .par_iter()
                             .with_min_len(64)
-                            .filter_map(|&pair| ee_contact(step, edges, pair, options, limit)),
+                            .filter_map(|&pair| ee_contact(step, edges, pair, options, limit, coord)),
                     );
                     lower(best, found.ee[start..].iter().map(|c| c.toi));
                 }
