@@ -86,3 +86,9 @@ impl EdgeEdge {
 pub fn edge_edge(query: &EdgeEdge, options: &NarrowOptions) -> Outcome {
     solver::solve(&solver::Problem::edge_edge(query), options)
 }
+
+/// [`edge_edge`] for a pair proved apart by more than `min_separation` during
+/// `[0, t_start]` (see [`vertex_face_from`](super::vertex_face::vertex_face_from)).
+pub(crate) fn edge_edge_from(query: &EdgeEdge, options: &NarrowOptions, t_start: f64) -> Outcome {
+    solver::solve_counted_from(&solver::Problem::edge_edge(query), options, t_start).0
+}

@@ -16,8 +16,10 @@ pub mod solver;
 mod vertex_face;
 
 pub use edge_edge::{edge_edge, EdgeEdge};
+pub(crate) use edge_edge::edge_edge_from;
 pub use options::NarrowOptions;
 pub use vertex_face::{vertex_face, VertexFace};
+pub(crate) use vertex_face::vertex_face_from;
 
 /// How sure a reported contact is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

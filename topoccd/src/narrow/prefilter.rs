@@ -183,6 +183,15 @@ pub(crate) struct Rest {
 /// The pair's points are `pts`, the first feature's `..S`.
 #[inline]
 fn separated<const S: usize>(pts: &Points, sep: f64, t_end: f64, coord: f64) -> bool {
+    unresolved::<S>(pts, sep, t_end, coord).is_none()
+}
+
+/// [`separated`], telling more when the pair is not found separated: `None` when it is,
+/// else the start of the first piece of the interval not proved apart. The pair stays farther
+/// apart than `sep` until then (every piece before it is proved apart), so a search for its
+/// first contact may start there.
+#[inline]
+fn unresolved<const S: usize>(pts: &Points, sep: f64, t_end: f64, coord: f64) -> Option<f64> {
     let t_end = dyadic_end(t_end);
     let apart = || direction_separated::<f64, DVec3, 4, S>(pts, sep, t_end, coord);
     // Over the whole step the direction test rejects most pairs, and goes first. Over a short
@@ -192,14 +201,14 @@ fn separated<const S: usize>(pts: &Points, sep: f64, t_end: f64, coord: f64) -> 
     // cubic's first test goes first. Either order rejects exactly the same pairs.
     let short = t_end <= SHORT;
     if !short && apart() {
-        return true;
+        return None;
     }
     let [p, a, b] = differences::<DVec3, S>(pts);
     let (c, margin) = cubic(p, a, b, sep, t_end);
     if short && (keeps_sign(c, margin) || apart()) {
-        return true;
+        return None;
     }
-    rest_separated(pts, S, sep, t_end, coord, Rest { c, margin })
+    rest_unresolved(pts, S, sep, t_end, coord, Rest { c, margin })
 }
 
 /// The first tests of [`separated`] on four pairs at once, each pair's verdict exactly the one
@@ -312,7 +321,7 @@ pub(crate) struct Firsts {
 }
 
 impl Firsts {
-    /// `None` when pair `i` was found separated, else what [`rest_separated`] has left to
+    /// `None` when pair `i` was found separated, else what [`rest_unresolved`] has left to
     /// check of it.
     #[inline(always)]
     pub fn rest(&self, i: usize) -> Option<Rest> {
@@ -323,9 +332,16 @@ impl Firsts {
     }
 }
 
-/// The rest of [`separated`] for a pair (points `pts`, the first feature's `..split`) that its
-/// first tests over `[0, t_end]` (a power of two) left as `rest`: the pieces.
-fn rest_separated(pts: &Points, split: usize, sep: f64, t_end: f64, coord: f64, rest: Rest) -> bool {
+/// The rest of [`unresolved`] for a pair (points `pts`, the first feature's `..split`) that
+/// its first tests over `[0, t_end]` (a power of two) left as `rest`: the pieces.
+fn rest_unresolved(
+    pts: &Points,
+    split: usize,
+    sep: f64,
+    t_end: f64,
+    coord: f64,
+    rest: Rest,
+) -> Option<f64> {
     let piece = Piece {
         pts,
         split,
@@ -335,7 +351,7 @@ fn rest_separated(pts: &Points, split: usize, sep: f64, t_end: f64, coord: f64, 
         // (`M` the largest coordinate): two roundings of at most `2 u M`, one of `u M`.
         pad: 8.0 * UNIT_ROUNDOFF * coord,
     };
-    piece.separated(rest.c, 0.0, t_end, 0)
+    piece.unresolved(rest.c, 0.0, t_end, 0)
 }
 
 /// The smallest power of two at least `t` (1 for `t >= 1` or NaN, and at least
@@ -388,17 +404,18 @@ struct Piece<'a> {
 }
 
 impl Piece<'_> {
-    /// Whether the pair stays apart during `[ta, tb]`, where `c` are the cubic's Bernstein
-    /// coefficients on that interval.
-    fn separated(&self, c: [f64; 4], ta: f64, tb: f64, depth: u32) -> bool {
+    /// `None` when the pair stays apart during `[ta, tb]`, where `c` are the cubic's Bernstein
+    /// coefficients on that interval; else the start of the first piece (of the deepest level)
+    /// of `[ta, tb]` not proved apart, the pieces before it all proved apart.
+    fn unresolved(&self, c: [f64; 4], ta: f64, tb: f64, depth: u32) -> Option<f64> {
         if keeps_sign(c, self.margin) {
-            return true;
+            return None;
         }
         if depth > 0 && self.boxes_apart(ta, tb) {
-            return true;
+            return None;
         }
         if depth == DEPTH {
-            return false;
+            return Some(ta);
         }
         // De Casteljau at the midpoint.
         let m01 = 0.5 * (c[0] + c[1]);
@@ -408,8 +425,8 @@ impl Piece<'_> {
         let m123 = 0.5 * (m12 + m23);
         let mid = 0.5 * (m012 + m123);
         let tm = 0.5 * (ta + tb);
-        self.separated([c[0], m01, m012, mid], ta, tm, depth + 1)
-            && self.separated([mid, m123, m23, c[3]], tm, tb, depth + 1)
+        self.unresolved([c[0], m01, m012, mid], ta, tm, depth + 1)
+            .or_else(|| self.unresolved([mid, m123, m23, c[3]], tm, tb, depth + 1))
     }
 
     /// Whether the features' boxes over `[ta, tb]` stay farther apart than `sep`.
@@ -493,16 +510,18 @@ pub fn ee_separated(q: &EdgeEdge, sep: f64, t_end: f64) -> bool {
     separated::<2>(&pts, sep, t_end, largest_coordinate(&pts))
 }
 
-/// [`vf_separated`] with `coord` as for [`vf_first_x4`].
+/// [`vf_separated`] with `coord` as for [`vf_first_x4`], telling more when the pair is not
+/// found separated: `None` when it is, else a time until which it stays apart (see
+/// [`unresolved`]).
 #[inline]
-pub(crate) fn vf_separated_within(q: &VertexFace, sep: f64, t_end: f64, coord: f64) -> bool {
-    separated::<1>(&vf_points(q), sep, t_end, coord)
+pub(crate) fn vf_unresolved(q: &VertexFace, sep: f64, t_end: f64, coord: f64) -> Option<f64> {
+    unresolved::<1>(&vf_points(q), sep, t_end, coord)
 }
 
-/// [`ee_separated`] with `coord` as for [`vf_first_x4`].
+/// [`vf_unresolved`] for edge-edge pairs.
 #[inline]
-pub(crate) fn ee_separated_within(q: &EdgeEdge, sep: f64, t_end: f64, coord: f64) -> bool {
-    separated::<2>(&ee_points(q), sep, t_end, coord)
+pub(crate) fn ee_unresolved(q: &EdgeEdge, sep: f64, t_end: f64, coord: f64) -> Option<f64> {
+    unresolved::<2>(&ee_points(q), sep, t_end, coord)
 }
 
 /// [`vf_separated`] on four pairs at once, the verdict of each exactly the one it gets alone:
@@ -510,7 +529,7 @@ pub(crate) fn ee_separated_within(q: &EdgeEdge, sep: f64, t_end: f64, coord: f64
 /// positions `x0` at t=0 and `x1` at t=1, and `coord` at least the largest absolute coordinate
 /// of every pair's points (the rounding bounds hold for any larger `M`, so a caller may pass
 /// one bound for a whole step). [`Firsts::rest`] says, for each pair, what
-/// [`vf_rest_separated`] has left to check.
+/// [`vf_rest_unresolved`] has left to check.
 #[inline]
 pub(crate) fn vf_first_x4(
     x: (&[DVec3], &[DVec3]),
@@ -522,11 +541,17 @@ pub(crate) fn vf_first_x4(
     first_tests_x4::<1>(x, corners, sep, t_end, coord)
 }
 
-/// The rest of [`vf_separated`] for a pair that [`vf_first_x4`] left as `rest` (the same
-/// `sep`, `t_end` and `coord`): `true` when the pair is found separated after all.
+/// The rest of [`vf_unresolved`] for a pair that [`vf_first_x4`] left as `rest` (the same
+/// `sep`, `t_end` and `coord`): what [`vf_unresolved`] gives the pair.
 #[inline]
-pub(crate) fn vf_rest_separated(q: &VertexFace, sep: f64, t_end: f64, coord: f64, rest: Rest) -> bool {
-    rest_separated(&vf_points(q), 1, sep, dyadic_end(t_end), coord, rest)
+pub(crate) fn vf_rest_unresolved(
+    q: &VertexFace,
+    sep: f64,
+    t_end: f64,
+    coord: f64,
+    rest: Rest,
+) -> Option<f64> {
+    rest_unresolved(&vf_points(q), 1, sep, dyadic_end(t_end), coord, rest)
 }
 
 /// [`vf_first_x4`] for edge-edge pairs: pair `i` is the edge from `corners[i][0]` to
@@ -542,10 +567,16 @@ pub(crate) fn ee_first_x4(
     first_tests_x4::<2>(x, corners, sep, t_end, coord)
 }
 
-/// [`vf_rest_separated`] for edge-edge pairs.
+/// [`vf_rest_unresolved`] for edge-edge pairs.
 #[inline]
-pub(crate) fn ee_rest_separated(q: &EdgeEdge, sep: f64, t_end: f64, coord: f64, rest: Rest) -> bool {
-    rest_separated(&ee_points(q), 2, sep, dyadic_end(t_end), coord, rest)
+pub(crate) fn ee_rest_unresolved(
+    q: &EdgeEdge,
+    sep: f64,
+    t_end: f64,
+    coord: f64,
+    rest: Rest,
+) -> Option<f64> {
+    rest_unresolved(&ee_points(q), 2, sep, dyadic_end(t_end), coord, rest)
 }
 
 #[cfg(test)]
@@ -674,6 +705,48 @@ mod tests {
         );
     }
 
+    /// Where the filter does not find a pair apart, it gives a time until which the pair is
+    /// apart all the same (the start of its first piece not proved apart): sampled distances
+    /// over `[0, start]` exceed `sep`, and the solver finds no contact there either.
+    #[test]
+    fn pairs_left_are_apart_until_their_start() {
+        let mut rng = ChaCha8Rng::seed_from_u64(14);
+        let (mut later, mut left) = (0, 0);
+        for (sep, t_end, _) in cases() {
+            for _ in 0..3000 {
+                let base = point(&mut rng);
+                let pts: [DVec3; 8] = std::array::from_fn(|i| {
+                    let jitter = 0.3 * point(&mut rng);
+                    if i < 4 {
+                        base + jitter
+                    } else {
+                        base + jitter + 0.4 * point(&mut rng)
+                    }
+                });
+                let coord = pts.iter().fold(0.0, |m, p| raise_abs(m, *p));
+                let (vf, ee) = (VertexFace::from_points(pts), EdgeEdge::from_points(pts));
+                for (start, is_vf) in [
+                    (vf_unresolved(&vf, sep, t_end, coord), true),
+                    (ee_unresolved(&ee, sep, t_end, coord), false),
+                ] {
+                    let Some(start) = start else { continue };
+                    left += 1;
+                    assert!((0.0..dyadic_end(t_end)).contains(&start), "{start}");
+                    if start > 0.0 {
+                        later += 1;
+                        let options = NarrowOptions {
+                            min_separation: sep,
+                            t_max: start,
+                            ..NarrowOptions::default()
+                        };
+                        assert_apart(pts, is_vf, sep, start, &options);
+                    }
+                }
+            }
+        }
+        assert!(later > left / 10, "starts after 0: {later} of {left}");
+    }
+
     /// Whenever two triangles are found apart over `[0, t_end]`, every vertex of the one is
     /// apart from the other face, and every edge from every edge, by the solver and by sampled
     /// distances: the rule drops no contact.
@@ -758,15 +831,15 @@ mod tests {
                     for (i, c) in corners.iter().enumerate() {
                         let pts: Points = [0, 1].map(|e| c.map(|k| [&x0, &x1][e][k as usize]));
                         let alone = if split == 1 {
-                            separated::<1>(&pts, sep, t_end, coord)
+                            unresolved::<1>(&pts, sep, t_end, coord)
                         } else {
-                            separated::<2>(&pts, sep, t_end, coord)
+                            unresolved::<2>(&pts, sep, t_end, coord)
                         };
                         let t = dyadic_end(t_end);
                         let batched = match firsts.rest(i) {
                             None => {
                                 rejected += 1;
-                                true
+                                None
                             }
                             Some(rest) => {
                                 left += 1;
@@ -778,7 +851,7 @@ mod tests {
                                 let (c, margin) = cubic(p, a, b, sep, t);
                                 assert_eq!(c.map(f64::to_bits), rest.c.map(f64::to_bits), "{pts:?}");
                                 assert_eq!(margin.to_bits(), rest.margin.to_bits(), "{pts:?}");
-                                rest_separated(&pts, split, sep, t, coord, rest)
+                                rest_unresolved(&pts, split, sep, t, coord, rest)
                             }
                         };
                         assert_eq!(alone, batched, "{pts:?} sep {sep} t_end {t_end}");

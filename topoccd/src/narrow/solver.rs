@@ -236,6 +236,19 @@ enum Verdict {
 /// Runs the search of the module documentation. Returns the outcome and the number of boxes
 /// examined.
 pub fn solve_counted(problem: &Problem, options: &NarrowOptions) -> (Outcome, u32) {
+    solve_counted_from(problem, options, 0.0)
+}
+
+/// [`solve_counted`] over `[t_start, t_max]` only, for a caller that has proved the features
+/// apart by more than `min_separation` during `[0, t_start]` (the prefilter's pieces): the
+/// search starts from the box `[t_start, t_max] x [0, 1]^2`, and the answer is the same kind
+/// (never later than the first contact, which is not before `t_start`; separated when
+/// `t_start > 0` reaches `t_max`).
+pub(crate) fn solve_counted_from(
+    problem: &Problem,
+    options: &NarrowOptions,
+    t_start: f64,
+) -> (Outcome, u32) {
     if !problem.finite {
         let outcome = Outcome::Contact {
             toi: 0.0,
@@ -244,12 +257,16 @@ pub fn solve_counted(problem: &Problem, options: &NarrowOptions) -> (Outcome, u3
         return (outcome, 0);
     }
     let (search, t_max) = Search::new(problem, options);
+    if t_start > 0.0 && t_start >= t_max {
+        // Apart during the whole interval.
+        return (Outcome::Separated, 0);
+    }
     let max_iterations = options.max_iterations.max(1);
     // Depth-first branch and bound: `best` is the earliest start of a contact box found so far;
     // every later box is clipped to end there, or dropped if it starts there or later.
     STACK.with_borrow_mut(|stack| {
         stack.clear();
-        search.run(stack, t_max, max_iterations)
+        search.run(stack, [t_start.clamp(0.0, t_max), t_max], max_iterations)
     })
 }
 
@@ -311,11 +328,11 @@ thread_local! {
 
 impl Search<'_> {
     /// The depth-first branch and bound of the module documentation, from the box
-    /// `[0, t_max] x [0, 1]^2`. Returns the outcome and the number of boxes examined.
-    fn run(&self, stack: &mut Vec<Cell>, t_max: f64, max_iterations: u32) -> (Outcome, u32) {
+    /// `t x [0, 1]^2`. Returns the outcome and the number of boxes examined.
+    fn run(&self, stack: &mut Vec<Cell>, t: [f64; 2], max_iterations: u32) -> (Outcome, u32) {
         let search = self;
         stack.push(Cell {
-            t: [0.0, t_max],
+            t,
             u: [0.0, 1.0],
             v: [0.0, 1.0],
         });

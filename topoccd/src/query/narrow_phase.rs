@@ -9,10 +9,12 @@ use super::{Mode, QueryOptions};
 use crate::broad::Candidates;
 use crate::mesh::Step;
 use crate::narrow::prefilter::{
-    ee_first_x4, ee_rest_separated, ee_separated_within, vf_first_x4, vf_rest_separated,
-    vf_separated_within, Firsts, Rest,
+    ee_first_x4, ee_rest_unresolved, ee_unresolved, vf_first_x4, vf_rest_unresolved, vf_unresolved,
+    Firsts, Rest,
 };
-use crate::narrow::{edge_edge, vertex_face, Certainty, EdgeEdge, NarrowOptions, Outcome, VertexFace};
+use crate::narrow::{
+    edge_edge_from, vertex_face_from, Certainty, EdgeEdge, NarrowOptions, Outcome, VertexFace,
+};
 
 /// Pairs solved between two updates of the best time in [`Mode::Earliest`]. Fixed, so that
 /// what is pruned does not depend on the thread count.
@@ -69,15 +71,21 @@ fn vf_contact(
 ) -> Option<VfContact> {
     let q = vf_query(step, pair);
     let t_end = limit.min(options.narrow.t_max);
-    if vf_separated_within(&q, options.narrow.min_separation, t_end, coord) {
-        return None;
-    }
-    vf_solved(&q, pair, options, limit)
+    let start = vf_unresolved(&q, options.narrow.min_separation, t_end, coord)?;
+    vf_solved(&q, pair, options, (limit, start, coord))
 }
 
-/// The elementary test of a candidate that its prefilter passed.
-fn vf_solved(q: &VertexFace, pair: [u32; 2], options: &QueryOptions, limit: f64) -> Option<VfContact> {
-    let (toi, certainty) = pruned(&options.narrow, limit, |o| vertex_face(q, o))?;
+/// The elementary test of a candidate that its prefilter over `[0, limit]` passed, proved
+/// apart until `start`; `coord` as for [`vf_contact`].
+fn vf_solved(
+    q: &VertexFace,
+    pair: [u32; 2],
+    options: &QueryOptions,
+    (limit, start, coord): (f64, f64, f64),
+) -> Option<VfContact> {
+    let whole = || vf_unresolved(q, options.narrow.min_separation, options.narrow.t_max, coord);
+    let solve = |o: &NarrowOptions, start| vertex_face_from(q, o, start);
+    let (toi, certainty) = pruned(&options.narrow, limit, start, whole, solve)?;
     Some(VfContact {
         vertex: pair[0],
         face: pair[1],
@@ -97,10 +105,8 @@ fn ee_contact(
 ) -> Option<EeContact> {
     let q = ee_query(step, edges, pair);
     let t_end = limit.min(options.narrow.t_max);
-    if ee_separated_within(&q, options.narrow.min_separation, t_end, coord) {
-        return None;
-    }
-    ee_solved(&q, edges, pair, options, limit)
+    let start = ee_unresolved(&q, options.narrow.min_separation, t_end, coord)?;
+    ee_solved(&q, edges, pair, options, (limit, start, coord))
 }
 
 fn ee_solved(
@@ -108,9 +114,11 @@ fn ee_solved(
     edges: &[[u32; 2]],
     [e, f]: [u32; 2],
     options: &QueryOptions,
-    limit: f64,
+    (limit, start, coord): (f64, f64, f64),
 ) -> Option<EeContact> {
-    let (toi, certainty) = pruned(&options.narrow, limit, |o| edge_edge(q, o))?;
+    let whole = || ee_unresolved(q, options.narrow.min_separation, options.narrow.t_max, coord);
+    let solve = |o: &NarrowOptions, start| edge_edge_from(q, o, start);
+    let (toi, certainty) = pruned(&options.narrow, limit, start, whole, solve)?;
     Some(EeContact {
         a: edges[e as usize],
         b: edges[f as usize],
@@ -135,8 +143,8 @@ fn solve_in_fours<Q, C>(
     corners: impl Fn([u32; 2]) -> [u32; 4],
     first: impl Fn(&[[u32; 4]; 4], f64) -> Firsts,
     query: impl Fn([u32; 2]) -> Q,
-    rest: impl Fn(&Q, f64, Rest) -> bool,
-    solved: impl Fn(&Q, [u32; 2], f64) -> Option<C>,
+    rest: impl Fn(&Q, f64, Rest) -> Option<f64>,
+    solved: impl Fn(&Q, [u32; 2], f64, f64) -> Option<C>,
     alone: impl Fn([u32; 2], f64) -> Option<C>,
     lowered: impl Fn(f64, &C) -> f64,
 ) {
@@ -150,11 +158,8 @@ fn solve_in_fours<Q, C>(
             let contact = if *limit == start {
                 passed.rest(i).and_then(|r| {
                     let q = query(pair);
-                    if rest(&q, t_end, r) {
-                        None
-                    } else {
-                        solved(&q, pair, start)
-                    }
+                    let from = rest(&q, t_end, r)?;
+                    solved(&q, pair, start, from)
                 })
             } else {
                 alone(pair, *limit)
@@ -221,8 +226,8 @@ impl Context<'_, '_> {
             },
             |corners, t_end| vf_first_x4(x, corners, sep, t_end, coord),
             |pair| vf_query(step, pair),
-            |q, t_end, r| vf_rest_separated(q, sep, t_end, coord, r),
-            |q, pair, limit| vf_solved(q, pair, options, limit),
+            |q, t_end, r| vf_rest_unresolved(q, sep, t_end, coord, r),
+            |q, pair, limit, from| vf_solved(q, pair, options, (limit, from, coord)),
             |pair, limit| vf_contact(step, pair, options, limit, coord),
             |limit, c| lowered(limit, c.toi),
         );
@@ -237,8 +242,8 @@ impl Context<'_, '_> {
             },
             |corners, t_end| ee_first_x4(x, corners, sep, t_end, coord),
             |pair| ee_query(step, edges, pair),
-            |q, t_end, r| ee_rest_separated(q, sep, t_end, coord, r),
-            |q, pair, limit| ee_solved(q, edges, pair, options, limit),
+            |q, t_end, r| ee_rest_unresolved(q, sep, t_end, coord, r),
+            |q, pair, limit, from| ee_solved(q, edges, pair, options, (limit, from, coord)),
             |pair, limit| ee_contact(step, edges, pair, options, limit, coord),
             |limit, c| lowered(limit, c.toi),
         );
@@ -329,24 +334,34 @@ pub(crate) fn finish(found: &mut Found, options: &QueryOptions) -> Option<Contac
 
 /// The time of impact and certainty over `[0, full.t_max]`, or `None` when the pair is
 /// separated or has no contact before `limit`: solved first over the shorter interval up to
-/// `limit`, and again over the full interval only if that finds a contact.
+/// `limit`, and again over the full interval only if that finds a contact. `solve(options,
+/// start)` searches from `start`, until which the pair is known apart: the prefilter's
+/// `start` over `[0, limit]` for the shorter interval, and for the full one what `whole` gives
+/// (the prefilter over the whole interval), so that the time found is the one a query without
+/// a limit finds.
 #[inline]
 fn pruned(
     full: &NarrowOptions,
     limit: f64,
-    solve: impl Fn(&NarrowOptions) -> Outcome,
+    start: f64,
+    whole: impl FnOnce() -> Option<f64>,
+    solve: impl Fn(&NarrowOptions, f64) -> Outcome,
 ) -> Option<(f64, Certainty)> {
     let contact = |o: Outcome| match o {
         Outcome::Separated => None,
         Outcome::Contact { toi, certainty } => Some((toi, certainty)),
     };
     if limit >= full.t_max {
-        return contact(solve(full));
+        return contact(solve(full, start));
+    }
+    if start > 0.0 && start >= limit {
+        // Apart until the limit.
+        return None;
     }
     let short = NarrowOptions {
         t_max: limit,
         ..*full
     };
-    contact(solve(&short))?;
-    contact(solve(full))
+    contact(solve(&short, start))?;
+    contact(solve(full, whole()?))
 }
