@@ -211,12 +211,16 @@ fn unresolved<const S: usize>(pts: &Points, sep: f64, t_end: f64, coord: f64) ->
     rest_unresolved(pts, S, sep, t_end, coord, Rest { c, margin })
 }
 
-/// The first tests of [`separated`] on four pairs at once, each pair's verdict exactly the one
-/// it gets alone: pair `i` has the points `x0[corners[i][k]]` at t=0 and `x1[corners[i][k]]`
-/// at t=1, the first feature's `k < S`: see [`Firsts`]. With AVX2 the four go side by side in vector
-/// registers.
+/// The first tests of [`unresolved`] on four pairs at once, each pair's verdict exactly the
+/// one it gets alone: pair `i` has the points `x0[corners[i][k]]` at t=0 and
+/// `x1[corners[i][k]]` at t=1, the first feature's `k < S` (`S = 1`: a vertex against the face
+/// with corners `corners[i][1..]`; `S = 2`: the edge from `corners[i][0]` to `corners[i][1]`
+/// against the one from `corners[i][2]` to `corners[i][3]`); see [`Firsts`]. `coord` is at
+/// least the largest absolute coordinate of every pair's points (the rounding bounds hold for
+/// any larger `M`, so a caller may pass one bound for a whole step). With AVX2 the four go side
+/// by side in vector registers.
 #[inline]
-fn first_tests_x4<const S: usize>(
+pub(crate) fn first_tests_x4<const S: usize>(
     x: (&[DVec3], &[DVec3]),
     corners: &[[u32; 4]; 4],
     sep: f64,
@@ -311,7 +315,7 @@ fn first_tests_x4_lanes<const S: usize>(v: [[V3; 4]; 2], sep: f64, t_end: f64, c
     Firsts { left, c, margin }
 }
 
-/// What the first tests leave of four pairs ([`vf_first_x4`], [`ee_first_x4`]).
+/// What the first tests leave of four pairs ([`first_tests_x4`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Firsts {
     /// Whether pair `i` is left (neither test rejected it).
@@ -510,7 +514,7 @@ pub fn ee_separated(q: &EdgeEdge, sep: f64, t_end: f64) -> bool {
     separated::<2>(&pts, sep, t_end, largest_coordinate(&pts))
 }
 
-/// [`vf_separated`] with `coord` as for [`vf_first_x4`], telling more when the pair is not
+/// [`vf_separated`] with `coord` as for [`first_tests_x4`], telling more when the pair is not
 /// found separated: `None` when it is, else a time until which it stays apart (see
 /// [`unresolved`]).
 #[inline]
@@ -524,24 +528,7 @@ pub(crate) fn ee_unresolved(q: &EdgeEdge, sep: f64, t_end: f64, coord: f64) -> O
     unresolved::<2>(&ee_points(q), sep, t_end, coord)
 }
 
-/// [`vf_separated`] on four pairs at once, the verdict of each exactly the one it gets alone:
-/// pair `i` is vertex `corners[i][0]` against the face with corners `corners[i][1..]`, with
-/// positions `x0` at t=0 and `x1` at t=1, and `coord` at least the largest absolute coordinate
-/// of every pair's points (the rounding bounds hold for any larger `M`, so a caller may pass
-/// one bound for a whole step). [`Firsts::rest`] says, for each pair, what
-/// [`vf_rest_unresolved`] has left to check.
-#[inline]
-pub(crate) fn vf_first_x4(
-    x: (&[DVec3], &[DVec3]),
-    corners: &[[u32; 4]; 4],
-    sep: f64,
-    t_end: f64,
-    coord: f64,
-) -> Firsts {
-    first_tests_x4::<1>(x, corners, sep, t_end, coord)
-}
-
-/// The rest of [`vf_unresolved`] for a pair that [`vf_first_x4`] left as `rest` (the same
+/// The rest of [`vf_unresolved`] for a pair that [`first_tests_x4`] left as `rest` (the same
 /// `sep`, `t_end` and `coord`): what [`vf_unresolved`] gives the pair.
 #[inline]
 pub(crate) fn vf_rest_unresolved(
@@ -552,19 +539,6 @@ pub(crate) fn vf_rest_unresolved(
     rest: Rest,
 ) -> Option<f64> {
     rest_unresolved(&vf_points(q), 1, sep, dyadic_end(t_end), coord, rest)
-}
-
-/// [`vf_first_x4`] for edge-edge pairs: pair `i` is the edge from `corners[i][0]` to
-/// `corners[i][1]` against the one from `corners[i][2]` to `corners[i][3]`.
-#[inline]
-pub(crate) fn ee_first_x4(
-    x: (&[DVec3], &[DVec3]),
-    corners: &[[u32; 4]; 4],
-    sep: f64,
-    t_end: f64,
-    coord: f64,
-) -> Firsts {
-    first_tests_x4::<2>(x, corners, sep, t_end, coord)
 }
 
 /// [`vf_rest_unresolved`] for edge-edge pairs.
@@ -670,6 +644,20 @@ mod tests {
         assert!(sampled_distance(&pts, vf, t_end) > sep, "{pts:?}");
     }
 
+    /// Four points near each other at t=0 and t=1: small features moving a lot, as in a
+    /// crumpled cloth.
+    fn moving_points(rng: &mut ChaCha8Rng) -> [DVec3; 8] {
+        let base = point(rng);
+        std::array::from_fn(|i| {
+            let jitter = 0.3 * point(rng);
+            if i < 4 {
+                base + jitter
+            } else {
+                base + jitter + 0.4 * point(rng)
+            }
+        })
+    }
+
     /// Whenever the filter rejects over `[0, t_end]`, sampled distances over that interval
     /// exceed `sep` and the solver finds no contact there either.
     #[test]
@@ -678,16 +666,7 @@ mod tests {
         let (mut rejected, mut total) = (0, 0);
         for (sep, t_end, options) in cases() {
             for _ in 0..3000 {
-                // Small features moving a lot, as in a crumpled cloth.
-                let base = point(&mut rng);
-                let pts: [DVec3; 8] = std::array::from_fn(|i| {
-                    let jitter = 0.3 * point(&mut rng);
-                    if i < 4 {
-                        base + jitter
-                    } else {
-                        base + jitter + 0.4 * point(&mut rng)
-                    }
-                });
+                let pts = moving_points(&mut rng);
                 total += 2;
                 if vf_separated(&VertexFace::from_points(pts), sep, t_end) {
                     rejected += 1;
@@ -714,15 +693,7 @@ mod tests {
         let (mut later, mut left) = (0, 0);
         for (sep, t_end, _) in cases() {
             for _ in 0..3000 {
-                let base = point(&mut rng);
-                let pts: [DVec3; 8] = std::array::from_fn(|i| {
-                    let jitter = 0.3 * point(&mut rng);
-                    if i < 4 {
-                        base + jitter
-                    } else {
-                        base + jitter + 0.4 * point(&mut rng)
-                    }
-                });
+                let pts = moving_points(&mut rng);
                 let coord = pts.iter().fold(0.0, |m, p| raise_abs(m, *p));
                 let (vf, ee) = (VertexFace::from_points(pts), EdgeEdge::from_points(pts));
                 for (start, is_vf) in [

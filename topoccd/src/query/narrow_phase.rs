@@ -9,8 +9,8 @@ use super::{Mode, QueryOptions};
 use crate::broad::Candidates;
 use crate::mesh::Step;
 use crate::narrow::prefilter::{
-    ee_first_x4, ee_rest_unresolved, ee_unresolved, vf_first_x4, vf_rest_unresolved, vf_unresolved,
-    Firsts, Rest,
+    ee_rest_unresolved, ee_unresolved, first_tests_x4, vf_rest_unresolved, vf_unresolved, Firsts,
+    Rest,
 };
 use crate::narrow::{
     edge_edge_from, vertex_face_from, Certainty, EdgeEdge, NarrowOptions, Outcome, VertexFace,
@@ -224,7 +224,7 @@ impl Context<'_, '_> {
                 let [f0, f1, f2] = tris[f as usize];
                 [v, f0, f1, f2]
             },
-            |corners, t_end| vf_first_x4(x, corners, sep, t_end, coord),
+            |corners, t_end| first_tests_x4::<1>(x, corners, sep, t_end, coord),
             |pair| vf_query(step, pair),
             |q, t_end, r| vf_rest_unresolved(q, sep, t_end, coord, r),
             |q, pair, limit, from| vf_solved(q, pair, options, (limit, from, coord)),
@@ -240,7 +240,7 @@ impl Context<'_, '_> {
                 let ([a0, a1], [b0, b1]) = (edges[e as usize], edges[f as usize]);
                 [a0, a1, b0, b1]
             },
-            |corners, t_end| ee_first_x4(x, corners, sep, t_end, coord),
+            |corners, t_end| first_tests_x4::<2>(x, corners, sep, t_end, coord),
             |pair| ee_query(step, edges, pair),
             |q, t_end, r| ee_rest_unresolved(q, sep, t_end, coord, r),
             |q, pair, limit, from| ee_solved(q, edges, pair, options, (limit, from, coord)),
