@@ -5,7 +5,9 @@
 //! vertex stays strictly on one side of the face's plane (or one edge on one side of the plane
 //! through the other edge parallel to both) during the whole step, farther than
 //! `min_separation`. (Over a short start of the step, the filter's first test goes before the
-//! direction's; see `separated`.)
+//! direction's; see `separated`.) A traversal task runs these two first tests on four pairs at
+//! once (`first_tests_x4`, each pair's verdict bit for bit its own), and where the filter does
+//! not find a pair apart it says from when the elementary test must search (`unresolved`).
 //!
 //! For a vertex and a face, `f(t) = p(t) . (a(t) x b(t))` with `p = v - f0`, `a = f1 - f0`,
 //! `b = f2 - f0` is the vertex's height over the face's plane times `|n(t)|`, `n = a x b`. For

@@ -150,16 +150,17 @@ fn solve_in_fours<Q, C>(
 ) {
     let mut fours = pairs.chunks_exact(4);
     for four in &mut fours {
-        let start = *limit;
-        let t_end = start.min(t_max);
+        // The limit the four's first tests ran with.
+        let tested = *limit;
+        let t_end = tested.min(t_max);
         let four = [four[0], four[1], four[2], four[3]];
         let passed = first(&four.map(&corners), t_end);
         for (i, pair) in four.into_iter().enumerate() {
-            let contact = if *limit == start {
+            let contact = if *limit == tested {
                 passed.rest(i).and_then(|r| {
                     let q = query(pair);
                     let from = rest(&q, t_end, r)?;
-                    solved(&q, pair, start, from)
+                    solved(&q, pair, tested, from)
                 })
             } else {
                 alone(pair, *limit)
