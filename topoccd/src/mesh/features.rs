@@ -241,8 +241,7 @@ impl Features {
         let equal = shared_corners(va, vb);
         if equal == 0 {
             // Rule 5 only where some feature pair is left to drop.
-            let nothing = oa.vertex_mask | ob.vertex_mask == 0
-                && SPREAD[oa.edge_mask as usize] & (ob.edge_mask as u16 * 0b001_001_001) == 0;
+            let nothing = oa.vertex_mask | ob.vertex_mask == 0 && edge_pairs(oa, ob, 0) == 0;
             if nothing || filter.unshared_apart(va, vb) {
                 return;
             }
@@ -257,10 +256,7 @@ impl Features {
         let sep = filter.sep;
         Self::vertices_face(boxes, a_vertices, va, b, vb, filter, vf);
         Self::vertices_face(boxes, b_vertices, vb, a, va, filter, vf);
-        let mut pairs = SPREAD[oa.edge_mask as usize]
-            & (ob.edge_mask as u16 * 0b001_001_001)
-            & !shared
-            & 0x1ff;
+        let mut pairs = edge_pairs(oa, ob, shared);
         while pairs != 0 {
             let bit = pairs.trailing_zeros() as usize;
             pairs &= pairs - 1;
@@ -298,6 +294,13 @@ impl Features {
             }
         }
     }
+}
+
+/// The owned edge pairs of two triangles that share no vertex, `shared` being [`SHARED`] of
+/// their shared corners: bit `3 k + l` for edge `k` of the first and edge `l` of the second.
+#[inline(always)]
+fn edge_pairs(oa: &OwnedFeatures, ob: &OwnedFeatures, shared: u16) -> u16 {
+    SPREAD[oa.edge_mask as usize] & (ob.edge_mask as u16 * 0b001_001_001) & !shared & 0x1ff
 }
 
 /// `SPREAD[m]`: bits `3 k .. 3 k + 3` set for each bit `k` of the 3-bit mask `m` (with a

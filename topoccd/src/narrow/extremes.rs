@@ -8,26 +8,19 @@
 //! compile to the bare instruction. The one difference, which of `+0` and `-0` is kept when both
 //! meet, cannot change a verdict: every folded value is only ever compared.
 
+use super::lanes::Real;
 use crate::math::DVec3;
 
 /// `acc.min(x)` for an accumulator `acc` that is not NaN.
 #[inline(always)]
 pub(crate) fn lower(acc: f64, x: f64) -> f64 {
-    if x < acc {
-        x
-    } else {
-        acc
-    }
+    <f64 as Real>::lower(acc, x)
 }
 
 /// `acc.max(x)` for an accumulator `acc` that is not NaN.
 #[inline(always)]
 pub(crate) fn raise(acc: f64, x: f64) -> f64 {
-    if x > acc {
-        x
-    } else {
-        acc
-    }
+    <f64 as Real>::raise(acc, x)
 }
 
 /// [`lower`] per coordinate.

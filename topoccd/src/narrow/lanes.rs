@@ -39,6 +39,20 @@ pub(crate) trait Real:
     fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     /// Logical or per lane.
     fn or(a: Self::Mask, b: Self::Mask) -> Self::Mask;
+
+    /// `x` where `x < acc`, else `acc`, per lane: `acc.min(x)` for an accumulator that is not
+    /// NaN (see [`extremes`](super::extremes), whose `lower` this is for `f64`).
+    #[inline(always)]
+    fn lower(acc: Self, x: Self) -> Self {
+        Self::select(x.lt(acc), x, acc)
+    }
+
+    /// `x` where `x > acc`, else `acc`, per lane: `acc.max(x)` for an accumulator that is not
+    /// NaN (`extremes::raise` for `f64`).
+    #[inline(always)]
+    fn raise(acc: Self, x: Self) -> Self {
+        Self::select(x.gt(acc), x, acc)
+    }
 }
 
 impl Real for f64 {
@@ -280,8 +294,8 @@ impl Vector for V3 {
     #[inline(always)]
     fn max_abs(self) -> F4 {
         // glam's `max_element`: `max(x, max(y, z))` with `max(a, b) = if a > b { a } else { b }`.
-        let max = |a: F4, b: F4| F4::select(a.gt(b), a, b);
-        max(self.x.abs(), max(self.y.abs(), self.z.abs()))
+        // (`max(a, b)` is `raise(b, a)`.)
+        F4::raise(F4::raise(self.z.abs(), self.y.abs()), self.x.abs())
     }
 }
 

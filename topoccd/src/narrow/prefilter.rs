@@ -96,8 +96,8 @@ fn direction_separated<T: Real, V: Vector<R = T>, const N: usize, const S: usize
         for (k, p) in end.iter().enumerate() {
             let f = usize::from(k >= S);
             let x = d.dot(*p);
-            lo[f] = T::select(x.lt(lo[f]), x, lo[f]);
-            hi[f] = T::select(x.gt(hi[f]), x, hi[f]);
+            lo[f] = T::lower(lo[f], x);
+            hi[f] = T::raise(hi[f], x);
         }
         let (up, down) = ((lo[1] - hi[0]).gt(need), (lo[0] - hi[1]).gt(need));
         above = Some(above.map_or(up, |a| T::and(a, up)));
@@ -129,10 +129,7 @@ fn cubic<T: Real, V: Vector<R = T>>(p: [V; 2], a: [V; 2], b: [V; 2], sep: f64, t
     let am = a[0].max_abs().max(a[1].max_abs());
     let bm = b[0].max_abs().max(b[1].max_abs());
     let ab = am * bm;
-    let cm = c.iter().fold(T::splat(0.0), |m, &x| {
-        let x = x.abs();
-        T::select(x.gt(m), x, m)
-    });
+    let cm = c.iter().fold(T::splat(0.0), |m, &x| T::raise(m, x.abs()));
     // Rounding of the triple products, then of up to DEPTH levels of halving (and of the
     // split at `t_end`, three levels of interpolation between values at most `cm`).
     let mut margin = T::splat(COEFFICIENT_ERROR * UNIT_ROUNDOFF) * pm * ab
