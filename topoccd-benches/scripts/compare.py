@@ -13,7 +13,8 @@ compared. Python 3 standard library only.
 
 Inputs (any number):
   DIR with frames/          a real step, as in the shared data (the two frames in frames/)
-  DIR with 0000.ply         a generated sequence: its first step (0000 -> 0001, with parents)
+  DIR with 0000.ply         a generated sequence: its first step (0000 -> 0001, with parents),
+                            or with --step K its step K after the K - 1 before it
   T0.ply,T1.ply             an explicit step
 With no input, the two real steps of the shared data ($TOPOCCD_DATA, else ../shared/data
 from the repository's root) and every sequence under --scenes DIR.
@@ -62,7 +63,7 @@ class Input:
         self.name, self.args, self.triangles, self.tmp = name, args, triangles, tmp
 
 
-def make_input(spec, tmproot):
+def make_input(spec, tmproot, step=1):
     if "," in spec:
         t0, t1 = (Path(p) for p in spec.split(",", 1))
         return Input(f"{t0.stem}->{t1.stem}", ["step", str(t0), str(t1)], ply_faces(t1))
@@ -77,12 +78,19 @@ def make_input(spec, tmproot):
         t0, t1 = frames[0], frames[1]
         return Input(d.name, ["step", str(t0), str(t1)], ply_faces(t1))
     if (d / "0000.ply").is_file() and (d / "0001.ply").is_file():
+        # Frames 0 to `step` (fewer if the sequence is shorter): `run` takes the steps in
+        # turn in one process, as a simulator's loop does, and the last one is measured.
+        last = 1
+        while last < step and (d / f"{last + 1:04}.ply").is_file():
+            last += 1
         one = Path(tmproot) / d.name
         one.mkdir()
-        for f in ["0000.ply", "0001.ply", "0001.parents"]:
-            if (d / f).exists():
-                os.symlink((d / f).resolve(), one / f)
-        return Input(d.name, ["run", str(one)], ply_faces(d / "0001.ply"))
+        for k in range(last + 1):
+            for f in [f"{k:04}.ply", f"{k:04}.parents"]:
+                if (d / f).exists():
+                    os.symlink((d / f).resolve(), one / f)
+        name = d.name if last == 1 else f"{d.name} (step {last})"
+        return Input(name, ["run", str(one)], ply_faces(d / f"{last:04}.ply"))
     raise SystemExit(f"{spec}: not a step (DIR/frames, a sequence DIR/0000.ply, or T0,T1)")
 
 
@@ -139,8 +147,8 @@ def run_once(binary, inp, method, earliest, threads, timeout):
         except json.JSONDecodeError:
             continue
         if isinstance(obj, dict) and "seconds" in obj and "error" not in obj:
+            # The last step's (a `run` prints one line per step, then its summary).
             record = obj
-            break
     if p.returncode != 0 or record is None:
         msg = (err.strip().splitlines() or [f"exit {p.returncode}"])[-1][:80]
         return None, peak, wall, msg
@@ -216,6 +224,10 @@ def main():
     ap.add_argument("--brute-max-triangles", type=int, default=40000,
                     help="run brute only on steps with at most this many triangles (default 40000)")
     ap.add_argument("--timeout", type=float, default=900, help="seconds per run (default 900)")
+    ap.add_argument("--step", type=int, default=1,
+                    help="for a generated sequence: measure its step K (frames K-1 -> K), the "
+                         "steps before it run first in the same process, as in a simulator's "
+                         "loop (default 1: the first step, in a fresh process)")
     ap.add_argument("--json-out", help="also write every raw result to this JSON file")
     args = ap.parse_args()
 
@@ -228,7 +240,9 @@ def main():
         specs = args.inputs or default_inputs(args.scenes)
         if not specs:
             raise SystemExit("no input (give steps, or --scenes DIR, or set TOPOCCD_DATA)")
-        inputs = [make_input(s, tmproot) for s in specs]
+        if args.step < 1:
+            ap.error("--step must be at least 1")
+        inputs = [make_input(s, tmproot, args.step) for s in specs]
         methods = [m for m in args.methods.split(",") if m]
         threads = [int(t) for t in args.threads.split(",") if t]
         modes = [m for m in args.modes.replace("both", "all,earliest").split(",") if m]
