@@ -67,6 +67,90 @@ fn earliest_names_one_of_alls_contacts_under_an_iteration_limit() {
     }
 }
 
+/// `step` target, after the batched prefilter: vertices 1 and 2 at 1e300 beside vertices near
+/// the origin, all moving by (-7.875, -7.875, -7.875) (the huge coordinates do not move). The
+/// elementary test cannot separate the edges of triangle (2, 1, 5) from those of the two small
+/// triangles (its rounding bounds, from coordinates of 1e300, dwarf their gap), so over the whole
+/// step it reported eight edge pairs at toi 0. In `Mode::Earliest` the per-step hierarchy first
+/// sweeps its volumes over `[0, 1/256]` only, where those pairs' boxes are apart (vertex 5's
+/// edges stay below y = -3 and the small edges above y = -1.2 until then): it never looked at
+/// them, and reported 4 of All's 12 pairs at toi 0 where brute force and the cluster method
+/// reported all 12. Now every method and mode search such a pair from `1/256`: the same pairs,
+/// with the same times, everywhere, and none of the eight before `1/256`, which the positions
+/// rule out by themselves (checked below from the coordinates, not by the library).
+#[test]
+fn pairs_the_first_pass_proves_apart_are_searched_from_its_end() {
+    let big = 1e300;
+    let x0 = vec![
+        p(1.328125, -1.109375, 1.953125),
+        p(big, 0.0, 10.25),
+        p(0.0, -big, -big),
+        p(1.3125, -1.125, 0.359375),
+        p(1.296875, -1.140625, 0.34375),
+        p(2.0625, -3.078125, -0.03125),
+    ];
+    let d = p(-7.875, -7.875, -7.875);
+    let x1: Vec<DVec3> = x0.iter().map(|&a| a + d).collect();
+    assert_eq!(x1[1], p(big, -7.875, 2.375));
+    let tris = vec![[3, 4, 0], [1, 3, 0], [2, 1, 5]];
+    let step = Step::new(x0.clone(), x1.clone(), tris).expect("valid step");
+    let tau = 1.0 / 256.0;
+    let mut ccd = Ccd::new();
+    let all = ccd
+        .query(&step, Method::Brute, &QueryOptions::default())
+        .unwrap();
+    assert_eq!(all.earliest_toi(), Some(0.0));
+    assert_eq!((all.vf.len(), all.ee.len()), (3, 12));
+    // The coordinate ranges of an edge over [0, tau], from the positions (each coordinate of a
+    // vertex moves linearly, so its range is between its values at 0 and tau).
+    let range = |[i, j]: [u32; 2], k: usize| {
+        let ends = [i, j].map(|v| {
+            let a = x0[v as usize][k];
+            [a, a + tau * d[k]]
+        });
+        let all = ends.as_flattened();
+        (
+            all.iter().copied().fold(f64::MAX, f64::min),
+            all.iter().copied().fold(f64::MIN, f64::max),
+        )
+    };
+    // Eight of the twelve pairs are apart by more than a half along some axis over [0, tau]
+    // (vertex 5's edges against the small triangles, and edge (1, 3) against (2, 5)): none of
+    // them may be reported before tau. The four others touch at t=0 (up to rounding at 1e300).
+    let mut apart = 0;
+    for c in &all.ee {
+        let gap = (0..3)
+            .map(|k| {
+                let ((a0, a1), (b0, b1)) = (range(c.a, k), range(c.b, k));
+                (b0 - a1).max(a0 - b1)
+            })
+            .fold(f64::MIN, f64::max);
+        if gap > 0.5 {
+            assert!(c.toi >= tau, "{c:?} reported before the positions allow");
+            apart += 1;
+        } else {
+            assert_eq!(c.toi, 0.0, "{c:?}");
+        }
+    }
+    assert_eq!(apart, 8);
+    for method in [Method::Bvh, Method::Cluster] {
+        let other = ccd.query(&step, method, &QueryOptions::default()).unwrap();
+        assert_eq!((&other.vf, &other.ee), (&all.vf, &all.ee), "{method}");
+    }
+    let options = QueryOptions {
+        mode: Mode::Earliest,
+        ..QueryOptions::default()
+    };
+    let cut = |c: f64| c <= options.narrow.tolerance;
+    for method in [Method::Bvh, Method::Brute, Method::Cluster] {
+        let earliest = ccd.query(&step, method, &options).unwrap();
+        assert_eq!(earliest.earliest, all.earliest, "{method}");
+        let vf: Vec<_> = all.vf.iter().filter(|c| cut(c.toi)).copied().collect();
+        let ee: Vec<_> = all.ee.iter().filter(|c| cut(c.toi)).copied().collect();
+        assert_eq!((earliest.vf, earliest.ee), (vf, ee), "{method}");
+    }
+}
+
 /// `step` target, after `Method::Cluster` joined it: six triangles on the edge (7, 8), two of
 /// them the same triangle (1 and 5, flipped), most vertices touching at t=0. Under
 /// `max_iterations = 1` brute force (and the BVH) report (vertex 4, face 5) at toi 0, a pair

@@ -55,6 +55,24 @@ impl SweptBox {
         }
     }
 
+    /// The box of a vertex moving from `a` to `b`, over `[0, t_max]` (the whole step for
+    /// `t_max >= 1`), as [`FeatureBoxes::sweep`] computes it: see there.
+    #[inline]
+    pub fn vertex_until(a: DVec3, b: DVec3, t_max: f64) -> Self {
+        if t_max.is_nan() || t_max >= 1.0 {
+            return Self {
+                lo: a.min(b),
+                hi: a.max(b),
+            };
+        }
+        let c = lerp(a, b, t_max.max(0.0));
+        let pad = 8.0 * UNIT_ROUNDOFF * a.abs().max(b.abs());
+        Self {
+            lo: a.min(c) - pad,
+            hi: a.max(c) + pad,
+        }
+    }
+
     /// Whether the boxes come within `sep` of each other along every axis (a necessary
     /// condition for the features to come within `sep`). Exact: no rounding is involved.
     #[inline]
@@ -93,22 +111,8 @@ impl FeatureBoxes {
         let (x0, x1) = (step.pos0(), step.pos1());
         let ends = x0.par_iter().zip(x1).with_min_len(PAR_LEN);
         self.vertex.clear();
-        if t_max.is_nan() || t_max >= 1.0 {
-            self.vertex.par_extend(ends.map(|(a, b)| SweptBox {
-                lo: a.min(*b),
-                hi: a.max(*b),
-            }));
-        } else {
-            let t = t_max.max(0.0);
-            self.vertex.par_extend(ends.map(|(&a, &b)| {
-                let c = lerp(a, b, t);
-                let pad = 8.0 * UNIT_ROUNDOFF * a.abs().max(b.abs());
-                SweptBox {
-                    lo: a.min(c) - pad,
-                    hi: a.max(c) + pad,
-                }
-            }));
-        }
+        self.vertex
+            .par_extend(ends.map(|(&a, &b)| SweptBox::vertex_until(a, b, t_max)));
         let vb = &self.vertex;
         self.face.clear();
         self.face

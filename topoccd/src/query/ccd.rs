@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::narrow_phase::{self, lower, Context, Found};
+use super::narrow_phase::{self, first_pass_tau, lower, Context, FirstPass, Found, EARLY};
 use super::report::{Report, Seconds, Stats};
 use super::{ClusterGrowth, Method, OptionsError, QueryOptions};
 use crate::broad::cluster::phase::ClusterPhase;
@@ -247,6 +247,7 @@ impl Ccd {
             edges,
             options,
             coord: filter.coord(),
+            first: FirstPass::new(step, &self.features.topo, options),
         };
         let mut found = Found::default();
         let mut totals = Totals::default();
@@ -505,18 +506,12 @@ pub fn query(
     Ccd::new().query(step, method, options)
 }
 
-/// In [`Mode::Earliest`](super::Mode::Earliest), the per-step hierarchy first looks at the
-/// first `1 / EARLY` of the step only (its volumes swept over that interval are much smaller);
-/// only if that finds no contact early enough does it look at the whole step.
-const EARLY: f64 = 256.0;
-
-/// The end `tau` of the first pass of [`bvh_query`], `None` when there is only one pass (not
-/// in Earliest mode, not `early`, or an interval too short to split).
+/// The end `tau` of the first pass of [`bvh_query`] ([`first_pass_tau`]), `None` when there
+/// is only one pass (not in Earliest mode, not `early`, or an interval too short to split).
+/// Only if the first pass finds no contact early enough does the query look at the whole step.
 fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
-    let tau = options.narrow.t_max / EARLY;
-    let two_pass =
-        early && options.mode == super::Mode::Earliest && tau > 2.0 * options.narrow.tolerance;
-    two_pass.then_some(tau)
+    let two_pass = early && options.mode == super::Mode::Earliest;
+    first_pass_tau(options).filter(|_| two_pass)
 }
 
 /// The per-step hierarchy's query: the parallel traversal of the hierarchy the caller built,
@@ -528,9 +523,10 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// [`first_pass_end`] (`tau = t_max / EARLY`), a first pass uses triangle volumes and feature
 /// boxes (the features' own, swept by the caller over `[0, tau]`) and solves every
 /// candidate over `[0, tau]` first. If it finds contacts whose earliest time `b` has
-/// `b + 2 tolerance <= tau`, the answer is complete: a pair whose first contact lies within the
-/// tolerance of `b` touches before `tau`, so its features' volumes over `[0, tau]` overlap and
-/// the first pass tested it. Otherwise the hierarchy is refitted to the whole step's volumes,
+/// `b + 2 tolerance <= tau`, the answer is complete: a pair reported within the tolerance of
+/// `b` is reported before `tau`, so its volumes over `[0, tau]` overlap (the narrow phase of
+/// every method searches a pair they prove apart from `tau` only, [`FirstPass`], even where
+/// rounding keeps it from separating the features) and the first pass tested it. Otherwise the hierarchy is refitted to the whole step's volumes,
 /// the features' boxes over the whole step are swept into `late_boxes`, and the hierarchy is
 /// traversed again, pruned with whatever the first pass found; pairs found twice are reported
 /// once. The first pass pays when contacts are dense at the start of the step (resting

@@ -6,8 +6,9 @@ use rayon::prelude::*;
 use super::geometry;
 use super::report::{Contact, EeContact, VfContact};
 use super::{Mode, QueryOptions};
-use crate::broad::Candidates;
-use crate::mesh::Step;
+use crate::broad::{triangle_volume, Candidates};
+use crate::mesh::features::SweptBox;
+use crate::mesh::{Step, Topology};
 use crate::narrow::prefilter::{
     ee_rest_unresolved, ee_unresolved, first_tests_x4, vf_rest_unresolved, vf_unresolved, Firsts,
     Rest,
@@ -25,6 +26,92 @@ const EARLIEST_CHUNK: usize = 4096;
 pub(crate) struct Found {
     pub vf: Vec<VfContact>,
     pub ee: Vec<EeContact>,
+}
+
+/// In [`Mode::Earliest`], the per-step hierarchy first looks at the first `1 / EARLY` of the
+/// interval only (its volumes swept over that start are much smaller; see
+/// [`Ccd`](super::Ccd)).
+pub(crate) const EARLY: f64 = 256.0;
+
+/// The end `tau = t_max / EARLY` of the per-step hierarchy's first pass in
+/// [`Mode::Earliest`], `None` when the interval is too short to split (`tau` within twice the
+/// tolerance).
+pub(crate) fn first_pass_tau(options: &QueryOptions) -> Option<f64> {
+    let tau = options.narrow.t_max / EARLY;
+    (tau > 2.0 * options.narrow.tolerance).then_some(tau)
+}
+
+/// The first pass's verdict, applied by the narrow phase of every method and mode. The first
+/// pass never looks at a feature pair whose owner triangles' k-DOPs, or whose features' boxes,
+/// swept over `[0, tau]` as it sweeps them, are apart. Such a pair has no contact before
+/// `tau` (the volumes are conservative), but where the elementary test cannot separate its
+/// features (rounding bounds wider than their gap, as with coordinates of 1e300 beside
+/// coordinates of 1), it would report it at the earliest time it cannot rule out, possibly
+/// before `tau`, where the first pass does not: so the narrow phase searches such a pair from
+/// `tau`, whatever the method or mode, and every method and mode report the same pairs with
+/// the same times.
+#[derive(Clone, Copy)]
+pub(crate) struct FirstPass<'a, 's> {
+    step: &'a Step<'s>,
+    topo: &'a Topology,
+    tau: f64,
+    sep: f64,
+}
+
+impl<'a, 's> FirstPass<'a, 's> {
+    /// The rule for this step and these options, `None` when there is no first pass to mirror
+    /// (see [`first_pass_tau`]).
+    pub(crate) fn new(step: &'a Step<'s>, topo: &'a Topology, options: &QueryOptions) -> Option<Self> {
+        first_pass_tau(options).map(|tau| Self {
+            step,
+            topo,
+            tau,
+            sep: options.narrow.min_separation,
+        })
+    }
+
+    /// `start` (a time until which the pair is known apart), raised to `tau` when the first
+    /// pass's volumes prove the pair apart until then (`apart`, asked only if it matters).
+    #[inline]
+    fn raise(&self, start: f64, apart: impl FnOnce() -> bool) -> f64 {
+        if start < self.tau && apart() {
+            self.tau
+        } else {
+            start
+        }
+    }
+
+    /// The swept box of vertex `v` over `[0, tau]`.
+    fn vertex_box(&self, v: u32) -> SweptBox {
+        let v = v as usize;
+        SweptBox::vertex_until(self.step.pos0()[v], self.step.pos1()[v], self.tau)
+    }
+
+    /// Whether the first pass leaves out the vertex-face pair `[v, f]`.
+    fn vf_apart(&self, [v, f]: [u32; 2]) -> bool {
+        let face = (self.step.triangles()[f as usize].iter())
+            .fold(SweptBox::EMPTY, |b, &w| b.merge(&self.vertex_box(w)));
+        !self.vertex_box(v).near(&face, self.sep) || !self.owners_overlap(self.topo.triangles_of(v)[0], f)
+    }
+
+    /// Whether the first pass leaves out the edge-edge pair `[e, f]` (indices into the edges).
+    fn ee_apart(&self, [e, f]: [u32; 2]) -> bool {
+        let edge = |e: u32| {
+            let [i, j] = self.topo.edges[e as usize];
+            self.vertex_box(i).merge(&self.vertex_box(j))
+        };
+        let owner = |e: u32| self.topo.edge_owner[e as usize];
+        !edge(e).near(&edge(f), self.sep) || !self.owners_overlap(owner(e), owner(f))
+    }
+
+    /// Whether the 26-DOPs of triangles `a` and `b` swept over `[0, tau]` overlap. Their
+    /// slabs include those of the first pass's leaves whatever its k (each direction's slab is
+    /// computed alike for every k), so a pair whose leaves are apart is apart here too, and the
+    /// verdict does not depend on the k chosen.
+    fn owners_overlap(&self, a: u32, b: u32) -> bool {
+        let volume = triangle_volume::<13>(self.step, self.tau, self.sep);
+        volume(a).overlaps(&volume(b))
+    }
 }
 
 fn vf_query(step: &Step, [v, f]: [u32; 2]) -> VertexFace {
@@ -67,25 +154,33 @@ fn vf_contact(
     pair: [u32; 2],
     options: &QueryOptions,
     limit: f64,
-    coord: f64,
+    (coord, first): (f64, Option<&FirstPass>),
 ) -> Option<VfContact> {
     let q = vf_query(step, pair);
     let t_end = limit.min(options.narrow.t_max);
     let start = vf_unresolved(&q, options.narrow.min_separation, t_end, coord)?;
-    vf_solved(&q, pair, options, (limit, start, coord))
+    vf_solved(&q, pair, options, (limit, start, coord), first)
 }
 
 /// The elementary test of a candidate that its prefilter over `[0, limit]` passed, proved
-/// apart until `start`; `coord` as for [`vf_contact`].
+/// apart until `start`; `coord` as for [`vf_contact`]. With `first`, a pair the first pass
+/// leaves out is searched from its end.
 fn vf_solved(
     q: &VertexFace,
     pair: [u32; 2],
     options: &QueryOptions,
     (limit, start, coord): (f64, f64, f64),
+    first: Option<&FirstPass>,
 ) -> Option<VfContact> {
+    let apart = std::cell::OnceCell::new();
+    let raise = |s: f64| match first {
+        Some(fp) => fp.raise(s, || *apart.get_or_init(|| fp.vf_apart(pair))),
+        None => s,
+    };
     let whole = || vf_unresolved(q, options.narrow.min_separation, options.narrow.t_max, coord);
+    let whole = || whole().map(raise);
     let solve = |o: &NarrowOptions, start| vertex_face_from(q, o, start);
-    let (toi, certainty) = pruned(&options.narrow, limit, start, whole, solve)?;
+    let (toi, certainty) = pruned(&options.narrow, limit, raise(start), whole, solve)?;
     Some(VfContact {
         vertex: pair[0],
         face: pair[1],
@@ -101,12 +196,12 @@ fn ee_contact(
     pair: [u32; 2],
     options: &QueryOptions,
     limit: f64,
-    coord: f64,
+    (coord, first): (f64, Option<&FirstPass>),
 ) -> Option<EeContact> {
     let q = ee_query(step, edges, pair);
     let t_end = limit.min(options.narrow.t_max);
     let start = ee_unresolved(&q, options.narrow.min_separation, t_end, coord)?;
-    ee_solved(&q, edges, pair, options, (limit, start, coord))
+    ee_solved(&q, edges, pair, options, (limit, start, coord), first)
 }
 
 fn ee_solved(
@@ -115,10 +210,17 @@ fn ee_solved(
     [e, f]: [u32; 2],
     options: &QueryOptions,
     (limit, start, coord): (f64, f64, f64),
+    first: Option<&FirstPass>,
 ) -> Option<EeContact> {
+    let apart = std::cell::OnceCell::new();
+    let raise = |s: f64| match first {
+        Some(fp) => fp.raise(s, || *apart.get_or_init(|| fp.ee_apart([e, f]))),
+        None => s,
+    };
     let whole = || ee_unresolved(q, options.narrow.min_separation, options.narrow.t_max, coord);
+    let whole = || whole().map(raise);
     let solve = |o: &NarrowOptions, start| edge_edge_from(q, o, start);
-    let (toi, certainty) = pruned(&options.narrow, limit, start, whole, solve)?;
+    let (toi, certainty) = pruned(&options.narrow, limit, raise(start), whole, solve)?;
     Some(EeContact {
         a: edges[e as usize],
         b: edges[f as usize],
@@ -188,6 +290,8 @@ pub(crate) struct Context<'a, 's> {
     /// The largest absolute coordinate of the step's positions (the prefilter's rounding
     /// bounds hold for it).
     pub coord: f64,
+    /// The per-step hierarchy's first pass, mirrored by every method ([`FirstPass`]).
+    pub first: Option<FirstPass<'a, 's>>,
 }
 
 impl Context<'_, '_> {
@@ -206,6 +310,7 @@ impl Context<'_, '_> {
     /// `limit` (see [`Context::limit`]) is lowered as contacts are found.
     pub fn solve(&self, candidates: &Candidates, limit: &mut f64, found: &mut Found) {
         let (step, edges, options, coord) = (self.step, self.edges, self.options, self.coord);
+        let first = self.first.as_ref();
         let (sep, t_max) = (options.narrow.min_separation, options.narrow.t_max);
         let (x, tris) = ((step.pos0(), step.pos1()), step.triangles());
         let earliest = options.mode == Mode::Earliest;
@@ -228,8 +333,8 @@ impl Context<'_, '_> {
             |corners, t_end| first_tests_x4::<1>(x, corners, sep, t_end, coord),
             |pair| vf_query(step, pair),
             |q, t_end, r| vf_rest_unresolved(q, sep, t_end, coord, r),
-            |q, pair, limit, from| vf_solved(q, pair, options, (limit, from, coord)),
-            |pair, limit| vf_contact(step, pair, options, limit, coord),
+            |q, pair, limit, from| vf_solved(q, pair, options, (limit, from, coord), first),
+            |pair, limit| vf_contact(step, pair, options, limit, (coord, first)),
             |limit, c| lowered(limit, c.toi),
         );
         solve_in_fours(
@@ -244,8 +349,10 @@ impl Context<'_, '_> {
             |corners, t_end| first_tests_x4::<2>(x, corners, sep, t_end, coord),
             |pair| ee_query(step, edges, pair),
             |q, t_end, r| ee_rest_unresolved(q, sep, t_end, coord, r),
-            |q, pair, limit, from| ee_solved(q, edges, pair, options, (limit, from, coord)),
-            |pair, limit| ee_contact(step, edges, pair, options, limit, coord),
+            |q, pair, limit, from| {
+                ee_solved(q, edges, pair, options, (limit, from, coord), first)
+            },
+            |pair, limit| ee_contact(step, edges, pair, options, limit, (coord, first)),
             |limit, c| lowered(limit, c.toi),
         );
     }
@@ -258,7 +365,7 @@ impl Context<'_, '_> {
         let step = self.step;
         let options = self.options;
         let edges = self.edges;
-        let coord = self.coord;
+        let coord = (self.coord, self.first.as_ref());
         match options.mode {
             Mode::All => {
                 let limit = f64::INFINITY;
