@@ -526,15 +526,16 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// `b + 2 tolerance <= tau`, the answer is complete: a pair reported within the tolerance of
 /// `b` is reported before `tau`, so its volumes over `[0, tau]` overlap (the narrow phase of
 /// every method searches a pair they prove apart from `tau` only, [`FirstPass`], even where
-/// rounding keeps it from separating the features) and the first pass tested it. Otherwise the hierarchy is refitted to the whole step's volumes,
-/// the features' boxes over the whole step are swept into `late_boxes`, and the hierarchy is
-/// traversed again, pruned with whatever the first pass found; pairs found twice are reported
-/// once. The first pass pays when contacts are dense at the start of the step (resting
-/// contact) and is wasted otherwise, so it stops after its first batch of tasks unless that
-/// batch found a contact early enough, and [`Ccd`] tries it only while the last Earliest
-/// query's contact came early (`early`); the answer is the same either way (the second pass
-/// alone is complete). Also returns whether this step's earliest contact came late (after
-/// `t_max / EARLY`, or none), with one pass or two. `tree` must have been built for this
+/// rounding keeps it from separating the features) and the first pass tested it. Otherwise
+/// the hierarchy is refitted to the whole step's volumes, the features' boxes over the whole
+/// step are swept into `late_boxes`, and the hierarchy is traversed again, pruned with
+/// whatever the first pass found; pairs found twice are reported once. The first pass pays
+/// when contacts are dense at the start of the step (resting contact) and is wasted
+/// otherwise, so it stops after its first batch of tasks unless that batch found a contact
+/// early enough, and [`Ccd`] tries it only while the last Earliest query's contact came early
+/// (`early`); the answer is the same either way (the second pass alone is complete). Also
+/// returns whether this step's earliest contact came late (after `t_max / EARLY`, or none),
+/// with one pass or two. `tree` must have been built for this
 /// step, over `[0, tau]` for two passes, else over the whole step.
 fn bvh_query<const H: usize>(
     tree: &mut PerStepBvh<H>,

@@ -61,7 +61,11 @@ pub(crate) struct FirstPass<'a, 's> {
 impl<'a, 's> FirstPass<'a, 's> {
     /// The rule for this step and these options, `None` when there is no first pass to mirror
     /// (see [`first_pass_tau`]).
-    pub(crate) fn new(step: &'a Step<'s>, topo: &'a Topology, options: &QueryOptions) -> Option<Self> {
+    pub(crate) fn new(
+        step: &'a Step<'s>,
+        topo: &'a Topology,
+        options: &QueryOptions,
+    ) -> Option<Self> {
         first_pass_tau(options).map(|tau| Self {
             step,
             topo,
@@ -91,7 +95,8 @@ impl<'a, 's> FirstPass<'a, 's> {
     fn vf_apart(&self, [v, f]: [u32; 2]) -> bool {
         let face = (self.step.triangles()[f as usize].iter())
             .fold(SweptBox::EMPTY, |b, &w| b.merge(&self.vertex_box(w)));
-        !self.vertex_box(v).near(&face, self.sep) || !self.owners_overlap(self.topo.triangles_of(v)[0], f)
+        let owner = self.topo.triangles_of(v)[0];
+        !self.vertex_box(v).near(&face, self.sep) || !self.owners_overlap(owner, f)
     }
 
     /// Whether the first pass leaves out the edge-edge pair `[e, f]` (indices into the edges).
