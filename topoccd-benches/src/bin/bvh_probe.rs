@@ -2,8 +2,13 @@
 //! hierarchy's build and its self-traversal, with a checksum of the pairs found, so two builds
 //! can be compared on the same input (and under `valgrind --tool=callgrind`).
 //!
-//! Usage: `bvh_probe T0.ply T1.ply [REPS]`; prints one JSON object per repetition. With
-//! `BVH_PROBE_BUILD_ONLY` set, only the volumes and the build are timed.
+//! Usage: `bvh_probe T0.ply T1.ply [REPS]`, or `bvh_probe DIR [REPS]` with DIR a frame sequence
+//! (its first step, parents included) or a scene folder with `frames/`; prints one JSON object
+//! per repetition. With `BVH_PROBE_BUILD_ONLY` set, only the volumes and the build are timed.
+//! With `BVH_PROBE_IN_PLACE` set, the volumes are computed where the build places them (no
+//! array of leaves, as the per-step query builds its tree), so `build` includes them and
+//! `volumes` is 0: the first repetition of a fresh process is then the bounding-volume layer's
+//! share of a one-step command, page faults of its fresh memory included.
 
 use std::path::Path;
 use std::time::Instant;
@@ -11,45 +16,92 @@ use topoccd::math::DVec3;
 
 use topoccd::bvh::{Bvh, BvhWorkspace, Leaf};
 use topoccd::io::read_mesh;
+use topoccd::io::sequence::Sequence;
 use topoccd::kdop::Kdop;
+use topoccd::Step;
 
-fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    if args.len() < 3 {
-        eprintln!("usage: bvh_probe T0.ply T1.ply [REPS]");
+/// The step's positions at both ends and its triangles, from two meshes or a sequence folder.
+type Input = (Vec<DVec3>, Vec<DVec3>, Vec<[u32; 3]>);
+
+fn read_input(args: &[String]) -> (Input, usize) {
+    let reps = |at: usize| args.get(at).and_then(|s| s.parse().ok()).unwrap_or(5);
+    let Some(first) = args.get(1) else {
+        eprintln!("usage: bvh_probe T0.ply T1.ply [REPS] | bvh_probe DIR [REPS]");
         std::process::exit(2);
+    };
+    if Path::new(first).is_dir() {
+        let sequence = Sequence::open(Path::new(first)).unwrap_or_else(|e| panic!("{first}: {e}"));
+        let frames = sequence.load(0).unwrap_or_else(|e| panic!("{first}: {e}"));
+        let step = Step::with_parents(
+            frames.x0.as_slice(),
+            frames.x1.as_slice(),
+            frames.triangles.as_slice(),
+            &frames.parents,
+        )
+        .unwrap_or_else(|e| panic!("{first}: {e}"));
+        let input = (
+            step.pos0().to_vec(),
+            step.pos1().to_vec(),
+            step.triangles().to_vec(),
+        );
+        return (input, reps(2));
     }
-    let m0 = read_mesh(Path::new(&args[1])).unwrap_or_else(|e| panic!("{}: {e}", args[1]));
-    let m1 = read_mesh(Path::new(&args[2])).unwrap_or_else(|e| panic!("{}: {e}", args[2]));
+    let Some(second) = args.get(2) else {
+        eprintln!("usage: bvh_probe T0.ply T1.ply [REPS] | bvh_probe DIR [REPS]");
+        std::process::exit(2);
+    };
+    let m0 = read_mesh(Path::new(first)).unwrap_or_else(|e| panic!("{first}: {e}"));
+    let m1 = read_mesh(Path::new(second)).unwrap_or_else(|e| panic!("{second}: {e}"));
     assert_eq!(
         m0.positions.len(),
         m1.positions.len(),
         "vertex counts differ"
     );
-    let reps: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(5);
     let vectors = |p: &[[f64; 3]]| p.iter().map(|&q| DVec3::from(q)).collect::<Vec<_>>();
-    let (x0, x1, tris) = (
-        vectors(&m0.positions),
-        vectors(&m1.positions),
-        &m1.triangles,
-    );
+    let input = (vectors(&m0.positions), vectors(&m1.positions), m1.triangles);
+    (input, reps(3))
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let ((x0, x1, tris), reps) = read_input(&args);
+    let in_place = std::env::var_os("BVH_PROBE_IN_PLACE").is_some();
+    let volume = |i: u32| {
+        let [a, b, c] = tris[i as usize].map(|v| v as usize);
+        Kdop::swept_triangle(&[x0[a], x0[b], x0[c]], &[x1[a], x1[b], x1[c]], 0.0)
+    };
+    // The centre of the triangle's box over the step: the centre of its volume's first three
+    // slabs, so both builds make the same tree.
+    let center = |i: usize| {
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for &v in &tris[i] {
+            for p in [x0[v as usize], x1[v as usize]] {
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+        }
+        (lo + hi) * 0.5
+    };
     let mut leaves: Vec<Leaf<Kdop<9>>> = Vec::new();
     let mut ws = BvhWorkspace::default();
     let mut bvh = Bvh::new();
     for _ in 0..reps {
-        let t = Instant::now();
-        leaves.clear();
-        leaves.extend(tris.iter().enumerate().map(|(i, tri)| {
-            let [a, b, c] = tri.map(|v| v as usize);
-            Leaf {
-                id: i as u32,
-                volume: Kdop::swept_triangle(&[x0[a], x0[b], x0[c]], &[x1[a], x1[b], x1[c]], 0.0),
-            }
-        }));
-        let volumes = t.elapsed().as_secs_f64();
-        let t = Instant::now();
-        bvh.rebuild(&leaves, &mut ws);
-        let build = t.elapsed().as_secs_f64();
+        let (volumes, build) = if in_place {
+            let t = Instant::now();
+            bvh.rebuild_from_fn(tris.len(), center, volume, &mut ws);
+            (0.0, t.elapsed().as_secs_f64())
+        } else {
+            let t = Instant::now();
+            leaves.clear();
+            leaves.extend((0..tris.len() as u32).map(|id| Leaf {
+                id,
+                volume: volume(id),
+            }));
+            let volumes = t.elapsed().as_secs_f64();
+            let t = Instant::now();
+            bvh.rebuild(&leaves, &mut ws);
+            (volumes, t.elapsed().as_secs_f64())
+        };
         if std::env::var_os("BVH_PROBE_BUILD_ONLY").is_some() {
             println!(
                 "{{\"triangles\":{},\"volumes\":{volumes:.6},\"build\":{build:.6}}}",
