@@ -1,6 +1,9 @@
 //! Benchmarks of topoccd live in `benches/`; the probes in `src/bin/` share the little below.
 
-use topoccd::{Method, Mode};
+use std::path::Path;
+
+use topoccd::io::sequence::Sequence;
+use topoccd::{Method, Mode, Step};
 
 /// The method named by a probe's argument (`bvh` when absent); exits with a message otherwise.
 pub fn method_arg(arg: Option<&String>) -> Method {
@@ -21,4 +24,24 @@ pub fn mode_arg(arg: Option<&String>) -> Mode {
             std::process::exit(2)
         }
     }
+}
+
+/// Runs `f` on the first step of `dir` (a frame sequence, parents included, or a scene folder
+/// with `frames/`); exits with a message when the folder does not give one.
+pub fn with_first_step<R>(dir: &str, f: impl FnOnce(&Step<'_>) -> R) -> R {
+    // The sequence's errors name the folder or file; the step's do not.
+    let fail = |e: String| -> ! {
+        eprintln!("{e}");
+        std::process::exit(2)
+    };
+    let sequence = Sequence::open(Path::new(dir)).unwrap_or_else(|e| fail(e.to_string()));
+    let frames = sequence.load(0).unwrap_or_else(|e| fail(e.to_string()));
+    let step = Step::with_parents(
+        frames.x0.as_slice(),
+        frames.x1.as_slice(),
+        frames.triangles.as_slice(),
+        &frames.parents,
+    )
+    .unwrap_or_else(|e| fail(format!("{dir}: {e}")));
+    f(&step)
 }

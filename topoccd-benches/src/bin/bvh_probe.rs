@@ -16,9 +16,7 @@ use topoccd::math::DVec3;
 
 use topoccd::bvh::{Bvh, BvhWorkspace, Leaf};
 use topoccd::io::read_mesh;
-use topoccd::io::sequence::Sequence;
 use topoccd::kdop::Kdop;
-use topoccd::Step;
 
 /// The step's positions at both ends and its triangles, from two meshes or a sequence folder.
 type Input = (Vec<DVec3>, Vec<DVec3>, Vec<[u32; 3]>);
@@ -30,33 +28,30 @@ fn read_input(args: &[String]) -> (Input, usize) {
         std::process::exit(2);
     };
     if Path::new(first).is_dir() {
-        let sequence = Sequence::open(Path::new(first)).unwrap_or_else(|e| panic!("{first}: {e}"));
-        let frames = sequence.load(0).unwrap_or_else(|e| panic!("{first}: {e}"));
-        let step = Step::with_parents(
-            frames.x0.as_slice(),
-            frames.x1.as_slice(),
-            frames.triangles.as_slice(),
-            &frames.parents,
-        )
-        .unwrap_or_else(|e| panic!("{first}: {e}"));
-        let input = (
-            step.pos0().to_vec(),
-            step.pos1().to_vec(),
-            step.triangles().to_vec(),
-        );
+        let input = topoccd_benches::with_first_step(first, |step| {
+            (
+                step.pos0().to_vec(),
+                step.pos1().to_vec(),
+                step.triangles().to_vec(),
+            )
+        });
         return (input, reps(2));
     }
     let Some(second) = args.get(2) else {
         eprintln!("usage: bvh_probe T0.ply T1.ply [REPS] | bvh_probe DIR [REPS]");
         std::process::exit(2);
     };
-    let m0 = read_mesh(Path::new(first)).unwrap_or_else(|e| panic!("{first}: {e}"));
-    let m1 = read_mesh(Path::new(second)).unwrap_or_else(|e| panic!("{second}: {e}"));
-    assert_eq!(
-        m0.positions.len(),
-        m1.positions.len(),
-        "vertex counts differ"
-    );
+    let read = |path: &str| {
+        read_mesh(Path::new(path)).unwrap_or_else(|e| {
+            eprintln!("{e}");
+            std::process::exit(2)
+        })
+    };
+    let (m0, m1) = (read(first), read(second));
+    if m0.positions.len() != m1.positions.len() {
+        eprintln!("{first} and {second}: the vertex counts differ");
+        std::process::exit(2);
+    }
     let vectors = |p: &[[f64; 3]]| p.iter().map(|&q| DVec3::from(q)).collect::<Vec<_>>();
     let input = (vectors(&m0.positions), vectors(&m1.positions), m1.triangles);
     (input, reps(3))

@@ -6,11 +6,9 @@
 //! DIR is a frame sequence (its first step, parents included) or a scene folder with `frames/`.
 //! With `STEP_PROBE_FRESH` set, every repetition uses a new `Ccd` (as a one-step command does).
 
-use std::path::Path;
 use std::time::Instant;
 
-use topoccd::io::sequence::Sequence;
-use topoccd::{Ccd, QueryOptions, Step};
+use topoccd::{Ccd, QueryOptions};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -22,34 +20,26 @@ fn main() {
     let mode = topoccd_benches::mode_arg(args.get(3));
     let reps: usize = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(5);
     let threads: usize = args.get(5).and_then(|s| s.parse().ok()).unwrap_or(1);
-    let sequence = Sequence::open(Path::new(dir)).unwrap_or_else(|e| panic!("{dir}: {e}"));
-    let frames = sequence.load(0).unwrap_or_else(|e| panic!("{dir}: {e}"));
-    let step = Step::with_parents(
-        frames.x0.as_slice(),
-        frames.x1.as_slice(),
-        frames.triangles.as_slice(),
-        &frames.parents,
-    )
-    .unwrap_or_else(|e| panic!("{dir}: {e}"));
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build_global()
-        .expect("a thread pool");
-    let options = QueryOptions {
-        mode,
-        ..QueryOptions::default()
-    };
-    let fresh = std::env::var_os("STEP_PROBE_FRESH").is_some();
-    let mut ccd = Ccd::new();
-    for _ in 0..reps {
-        if fresh {
-            ccd = Ccd::new();
-        }
-        let t = Instant::now();
-        let report = ccd.query(&step, method, &options).expect("valid options");
-        let wall = t.elapsed().as_secs_f64();
-        let s = &report.stats.seconds;
-        println!(
+    topoccd_benches::with_first_step(dir, |step| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build_global()
+            .expect("a thread pool");
+        let options = QueryOptions {
+            mode,
+            ..QueryOptions::default()
+        };
+        let fresh = std::env::var_os("STEP_PROBE_FRESH").is_some();
+        let mut ccd = Ccd::new();
+        for _ in 0..reps {
+            if fresh {
+                ccd = Ccd::new();
+            }
+            let t = Instant::now();
+            let report = ccd.query(step, method, &options).expect("valid options");
+            let wall = t.elapsed().as_secs_f64();
+            let s = &report.stats.seconds;
+            println!(
             "{{\"wall\":{wall:.6},\"build\":{:.6},\"traverse\":{:.6},\"narrow\":{:.6},\"clustering\":{:.6},\"bv_tests\":{},\"candidates\":{},\"contacts\":{}}}",
             s.build,
             s.traverse,
@@ -59,5 +49,6 @@ fn main() {
             report.stats.vf_tests + report.stats.ee_tests,
             report.vf.len() + report.ee.len(),
         );
-    }
+        }
+    });
 }
