@@ -31,6 +31,7 @@ Example:
 import argparse
 import json
 import os
+import re
 import statistics
 import subprocess
 import tempfile
@@ -46,7 +47,11 @@ def cli_args(path, tmp):
     """The command-line tool's arguments for the input's first step."""
     d = Path(path)
     if (d / "frames").is_dir():
-        frames = sorted(p for p in (d / "frames").iterdir() if p.suffix in (".ply", ".obj"))
+        # In the order of their numbers, as the probes' sequence reader takes them.
+        number = lambda p: int(re.search(r"(\d+)$", p.stem).group(1))
+        frames = sorted(
+            (p for p in (d / "frames").iterdir() if p.suffix in (".ply", ".obj")), key=number
+        )
         return ["step", str(frames[0]), str(frames[1])]
     one = Path(tempfile.mkdtemp(dir=tmp))
     for name in ["0000.ply", "0001.ply", "0001.parents"]:
