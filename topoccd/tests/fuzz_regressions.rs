@@ -292,6 +292,95 @@ fn mixed_scales_exhaust_the_iteration_limit_and_stay_conservative() {
     );
 }
 
+/// `step` target: vertex 5 sits on corner 4 of face 0 at t=0, and both lie 4.7e104 away from
+/// the face's other corners, near the origin. The contact's geometry took `inf - inf` in its
+/// barycentric coordinates ([NaN, 1, NaN]), so a report did not even equal itself and every
+/// comparison of two reports failed. The geometry is now computed on the points scaled by a
+/// power of two: every contact of every method and mode has geometry without NaN, with
+/// barycentric coordinates in [0, 1] that sum to 1 (this one [0, 1, 0], on the corner), and
+/// the methods' reports are equal.
+#[test]
+fn a_far_corner_gives_geometry_without_nan() {
+    let far = p(0.0, 12.0, 4.717169818218967e104);
+    let x0 = vec![
+        p(0.0, 0.0, 0.0),
+        far,
+        far,
+        p(-0.015625, -0.015625, -0.015625),
+        far,
+        far,
+        p(-0.015625, -0.015625, -0.015625),
+        p(-1.625, -1.59375, -1.625),
+        far,
+    ];
+    let z = far.z;
+    let x1 = vec![
+        p(5.875, -6.4375, -6.4375),
+        p(-6.3125, 19.6875, z),
+        p(-6.4375, 5.5625, z),
+        p(-0.015625, -0.015625, -0.015625),
+        p(5.875, 5.5625, z),
+        p(-6.3125, 19.6875, z),
+        p(-6.453125, -6.453125, -6.453125),
+        p(-1.625, -1.59375, -1.625),
+        p(5.875, 5.5625, z),
+    ];
+    let step = Step::new(x0, x1, vec![[6, 4, 0], [5, 7, 4]]).expect("valid step");
+    let mut options = QueryOptions::default();
+    options.narrow.tolerance = 0.1;
+    options.narrow.t_max = 1.1125369292536007e-308;
+    options.kdop = topoccd::kdop::DopKind::K26;
+    options.geometry = true;
+    let mut ccd = Ccd::new();
+    for mode in [Mode::All, Mode::Earliest] {
+        options.mode = mode;
+        let brute = ccd.query(&step, Method::Brute, &options).unwrap();
+        let Some(Contact::Vf(c)) = brute.earliest else {
+            panic!("{mode:?}: {:?}", brute.earliest);
+        };
+        assert_eq!((c.vertex, c.face, c.toi), (5, 0, 0.0), "{mode:?}");
+        let g = c.geometry.expect("geometry was asked for");
+        assert_eq!(g.barycentric, [0.0, 1.0, 0.0], "{mode:?}");
+        assert_eq!((g.point, g.distance), (far.to_array(), 0.0), "{mode:?}");
+        for method in [Method::Brute, Method::Bvh, Method::Cluster] {
+            let report = ccd.query(&step, method, &options).unwrap();
+            assert_eq!(
+                report,
+                report.clone(),
+                "{mode:?} {method}: NaN in the report"
+            );
+            assert_eq!(
+                (&report.vf, &report.ee),
+                (&brute.vf, &brute.ee),
+                "{mode:?} {method}"
+            );
+            for c in &report.vf {
+                let g = c.geometry.expect("geometry was asked for");
+                assert!(
+                    g.barycentric.iter().all(|b| (0.0..=1.0).contains(b)),
+                    "{c:?}"
+                );
+                assert!(
+                    (g.barycentric.iter().sum::<f64>() - 1.0).abs() < 1e-15,
+                    "{c:?}"
+                );
+                assert!(
+                    g.point.iter().chain(&g.normal).all(|x| x.is_finite()),
+                    "{c:?}"
+                );
+            }
+            for c in &report.ee {
+                let g = c.geometry.expect("geometry was asked for");
+                assert!((0.0..=1.0).contains(&g.a_param) && (0.0..=1.0).contains(&g.b_param));
+                assert!(
+                    g.point.iter().chain(&g.normal).all(|x| x.is_finite()),
+                    "{c:?}"
+                );
+            }
+        }
+    }
+}
+
 /// `ply` target: a header line that quotes the name of the file the target wrote (the fuzzer
 /// learnt it from the error messages). Read from bytes and from a file, the error must be the
 /// same but for the file's name in front; the target had replaced the name everywhere, also
