@@ -124,7 +124,8 @@ impl Ccd {
     ///         above; ``stats["method"]`` says which ran), ``"bvh"`` (a k-DOP hierarchy built
     ///         per step), ``"cluster"`` (the paper's certified clusters: fastest on large
     ///         deforming meshes) or ``"brute"`` (the sweep-and-prune oracle). All report the
-    ///         same pairs.
+    ///         same pairs, but for a near miss within ``tolerance`` (or a pair given up on)
+    ///         inside a certified cluster, which ``"cluster"`` proves apart and leaves out.
     ///     mode: ``"all"`` (every colliding pair) or ``"earliest"`` (only the pair or pairs
     ///         within ``tolerance`` of the earliest time: faster, for a line search).
     ///     tolerance: time resolution of the elementary tests, in (0, 1). Reported times are

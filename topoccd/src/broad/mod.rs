@@ -19,7 +19,9 @@
 //! oracle tests the k-DOPs of the owners explicitly; the cluster method finds them all except
 //! pairs inside one certified intermediate cluster, which are proved never to touch (see
 //! `cluster::traverse`). Since every method then runs the same elementary tests on the same
-//! pairs, all report the same contacts with the same times.
+//! pairs, all report the same contacts with the same times, but for a pair inside a certified
+//! cluster that the elementary test cannot tell from a touch (within the tolerance without
+//! touching, or given up on): only the cluster method leaves it out.
 
 pub(crate) mod brute;
 pub(crate) mod bvh;

@@ -18,7 +18,11 @@ pub enum Mode {
 }
 
 /// How candidate feature pairs are found. Every method sends its candidates to the same
-/// elementary tests, so all report the same contacts.
+/// elementary tests, so all report the same contacts, with the same times. The one exception
+/// is a pair the elementary test cannot tell from a touch (one that comes within the tolerance
+/// without touching, or that the search gave up on) whose features lie in one of
+/// [`Method::Cluster`]'s intermediate clusters: the cluster's certificate proves that they never
+/// touch, and the cluster method leaves the pair out.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
