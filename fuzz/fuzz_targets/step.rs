@@ -285,28 +285,6 @@ fn check_report(report: &Report, tris: &[[u32; 3]], options: &QueryOptions, what
     );
 }
 
-/// Whether a triangle holding all of the vertices `a` and one holding all of `b` lie in one
-/// intermediate cluster of `clustering`.
-fn in_one_cluster(
-    clustering: &topoccd::broad::cluster::Clustering,
-    tris: &[[u32; 3]],
-    a: &[u32],
-    b: &[u32],
-) -> bool {
-    let cluster = |t: usize| {
-        let leaf = *clustering.leaf_of_triangle.get(t)?;
-        clustering.intermediate_of_leaf.get(leaf as usize).copied()
-    };
-    let holding = |f: &[u32]| -> Vec<Option<u32>> {
-        (0..tris.len())
-            .filter(|&t| f.iter().all(|v| tris[t].contains(v)))
-            .map(cluster)
-            .collect()
-    };
-    let (ta, tb) = (holding(a), holding(b));
-    ta.iter().flatten().any(|c| tb.contains(&Some(*c)))
-}
-
 fn subset<T: PartialEq + std::fmt::Debug>(part: &[T], whole: &[T], what: &str) {
     for c in part {
         assert!(whole.contains(c), "{what}: {c:?} missing");
@@ -429,14 +407,13 @@ fuzz_target!(|input: Input| {
     // contacts, with the same times, but for pairs inside one intermediate cluster.
     subset(&cluster.vf, &brute.vf, "cluster vf in brute");
     subset(&cluster.ee, &brute.ee, "cluster ee in brute");
-    let ic = ccd.clustering();
     for c in brute.vf.iter().filter(|c| !cluster.vf.contains(c)) {
         let face = &tris[c.face as usize];
-        let ok = in_one_cluster(ic, &tris, &[c.vertex], face);
+        let ok = ccd.cluster_holds_both(&step, &[c.vertex], face);
         assert!(ok, "cluster left out {c:?}, not inside one cluster");
     }
     for c in brute.ee.iter().filter(|c| !cluster.ee.contains(c)) {
-        let ok = in_one_cluster(ic, &tris, &c.a, &c.b);
+        let ok = ccd.cluster_holds_both(&step, &c.a, &c.b);
         assert!(ok, "cluster left out {c:?}, not inside one cluster");
     }
     let toi = |r: &Report| r.earliest_toi().unwrap_or(f64::INFINITY);

@@ -444,6 +444,15 @@ impl Ccd {
         &self.cluster.clustering
     }
 
+    /// Whether the last [`Method::Cluster`] query, on `step`, put the features `a` and `b` (a
+    /// vertex, an edge or a face, by their vertices) in one intermediate cluster, whose
+    /// certificate proves that they never touch: the only pairs that method may leave out where
+    /// the other methods report a contact, one the elementary test cannot tell from a touch
+    /// (see [`Method`]). A scan of the step's triangles, for checks of a report.
+    pub fn cluster_holds_both(&self, step: &Step<'_>, a: &[u32], b: &[u32]) -> bool {
+        self.cluster.clustering.holds_both(step.triangles(), a, b)
+    }
+
     /// With `true`, rule 6 of the pair filter is off: no vertex star counts as certified, and
     /// the neighbours in one give their candidates as with a minimum separation. A check of
     /// the certificate: the contacts must not change.

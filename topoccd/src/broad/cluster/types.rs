@@ -288,6 +288,26 @@ impl Clustering {
         &self.last_ring_vertices[self.leaves[leaf].last_ring_vertices.clone()]
     }
 
+    /// Whether a triangle holding all of the vertices `a` and one holding all of `b` lie in one
+    /// intermediate cluster (`triangles`: the step's triangles, as clustered): where the
+    /// cluster method may skip the pair of features `a` and `b` (a vertex, an edge or a face,
+    /// by their vertices), its certificate proving that they never touch. A scan of the
+    /// triangles, for checks of a report, not for a query.
+    pub fn holds_both(&self, triangles: &[[u32; 3]], a: &[u32], b: &[u32]) -> bool {
+        let cluster = |t: usize| {
+            let leaf = *self.leaf_of_triangle.get(t)?;
+            self.intermediate_of_leaf.get(leaf as usize).copied()
+        };
+        let holding = |f: &[u32]| -> Vec<u32> {
+            (0..triangles.len())
+                .filter(|&t| f.iter().all(|v| triangles[t].contains(v)))
+                .filter_map(cluster)
+                .collect()
+        };
+        let of_b = holding(b);
+        holding(a).iter().any(|c| of_b.contains(c))
+    }
+
     /// Leaves of intermediate cluster `ic`, in the order they joined.
     pub fn intermediate_leaves(&self, ic: usize) -> &[u32] {
         &self.intermediate_leaves[self.intermediates[ic].leaves.clone()]
