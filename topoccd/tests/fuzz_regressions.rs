@@ -352,6 +352,73 @@ fn cluster_skips_a_near_miss_its_certificate_rules_out() {
     assert_eq!((&cluster.vf, &cluster.ee), (&brute.vf, &brute.ee));
 }
 
+/// `step` target, at the default iteration limit: two vertices at y = 6.8e298 beside vertices
+/// within 5 of the origin. Brute force and the BVH report (vertex 0, face 1) at toi 0 as a
+/// contact they could not resolve over [0, 1] (`IterationLimit`, the earliest by the order
+/// of contacts), and the edges (0, 1) and (2, 3) at toi 0, `Resolved`. The BVH's
+/// `Mode::Earliest` finds the edges' contact first and then solves (0, face 1) over the
+/// shorter interval up to the tolerance, where it is ruled out: its report names the edges
+/// (brute force's and the cluster method's Earliest meet the vertex-face pair first and keep
+/// it). Both are conservative and give the earliest time 0. So Earliest reports All's
+/// contacts within the tolerance of the earliest where All resolved them; a pair All gave up
+/// on it may leave out, depending on the order in which it meets the pairs.
+#[test]
+fn earliest_may_leave_out_a_pair_all_gave_up_on() {
+    let far = 6.803609974008846e298;
+    let x0 = vec![
+        p(-0.015625, -0.015625, -0.015625),
+        p(-0.03125, -0.03125, -0.03125),
+        p(-0.046875, -0.046875, -0.046875),
+        p(0.0, far, -1.2338788307466547e-178),
+        p(-1.90625, far, -1.96875),
+    ];
+    let x1 = vec![
+        p(-0.078125, -0.078125, -4.078125),
+        p(2.28125, -0.09375, -0.21875),
+        p(-0.109375, -0.109375, -0.109375),
+        p(-0.0625, far, -0.0625),
+        p(-1.96875, far, -2.03125),
+    ];
+    let step = Step::new(x0, x1, vec![[0, 1, 4], [2, 3, 1]]).expect("valid step");
+    let mut options = QueryOptions {
+        kdop: topoccd::kdop::DopKind::K26,
+        ..QueryOptions::default()
+    };
+    let mut ccd = Ccd::new();
+    let brute = ccd.query(&step, Method::Brute, &options).unwrap();
+    let Some(Contact::Vf(first)) = brute.earliest else {
+        panic!("{:?}", brute.earliest);
+    };
+    assert_eq!((first.vertex, first.face, first.toi), (0, 1, 0.0));
+    assert_eq!(first.certainty, Certainty::IterationLimit);
+    let edges = brute.ee.iter().find(|c| (c.a, c.b) == ([0, 1], [2, 3]));
+    assert!(edges.is_some_and(|c| c.toi == 0.0 && c.certainty == Certainty::Resolved));
+    options.mode = Mode::Earliest;
+    for method in [Method::Brute, Method::Bvh, Method::Cluster] {
+        let earliest = ccd.query(&step, method, &options).unwrap();
+        assert_eq!(earliest.earliest_toi(), Some(0.0), "{method}");
+        assert!(earliest.vf.iter().all(|c| brute.vf.contains(c)), "{method}");
+        assert!(earliest.ee.iter().all(|c| brute.ee.contains(c)), "{method}");
+        // What Earliest leaves out of All's contacts at toi 0 are pairs All gave up on.
+        for c in brute.vf.iter().filter(|c| !earliest.vf.contains(c)) {
+            assert_eq!(c.certainty, Certainty::IterationLimit, "{method}: {c:?}");
+        }
+        for c in brute
+            .ee
+            .iter()
+            .filter(|c| c.toi == 0.0 && !earliest.ee.contains(c))
+        {
+            assert_eq!(c.certainty, Certainty::IterationLimit, "{method}: {c:?}");
+        }
+        let kept = earliest.vf.contains(&first);
+        assert_eq!(
+            kept,
+            method != Method::Bvh,
+            "{method}: which pair came first"
+        );
+    }
+}
+
 /// `step` target, a slow unit (86 s under the address sanitizer, 1.5 s in a release build,
 /// for 12 feature pairs): three triangles on an edge with one end at y = z = -1e300 while the
 /// other vertices stay within 10 of the origin. The differences are within the solver's range
