@@ -312,17 +312,18 @@ pub fn bench_source(
     Ok((tables, totals))
 }
 
+/// A report's vertex-face and edge-edge pairs, each with its time's bits.
+type PairKeys = (Vec<(u32, u32, u64)>, Vec<([u32; 2], [u32; 2], u64)>);
+
+fn pair_keys(r: &Report) -> PairKeys {
+    let vf = r.vf.iter().map(|c| (c.vertex, c.face, c.toi.to_bits()));
+    let ee = r.ee.iter().map(|c| (c.a, c.b, c.toi.to_bits()));
+    (vf.collect(), ee.collect())
+}
+
 /// Whether two reports hold the same pairs with bitwise-equal times.
 fn same_pairs(a: &Report, b: &Report) -> bool {
-    let vf = |r: &Report| -> Vec<(u32, u32, u64)> {
-        r.vf.iter()
-            .map(|c| (c.vertex, c.face, c.toi.to_bits()))
-            .collect()
-    };
-    let ee = |r: &Report| -> Vec<([u32; 2], [u32; 2], u64)> {
-        r.ee.iter().map(|c| (c.a, c.b, c.toi.to_bits())).collect()
-    };
-    vf(a) == vf(b) && ee(a) == ee(b)
+    pair_keys(a) == pair_keys(b)
 }
 
 /// Whether `cluster`, a report of the cluster method made with `ccd`, holds `full`'s pairs
@@ -331,16 +332,7 @@ fn same_pairs(a: &Report, b: &Report) -> bool {
 /// reports may differ (a pair the elementary test cannot tell from a touch, see `Method`).
 fn same_but_certified(full: &Report, cluster: &Report, ccd: &Ccd, step: &Step) -> bool {
     let tris = step.triangles();
-    let vf = |r: &Report| -> Vec<(u32, u32, u64)> {
-        r.vf.iter()
-            .map(|c| (c.vertex, c.face, c.toi.to_bits()))
-            .collect()
-    };
-    let ee = |r: &Report| -> Vec<([u32; 2], [u32; 2], u64)> {
-        r.ee.iter().map(|c| (c.a, c.b, c.toi.to_bits())).collect()
-    };
-    let (full_vf, part_vf) = (vf(full), vf(cluster));
-    let (full_ee, part_ee) = (ee(full), ee(cluster));
+    let ((full_vf, full_ee), (part_vf, part_ee)) = (pair_keys(full), pair_keys(cluster));
     part_vf.iter().all(|c| full_vf.contains(c))
         && part_ee.iter().all(|c| full_ee.contains(c))
         && (full_vf.iter().filter(|c| !part_vf.contains(c)))
