@@ -127,7 +127,9 @@ impl Ccd {
     ///         same pairs, but for a near miss within ``tolerance`` (or a pair given up on)
     ///         inside a certified cluster, which ``"cluster"`` proves apart and leaves out.
     ///     mode: ``"all"`` (every colliding pair) or ``"earliest"`` (only the pair or pairs
-    ///         within ``tolerance`` of the earliest time: faster, for a line search).
+    ///         within ``tolerance`` of the earliest time: faster, for a line search). Earliest
+    ///         reports contacts of ``"all"``, unchanged, but may leave out a near miss within
+    ///         ``tolerance`` (or a pair given up on) that its shorter search proves apart.
     ///     tolerance: time resolution of the elementary tests, in (0, 1). Reported times are
     ///         never later than the true first contact and at most this much earlier.
     ///     min_separation: distance (coordinate units, >= 0) at or below which features count

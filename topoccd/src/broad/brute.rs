@@ -40,7 +40,7 @@ pub(crate) fn candidates<const H: usize>(
     let start = Instant::now();
     let (features, filter, sep) = (input.features, input.filter, input.filter.sep);
     let tris = input.step.triangles();
-    triangle_volumes(input.step, sep, volumes);
+    triangle_volumes(input.step, (filter.t_max(), sep), volumes);
     // Owner triangles: the incident triangle of lowest index (as in the ownership scheme).
     let topo = &features.topo;
     let owner_of_vertex = |v: u32| topo.triangles_of(v)[0];

@@ -114,18 +114,18 @@ impl<const H: usize> PerStepBvh<H> {
         });
     }
 
-    /// Refits the hierarchy to the volumes swept over the whole step (same tree, linear
-    /// time).
-    pub fn refit_whole_step(&mut self, input: &BroadInput<'_, '_>) {
+    /// Refits the hierarchy to the volumes swept over the times searched, `[0, t_max]` (same
+    /// tree, linear time): the leaves a build for those times has.
+    pub fn refit_until_t_max(&mut self, input: &BroadInput<'_, '_>) {
         // The tree is about to stop being as built: measure its fit first.
         if let Some(shape) = &mut self.shape {
             if shape.spread.is_none() {
                 shape.spread = Some(spread(&self.bvh));
             }
         }
-        let sep = input.filter.sep;
-        self.swept = (1.0, sep);
-        self.bvh.refit(triangle_volume::<H>(input.step, 1.0, sep));
+        let (sep, t_max) = (input.filter.sep, input.filter.t_max());
+        self.swept = (t_max, sep);
+        self.bvh.refit(triangle_volume::<H>(input.step, t_max, sep));
     }
 
     /// Checks the hierarchy of the last step, `step`, against its leaves: the triangles'

@@ -11,17 +11,19 @@
 //! A vertex-face pair `(v, f)` is a candidate of every method exactly when the two features
 //! share no vertex, pass the pair filter (whose last two rules drop the pairs whose owner
 //! triangles stay apart along the direction between their mean points, or share a vertex whose
-//! star is certified free of self-contact), their swept boxes come
-//! within the minimum separation, and the swept k-DOPs of `v`'s owner triangle and of `f`
-//! overlap (each inflated by the separation); an edge-edge pair likewise with its two owner
-//! triangles. The per-step
+//! star is certified free of self-contact), their boxes swept over the whole step come
+//! within the minimum separation, and the k-DOPs of `v`'s owner triangle and of `f` swept
+//! over the times searched, `[0, t_max]`, overlap (each inflated by the separation); an
+//! edge-edge pair likewise with its two owner triangles. The per-step
 //! hierarchy finds exactly these (its traversal reports every overlapping triangle pair); the
 //! oracle tests the k-DOPs of the owners explicitly; the cluster method finds them all except
 //! pairs inside one certified intermediate cluster, which are proved never to touch (see
 //! `cluster::traverse`). Since every method then runs the same elementary tests on the same
 //! pairs, all report the same contacts with the same times, but for a pair inside a certified
 //! cluster that the elementary test cannot tell from a touch (within the tolerance without
-//! touching, or given up on): only the cluster method leaves it out.
+//! touching, or given up on): only the cluster method leaves it out. (The per-step
+//! hierarchy's first look at the start of the step in `Mode::Earliest` uses volumes over that
+//! start, and keeps only contacts of pairs that are candidates as above.)
 
 pub(crate) mod brute;
 pub(crate) mod bvh;
@@ -149,13 +151,16 @@ pub(crate) struct BroadStats {
     pub traverse: f64,
 }
 
-/// The swept k-DOP of every triangle, inflated by `inflation`, into `out`.
+/// The k-DOP of every triangle swept over `[0, t_max]` (the whole step for `t_max >= 1`),
+/// inflated by `inflation`, into `out`. Every method tests its owner triangles with these
+/// volumes (the per-step hierarchy's leaves are the same, [`triangle_volume`]), so the
+/// methods look at the same feature pairs.
 pub(crate) fn triangle_volumes<const H: usize>(
     step: &Step<'_>,
-    inflation: f64,
+    (t_max, inflation): (f64, f64),
     out: &mut Vec<Kdop<H>>,
 ) {
-    let volume = triangle_volume(step, 1.0, inflation);
+    let volume = triangle_volume(step, t_max, inflation);
     out.clear();
     // On the current rayon pool, in order.
     out.par_extend(

@@ -94,6 +94,12 @@ impl<'s> PairFilter<'s> {
         }
     }
 
+    /// The end of the times searched.
+    #[inline]
+    pub fn t_max(&self) -> f64 {
+        self.t_max
+    }
+
     /// The largest absolute coordinate of the step's positions at t=0 and t=1.
     #[inline]
     pub fn coord(&self) -> f64 {

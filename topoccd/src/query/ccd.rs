@@ -7,7 +7,9 @@ use std::time::Instant;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::narrow_phase::{self, first_pass_tau, lower, Context, FirstPass, Found, EARLY};
+use super::narrow_phase::{
+    self, first_pass_tau, lower, Context, FirstPass, Found, WholeStep, EARLY,
+};
 use super::report::{Report, Seconds, Stats};
 use super::{ClusterGrowth, Method, OptionsError, QueryOptions};
 use crate::broad::cluster::phase::ClusterPhase;
@@ -248,6 +250,7 @@ impl Ccd {
             options,
             coord: filter.coord(),
             first: FirstPass::new(step, &self.features.topo, options),
+            whole: None,
         };
         let mut found = Found::default();
         let mut totals = Totals::default();
@@ -535,17 +538,20 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// `b + 2 tolerance <= tau`, the answer is complete: a pair reported within the tolerance of
 /// `b` is reported before `tau`, so its volumes over `[0, tau]` overlap (the narrow phase of
 /// every method searches a pair they prove apart from `tau` only, [`FirstPass`], even where
-/// rounding keeps it from separating the features) and the first pass tested it. Otherwise
-/// the hierarchy is refitted to the whole step's volumes, the features' boxes over the whole
-/// step are swept into `late_boxes`, and the hierarchy is traversed again, pruned with
-/// whatever the first pass found; pairs found twice are reported once. The first pass pays
+/// rounding keeps it from separating the features) and the first pass tested it. The first
+/// pass keeps only contacts of pairs that a query in [`Mode::All`](super::Mode::All) looks at
+/// ([`WholeStep`]), so that Earliest reports only All's pairs. Otherwise the hierarchy is
+/// refitted to the volumes swept over `[0, t_max]`, its leaves in `Mode::All`, the features'
+/// boxes over the whole step are swept into `late_boxes`, and the hierarchy is traversed
+/// again, pruned with whatever the first pass found; pairs found twice are reported once.
+/// The first pass pays
 /// when contacts are dense at the start of the step (resting contact) and is wasted
 /// otherwise, so it stops after its first batch of tasks unless that batch found a contact
 /// early enough, and [`Ccd`] tries it only while the last Earliest query's contact came early
 /// (`early`); the answer is the same either way (the second pass alone is complete). Also
 /// returns whether this step's earliest contact came late (after `t_max / EARLY`, or none),
 /// with one pass or two. `tree` must have been built for this
-/// step, over `[0, tau]` for two passes, else over the whole step.
+/// step, over `[0, tau]` for two passes, else over `[0, t_max]`.
 fn bvh_query<const H: usize>(
     tree: &mut PerStepBvh<H>,
     (input, ctx, record, task_chunk, ws): (
@@ -565,9 +571,15 @@ fn bvh_query<const H: usize>(
     let end = first_end.unwrap_or(f64::INFINITY);
     let mut build = 0.0;
     let t = Instant::now();
+    // The first pass keeps only contacts that the whole step's pass would look at too.
+    let first_ctx = Context {
+        whole: Some(WholeStep::new(input.step, &input.features.topo, ctx.options)),
+        ..*ctx
+    };
+    let pass_ctx = if two_pass { &first_ctx } else { ctx };
     let mut bv_tests = traverse_pass(
         tree,
-        (input, ctx, record, task_chunk, ws),
+        (input, pass_ctx, record, task_chunk, ws),
         &input.features.boxes,
         (end, two_pass),
         (found, totals, recorded),
@@ -580,7 +592,7 @@ fn bvh_query<const H: usize>(
         let complete = best.is_some_and(|b| ctx.limit(Some(b)) <= end);
         if !complete {
             let t = Instant::now();
-            tree.refit_whole_step(input);
+            tree.refit_until_t_max(input);
             late_boxes.sweep(input.step, 1.0);
             build += t.elapsed().as_secs_f64();
             let t = Instant::now();

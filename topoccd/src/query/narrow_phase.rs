@@ -7,6 +7,7 @@ use super::geometry;
 use super::report::{Contact, EeContact, VfContact};
 use super::{Mode, QueryOptions};
 use crate::broad::{triangle_volume, Candidates};
+use crate::kdop::DopKind;
 use crate::mesh::features::SweptBox;
 use crate::mesh::{Step, Topology};
 use crate::narrow::prefilter::{
@@ -119,6 +120,82 @@ impl<'a, 's> FirstPass<'a, 's> {
     }
 }
 
+/// The whole step's verdict, applied to the contacts of the per-step hierarchy's first pass
+/// in [`Mode::Earliest`]: a contact counts only if [`Mode::All`] looks at the pair too. The
+/// first pass's volumes, swept over `[0, tau]`, are padded for the rounding of the positions
+/// at `tau`, so they need not lie inside the whole step's (exact at t=1): the first pass may
+/// look at a pair that the whole step's volumes prove apart, and where the elementary test's
+/// rounding bounds are wider than the pair's gap (a gap of 1e-185 beside coordinates of one)
+/// it reports the pair, conservatively, at a time it cannot rule out. `Mode::All` never looks
+/// at that pair. So the first pass keeps a contact only when the pair is also a candidate of
+/// the whole step, as [`Mode::All`] finds them (the pair filter being the same): its owner
+/// triangles' k-DOPs swept over `[0, t_max]` overlap, and its features' boxes swept over the
+/// whole step come within the minimum separation. Then Earliest reports only pairs All
+/// reports. The check costs a few volumes per contact of the first pass, nothing per
+/// candidate.
+#[derive(Clone, Copy)]
+pub(crate) struct WholeStep<'a, 's> {
+    step: &'a Step<'s>,
+    topo: &'a Topology,
+    kdop: DopKind,
+    t_max: f64,
+    sep: f64,
+}
+
+impl<'a, 's> WholeStep<'a, 's> {
+    /// The rule for this step and these options.
+    pub(crate) fn new(step: &'a Step<'s>, topo: &'a Topology, options: &QueryOptions) -> Self {
+        Self {
+            step,
+            topo,
+            kdop: options.kdop,
+            t_max: options.narrow.t_max,
+            sep: options.narrow.min_separation,
+        }
+    }
+
+    /// The box swept by vertex `v` over the whole step, as [`FeatureBoxes::sweep`] computes it.
+    ///
+    /// [`FeatureBoxes::sweep`]: crate::mesh::features::FeatureBoxes::sweep
+    fn vertex_box(&self, v: u32) -> SweptBox {
+        let v = v as usize;
+        SweptBox::vertex_until(self.step.pos0()[v], self.step.pos1()[v], 1.0)
+    }
+
+    /// Whether [`Mode::All`] looks at the vertex-face pair `[v, f]`.
+    fn vf_candidate(&self, [v, f]: [u32; 2]) -> bool {
+        let face = (self.step.triangles()[f as usize].iter())
+            .fold(SweptBox::EMPTY, |b, &w| b.merge(&self.vertex_box(w)));
+        let owner = self.topo.triangles_of(v)[0];
+        self.vertex_box(v).near(&face, self.sep) && self.owners_overlap(owner, f)
+    }
+
+    /// Whether [`Mode::All`] looks at the edge-edge pair `[e, f]` (indices into the edges).
+    fn ee_candidate(&self, [e, f]: [u32; 2]) -> bool {
+        let edge = |e: u32| {
+            let [i, j] = self.topo.edges[e as usize];
+            self.vertex_box(i).merge(&self.vertex_box(j))
+        };
+        let owner = |e: u32| self.topo.edge_owner[e as usize];
+        edge(e).near(&edge(f), self.sep) && self.owners_overlap(owner(e), owner(f))
+    }
+
+    /// Whether the k-DOPs of triangles `a` and `b` swept over `[0, t_max]`, the per-step
+    /// hierarchy's leaves in [`Mode::All`], overlap.
+    fn owners_overlap(&self, a: u32, b: u32) -> bool {
+        fn overlap<const H: usize>(w: &WholeStep, a: u32, b: u32) -> bool {
+            let volume = triangle_volume::<H>(w.step, w.t_max, w.sep);
+            volume(a).overlaps(&volume(b))
+        }
+        match self.kdop {
+            DopKind::K6 => overlap::<3>(self, a, b),
+            DopKind::K14 => overlap::<7>(self, a, b),
+            DopKind::K18 => overlap::<9>(self, a, b),
+            DopKind::K26 => overlap::<13>(self, a, b),
+        }
+    }
+}
+
 fn vf_query(step: &Step, [v, f]: [u32; 2]) -> VertexFace {
     let (x0, x1) = (step.pos0(), step.pos1());
     let [f0, f1, f2] = step.triangles()[f as usize].map(|i| i as usize);
@@ -153,32 +230,28 @@ fn ee_query(step: &Step, edges: &[[u32; 2]], [e, f]: [u32; 2]) -> EdgeEdge {
 }
 
 /// One candidate's elementary test, its prefilter first: `limit` is the end of the interval
-/// that can still matter (see [`pruned`]), `coord` the step's largest absolute coordinate.
-fn vf_contact(
-    step: &Step,
-    pair: [u32; 2],
-    options: &QueryOptions,
-    limit: f64,
-    (coord, first): (f64, Option<&FirstPass>),
-) -> Option<VfContact> {
-    let q = vf_query(step, pair);
+/// that can still matter (see [`pruned`]).
+fn vf_contact(ctx: &Context, pair: [u32; 2], limit: f64) -> Option<VfContact> {
+    let options = ctx.options;
+    let q = vf_query(ctx.step, pair);
     let t_end = limit.min(options.narrow.t_max);
-    let start = vf_unresolved(&q, options.narrow.min_separation, t_end, coord)?;
-    vf_solved(&q, pair, options, (limit, start, coord), first)
+    let start = vf_unresolved(&q, options.narrow.min_separation, t_end, ctx.coord)?;
+    vf_solved(ctx, &q, pair, (limit, start))
 }
 
 /// The elementary test of a candidate that its prefilter over `[0, limit]` passed, proved
-/// apart until `start`; `coord` as for [`vf_contact`]. With `first`, a pair the first pass
-/// leaves out is searched from its end.
+/// apart until `start`. A pair the first pass leaves out is searched from its end
+/// ([`Context::first`]); in the first pass, a contact of a pair the whole step leaves out is
+/// dropped ([`Context::whole`]).
 fn vf_solved(
+    ctx: &Context,
     q: &VertexFace,
     pair: [u32; 2],
-    options: &QueryOptions,
-    (limit, start, coord): (f64, f64, f64),
-    first: Option<&FirstPass>,
+    (limit, start): (f64, f64),
 ) -> Option<VfContact> {
+    let (options, coord) = (ctx.options, ctx.coord);
     let apart = std::cell::OnceCell::new();
-    let raise = |s: f64| match first {
+    let raise = |s: f64| match &ctx.first {
         Some(fp) => fp.raise(s, || *apart.get_or_init(|| fp.vf_apart(pair))),
         None => s,
     };
@@ -186,6 +259,9 @@ fn vf_solved(
     let whole = || whole().map(raise);
     let solve = |o: &NarrowOptions, start| vertex_face_from(q, o, start);
     let (toi, certainty) = pruned(&options.narrow, limit, raise(start), whole, solve)?;
+    if ctx.whole.is_some_and(|w| !w.vf_candidate(pair)) {
+        return None;
+    }
     Some(VfContact {
         vertex: pair[0],
         face: pair[1],
@@ -195,30 +271,25 @@ fn vf_solved(
     })
 }
 
-fn ee_contact(
-    step: &Step,
-    edges: &[[u32; 2]],
-    pair: [u32; 2],
-    options: &QueryOptions,
-    limit: f64,
-    (coord, first): (f64, Option<&FirstPass>),
-) -> Option<EeContact> {
-    let q = ee_query(step, edges, pair);
+/// [`vf_contact`] for an edge-edge pair (indices into [`Context::edges`]).
+fn ee_contact(ctx: &Context, pair: [u32; 2], limit: f64) -> Option<EeContact> {
+    let options = ctx.options;
+    let q = ee_query(ctx.step, ctx.edges, pair);
     let t_end = limit.min(options.narrow.t_max);
-    let start = ee_unresolved(&q, options.narrow.min_separation, t_end, coord)?;
-    ee_solved(&q, edges, pair, options, (limit, start, coord), first)
+    let start = ee_unresolved(&q, options.narrow.min_separation, t_end, ctx.coord)?;
+    ee_solved(ctx, &q, pair, (limit, start))
 }
 
+/// [`vf_solved`] for an edge-edge pair.
 fn ee_solved(
+    ctx: &Context,
     q: &EdgeEdge,
-    edges: &[[u32; 2]],
     [e, f]: [u32; 2],
-    options: &QueryOptions,
-    (limit, start, coord): (f64, f64, f64),
-    first: Option<&FirstPass>,
+    (limit, start): (f64, f64),
 ) -> Option<EeContact> {
+    let (options, coord, edges) = (ctx.options, ctx.coord, ctx.edges);
     let apart = std::cell::OnceCell::new();
-    let raise = |s: f64| match first {
+    let raise = |s: f64| match &ctx.first {
         Some(fp) => fp.raise(s, || *apart.get_or_init(|| fp.ee_apart([e, f]))),
         None => s,
     };
@@ -226,6 +297,9 @@ fn ee_solved(
     let whole = || whole().map(raise);
     let solve = |o: &NarrowOptions, start| edge_edge_from(q, o, start);
     let (toi, certainty) = pruned(&options.narrow, limit, raise(start), whole, solve)?;
+    if ctx.whole.is_some_and(|w| !w.ee_candidate([e, f])) {
+        return None;
+    }
     Some(EeContact {
         a: edges[e as usize],
         b: edges[f as usize],
@@ -287,6 +361,7 @@ fn solve_in_fours<Q, C>(
 }
 
 /// What the narrow phase reads besides the candidates.
+#[derive(Clone, Copy)]
 pub(crate) struct Context<'a, 's> {
     pub step: &'a Step<'s>,
     /// The step's edges, sorted lexicographically (edge-edge candidates index them).
@@ -297,6 +372,8 @@ pub(crate) struct Context<'a, 's> {
     pub coord: f64,
     /// The per-step hierarchy's first pass, mirrored by every method ([`FirstPass`]).
     pub first: Option<FirstPass<'a, 's>>,
+    /// In that first pass only, the whole step's verdict on its contacts ([`WholeStep`]).
+    pub whole: Option<WholeStep<'a, 's>>,
 }
 
 impl Context<'_, '_> {
@@ -315,7 +392,6 @@ impl Context<'_, '_> {
     /// `limit` (see [`Context::limit`]) is lowered as contacts are found.
     pub fn solve(&self, candidates: &Candidates, limit: &mut f64, found: &mut Found) {
         let (step, edges, options, coord) = (self.step, self.edges, self.options, self.coord);
-        let first = self.first.as_ref();
         let (sep, t_max) = (options.narrow.min_separation, options.narrow.t_max);
         let (x, tris) = ((step.pos0(), step.pos1()), step.triangles());
         let earliest = options.mode == Mode::Earliest;
@@ -338,8 +414,8 @@ impl Context<'_, '_> {
             |corners, t_end| first_tests_x4::<1>(x, corners, sep, t_end, coord),
             |pair| vf_query(step, pair),
             |q, t_end, r| vf_rest_unresolved(q, sep, t_end, coord, r),
-            |q, pair, limit, from| vf_solved(q, pair, options, (limit, from, coord), first),
-            |pair, limit| vf_contact(step, pair, options, limit, (coord, first)),
+            |q, pair, limit, from| vf_solved(self, q, pair, (limit, from)),
+            |pair, limit| vf_contact(self, pair, limit),
             |limit, c| lowered(limit, c.toi),
         );
         solve_in_fours(
@@ -354,10 +430,8 @@ impl Context<'_, '_> {
             |corners, t_end| first_tests_x4::<2>(x, corners, sep, t_end, coord),
             |pair| ee_query(step, edges, pair),
             |q, t_end, r| ee_rest_unresolved(q, sep, t_end, coord, r),
-            |q, pair, limit, from| {
-                ee_solved(q, edges, pair, options, (limit, from, coord), first)
-            },
-            |pair, limit| ee_contact(step, edges, pair, options, limit, (coord, first)),
+            |q, pair, limit, from| ee_solved(self, q, pair, (limit, from)),
+            |pair, limit| ee_contact(self, pair, limit),
             |limit, c| lowered(limit, c.toi),
         );
     }
@@ -367,11 +441,7 @@ impl Context<'_, '_> {
     /// best time of the chunks before (`best`, updated), so what is pruned does not depend on
     /// the thread count.
     pub fn solve_parallel(&self, candidates: &Candidates, best: &mut Option<f64>, found: &mut Found) {
-        let step = self.step;
-        let options = self.options;
-        let edges = self.edges;
-        let coord = (self.coord, self.first.as_ref());
-        match options.mode {
+        match self.options.mode {
             Mode::All => {
                 let limit = f64::INFINITY;
                 found.vf.par_extend(
@@ -379,14 +449,14 @@ impl Context<'_, '_> {
                         .vf
                         .par_iter()
                         .with_min_len(256)
-                        .filter_map(|&pair| vf_contact(step, pair, options, limit, coord)),
+                        .filter_map(|&pair| vf_contact(self, pair, limit)),
                 );
                 found.ee.par_extend(
                     candidates
                         .ee
                         .par_iter()
                         .with_min_len(256)
-                        .filter_map(|&pair| ee_contact(step, edges, pair, options, limit, coord)),
+                        .filter_map(|&pair| ee_contact(self, pair, limit)),
                 );
             }
             Mode::Earliest => {
@@ -397,7 +467,7 @@ impl Context<'_, '_> {
                         chunk
                             .par_iter()
                             .with_min_len(64)
-                            .filter_map(|&pair| vf_contact(step, pair, options, limit, coord)),
+                            .filter_map(|&pair| vf_contact(self, pair, limit)),
                     );
                     lower(best, found.vf[start..].iter().map(|c| c.toi));
                 }
@@ -408,7 +478,7 @@ impl Context<'_, '_> {
                         chunk
                             .par_iter()
                             .with_min_len(64)
-                            .filter_map(|&pair| ee_contact(step, edges, pair, options, limit, coord)),
+                            .filter_map(|&pair| ee_contact(self, pair, limit)),
                     );
                     lower(best, found.ee[start..].iter().map(|c| c.toi));
                 }

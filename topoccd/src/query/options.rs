@@ -14,6 +14,12 @@ pub enum Mode {
     /// Only the earliest time of impact and the pairs attaining it: every pair whose time of
     /// impact is within the tolerance of the earliest (at least one). What a simulator's line
     /// search needs; the query skips work that cannot beat the best time found so far.
+    ///
+    /// What it reports are contacts of [`Mode::All`], unchanged: All's contacts within the
+    /// tolerance of the earliest, but for a pair the elementary test cannot tell from a touch
+    /// over the whole step (one that comes within the tolerance without touching, or that the
+    /// search gave up on), which Earliest, searching a shorter interval first, may rule out
+    /// and leave out. No pair that touches is left out.
     Earliest,
 }
 

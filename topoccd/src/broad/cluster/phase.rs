@@ -172,7 +172,7 @@ fn run<const H: usize, R: PairRunner>(
     };
     let step = input.step;
     cluster_into_beside(step, topo, options, cluster_ws, clustering, ahead, |leaves, grown| {
-        tree.sweep(step, input.filter.sep);
+        tree.sweep(step, (input.filter.t_max(), input.filter.sep));
         tree.build_ahead(leaves, grown);
     });
     let c = &clustering.stats;
