@@ -289,3 +289,73 @@ fn a_sequence_of_the_same_triangles_refits_the_tree_and_matches_the_oracle() {
     println!("{collided} of 32 steps collide");
     assert!(collided >= 6, "too few steps collide: {collided}");
 }
+
+/// Over a shorter interval (`t_max` = 0.4) every method tests owner triangles with their
+/// k-DOPs swept over `[0, t_max]`, the per-step hierarchy's leaves: the BVH, the cluster method
+/// with its certificates distrusted, and the oracle report bitwise the same contacts, in both
+/// modes. Against the whole step's query: a pair it
+/// reports more than two tolerances before `t_max` is reported over the shorter interval too,
+/// within the tolerance of the same time, and nothing is reported after `t_max`.
+#[test]
+fn a_shorter_interval_matches_the_oracle() {
+    let mut ccd = Ccd::new();
+    ccd.record_candidates(true);
+    let t_max = 0.4;
+    let mut checked = 0;
+    for kind in SceneKind::ALL {
+        for seed in 0..3 {
+            let step = kind.generate(size(kind), seed);
+            let whole_options = QueryOptions::default();
+            let tol = whole_options.narrow.tolerance;
+            let whole = ccd.query(&step, Method::Brute, &whole_options).unwrap();
+            let mut options = whole_options;
+            options.narrow.t_max = t_max;
+            for mode in [Mode::All, Mode::Earliest] {
+                options.mode = mode;
+                let what = format!("{} seed {seed} {mode:?}", kind.name());
+                let oracle = ccd.query(&step, Method::Brute, &options).unwrap();
+                assert_well_formed(&step, &oracle, &what);
+                let bvh = ccd.query(&step, Method::Bvh, &options).unwrap();
+                assert_eq!(ccd.validate_tree(&step), Ok(()), "{what}");
+                ccd.distrust_certificates(true);
+                let cluster = ccd.query(&step, Method::Cluster, &options).unwrap();
+                ccd.distrust_certificates(false);
+                for (name, r) in [("bvh", &bvh), ("cluster", &cluster)] {
+                    assert_eq!(r.vf, oracle.vf, "{what} {name}: vertex-face");
+                    assert_eq!(r.ee, oracle.ee, "{what} {name}: edge-edge");
+                    assert_eq!(r.earliest, oracle.earliest, "{what} {name}");
+                }
+                if mode == Mode::Earliest {
+                    continue;
+                }
+                for c in &oracle.vf {
+                    assert!(c.toi <= t_max, "{what}: {c:?}");
+                }
+                for c in &oracle.ee {
+                    assert!(c.toi <= t_max, "{what}: {c:?}");
+                }
+                for c in whole.vf.iter().filter(|c| c.toi < t_max - 2.0 * tol) {
+                    let found = oracle
+                        .vf
+                        .iter()
+                        .find(|d| (d.vertex, d.face) == (c.vertex, c.face));
+                    assert!(
+                        found.is_some_and(|d| (d.toi - c.toi).abs() <= tol),
+                        "{what}: {c:?}"
+                    );
+                    checked += 1;
+                }
+                for c in whole.ee.iter().filter(|c| c.toi < t_max - 2.0 * tol) {
+                    let found = oracle.ee.iter().find(|d| (d.a, d.b) == (c.a, c.b));
+                    assert!(
+                        found.is_some_and(|d| (d.toi - c.toi).abs() <= tol),
+                        "{what}: {c:?}"
+                    );
+                    checked += 1;
+                }
+            }
+        }
+    }
+    println!("{checked} contacts before t_max found again");
+    assert!(checked > 100, "too few contacts before t_max: {checked}");
+}
