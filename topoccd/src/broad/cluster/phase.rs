@@ -34,7 +34,8 @@ pub struct ClusterFigures {
     /// with the clustering of this crate, whose leaves are all certified).
     pub uncertified_leaves: usize,
     /// Leaf clusters carried over from the last step (same triangles) and certified anew, not
-    /// regrown (see [`ClusterOptions::reuse`](super::ClusterOptions::reuse)).
+    /// regrown: while a [`Ccd`](crate::Ccd) sees the same triangles, its cluster method seeds
+    /// each step with the last step's leaves.
     pub reused_leaves: usize,
     /// Seconds spent growing the leaf clusters.
     pub clustering_seconds: f64,
