@@ -571,15 +571,15 @@ fn bvh_query<const H: usize>(
     let end = first_end.unwrap_or(f64::INFINITY);
     let mut build = 0.0;
     let t = Instant::now();
-    // The first pass keeps only contacts that the whole step's pass would look at too.
+    // A first pass keeps only contacts that the whole step's pass would look at too.
+    let topo = &input.features.topo;
     let first_ctx = Context {
-        whole: Some(WholeStep::new(input.step, &input.features.topo, ctx.options)),
+        whole: two_pass.then(|| WholeStep::new(input.step, topo, ctx.options)),
         ..*ctx
     };
-    let pass_ctx = if two_pass { &first_ctx } else { ctx };
     let mut bv_tests = traverse_pass(
         tree,
-        (input, pass_ctx, record, task_chunk, ws),
+        (input, &first_ctx, record, task_chunk, ws),
         &input.features.boxes,
         (end, two_pass),
         (found, totals, recorded),

@@ -42,6 +42,62 @@ pub(crate) fn first_pass_tau(options: &QueryOptions) -> Option<f64> {
     (tau > 2.0 * options.narrow.tolerance).then_some(tau)
 }
 
+/// Which feature pairs a pass of the per-step hierarchy looks at (the pair filter aside,
+/// which every pass applies alike): those whose features' boxes swept over `[0, box_end]`
+/// come within the minimum separation and whose owner triangles' k-DOPs of kind `kdop` swept
+/// over `[0, volume_end]` overlap.
+#[derive(Clone, Copy)]
+struct PassView<'a, 's> {
+    step: &'a Step<'s>,
+    topo: &'a Topology,
+    box_end: f64,
+    volume_end: f64,
+    kdop: DopKind,
+    sep: f64,
+}
+
+impl PassView<'_, '_> {
+    /// The box swept by vertex `v`, as [`FeatureBoxes::sweep`] computes it.
+    ///
+    /// [`FeatureBoxes::sweep`]: crate::mesh::features::FeatureBoxes::sweep
+    fn vertex_box(&self, v: u32) -> SweptBox {
+        let v = v as usize;
+        SweptBox::vertex_until(self.step.pos0()[v], self.step.pos1()[v], self.box_end)
+    }
+
+    /// Whether the pass looks at the vertex-face pair `[v, f]`.
+    fn vf_looked_at(&self, [v, f]: [u32; 2]) -> bool {
+        let face = (self.step.triangles()[f as usize].iter())
+            .fold(SweptBox::EMPTY, |b, &w| b.merge(&self.vertex_box(w)));
+        let owner = self.topo.triangles_of(v)[0];
+        self.vertex_box(v).near(&face, self.sep) && self.owners_overlap(owner, f)
+    }
+
+    /// Whether the pass looks at the edge-edge pair `[e, f]` (indices into the edges).
+    fn ee_looked_at(&self, [e, f]: [u32; 2]) -> bool {
+        let edge = |e: u32| {
+            let [i, j] = self.topo.edges[e as usize];
+            self.vertex_box(i).merge(&self.vertex_box(j))
+        };
+        let owner = |e: u32| self.topo.edge_owner[e as usize];
+        edge(e).near(&edge(f), self.sep) && self.owners_overlap(owner(e), owner(f))
+    }
+
+    /// Whether the k-DOPs of triangles `a` and `b` overlap.
+    fn owners_overlap(&self, a: u32, b: u32) -> bool {
+        fn overlap<const H: usize>(w: &PassView, a: u32, b: u32) -> bool {
+            let volume = triangle_volume::<H>(w.step, w.volume_end, w.sep);
+            volume(a).overlaps(&volume(b))
+        }
+        match self.kdop {
+            DopKind::K6 => overlap::<3>(self, a, b),
+            DopKind::K14 => overlap::<7>(self, a, b),
+            DopKind::K18 => overlap::<9>(self, a, b),
+            DopKind::K26 => overlap::<13>(self, a, b),
+        }
+    }
+}
+
 /// The first pass's verdict, applied by the narrow phase of every method and mode. The first
 /// pass never looks at a feature pair whose owner triangles' k-DOPs, or whose features' boxes,
 /// swept over `[0, tau]` as it sweeps them, are apart. Such a pair has no contact before
@@ -51,12 +107,13 @@ pub(crate) fn first_pass_tau(options: &QueryOptions) -> Option<f64> {
 /// before `tau`, where the first pass does not: so the narrow phase searches such a pair from
 /// `tau`, whatever the method or mode, and every method and mode report the same pairs with
 /// the same times.
+///
+/// The owners are tested with 26-DOPs: their slabs include those of the first pass's leaves
+/// whatever its k (each direction's slab is computed alike for every k), so a pair whose
+/// leaves are apart is apart here too, and the verdict does not depend on the k chosen.
 #[derive(Clone, Copy)]
 pub(crate) struct FirstPass<'a, 's> {
-    step: &'a Step<'s>,
-    topo: &'a Topology,
-    tau: f64,
-    sep: f64,
+    view: PassView<'a, 's>,
 }
 
 impl<'a, 's> FirstPass<'a, 's> {
@@ -68,10 +125,14 @@ impl<'a, 's> FirstPass<'a, 's> {
         options: &QueryOptions,
     ) -> Option<Self> {
         first_pass_tau(options).map(|tau| Self {
-            step,
-            topo,
-            tau,
-            sep: options.narrow.min_separation,
+            view: PassView {
+                step,
+                topo,
+                box_end: tau,
+                volume_end: tau,
+                kdop: DopKind::K26,
+                sep: options.narrow.min_separation,
+            },
         })
     }
 
@@ -79,44 +140,22 @@ impl<'a, 's> FirstPass<'a, 's> {
     /// pass's volumes prove the pair apart until then (`apart`, asked only if it matters).
     #[inline]
     fn raise(&self, start: f64, apart: impl FnOnce() -> bool) -> f64 {
-        if start < self.tau && apart() {
-            self.tau
+        let tau = self.view.box_end;
+        if start < tau && apart() {
+            tau
         } else {
             start
         }
     }
 
-    /// The swept box of vertex `v` over `[0, tau]`.
-    fn vertex_box(&self, v: u32) -> SweptBox {
-        let v = v as usize;
-        SweptBox::vertex_until(self.step.pos0()[v], self.step.pos1()[v], self.tau)
-    }
-
     /// Whether the first pass leaves out the vertex-face pair `[v, f]`.
-    fn vf_apart(&self, [v, f]: [u32; 2]) -> bool {
-        let face = (self.step.triangles()[f as usize].iter())
-            .fold(SweptBox::EMPTY, |b, &w| b.merge(&self.vertex_box(w)));
-        let owner = self.topo.triangles_of(v)[0];
-        !self.vertex_box(v).near(&face, self.sep) || !self.owners_overlap(owner, f)
+    fn vf_apart(&self, pair: [u32; 2]) -> bool {
+        !self.view.vf_looked_at(pair)
     }
 
     /// Whether the first pass leaves out the edge-edge pair `[e, f]` (indices into the edges).
-    fn ee_apart(&self, [e, f]: [u32; 2]) -> bool {
-        let edge = |e: u32| {
-            let [i, j] = self.topo.edges[e as usize];
-            self.vertex_box(i).merge(&self.vertex_box(j))
-        };
-        let owner = |e: u32| self.topo.edge_owner[e as usize];
-        !edge(e).near(&edge(f), self.sep) || !self.owners_overlap(owner(e), owner(f))
-    }
-
-    /// Whether the 26-DOPs of triangles `a` and `b` swept over `[0, tau]` overlap. Their
-    /// slabs include those of the first pass's leaves whatever its k (each direction's slab is
-    /// computed alike for every k), so a pair whose leaves are apart is apart here too, and the
-    /// verdict does not depend on the k chosen.
-    fn owners_overlap(&self, a: u32, b: u32) -> bool {
-        let volume = triangle_volume::<13>(self.step, self.tau, self.sep);
-        volume(a).overlaps(&volume(b))
+    fn ee_apart(&self, pair: [u32; 2]) -> bool {
+        !self.view.ee_looked_at(pair)
     }
 }
 
@@ -129,70 +168,38 @@ impl<'a, 's> FirstPass<'a, 's> {
 /// it reports the pair, conservatively, at a time it cannot rule out. `Mode::All` never looks
 /// at that pair. So the first pass keeps a contact only when the pair is also a candidate of
 /// the whole step, as [`Mode::All`] finds them (the pair filter being the same): its owner
-/// triangles' k-DOPs swept over `[0, t_max]` overlap, and its features' boxes swept over the
-/// whole step come within the minimum separation. Then Earliest reports only pairs All
-/// reports. The check costs a few volumes per contact of the first pass, nothing per
-/// candidate.
+/// triangles' k-DOPs swept over `[0, t_max]` (the per-step hierarchy's leaves in `Mode::All`)
+/// overlap, and its features' boxes swept over the whole step come within the minimum
+/// separation. Then Earliest reports only pairs All reports. The check costs a few volumes
+/// per contact of the first pass, nothing per candidate.
 #[derive(Clone, Copy)]
 pub(crate) struct WholeStep<'a, 's> {
-    step: &'a Step<'s>,
-    topo: &'a Topology,
-    kdop: DopKind,
-    t_max: f64,
-    sep: f64,
+    view: PassView<'a, 's>,
 }
 
 impl<'a, 's> WholeStep<'a, 's> {
     /// The rule for this step and these options.
     pub(crate) fn new(step: &'a Step<'s>, topo: &'a Topology, options: &QueryOptions) -> Self {
         Self {
-            step,
-            topo,
-            kdop: options.kdop,
-            t_max: options.narrow.t_max,
-            sep: options.narrow.min_separation,
+            view: PassView {
+                step,
+                topo,
+                box_end: 1.0,
+                volume_end: options.narrow.t_max,
+                kdop: options.kdop,
+                sep: options.narrow.min_separation,
+            },
         }
-    }
-
-    /// The box swept by vertex `v` over the whole step, as [`FeatureBoxes::sweep`] computes it.
-    ///
-    /// [`FeatureBoxes::sweep`]: crate::mesh::features::FeatureBoxes::sweep
-    fn vertex_box(&self, v: u32) -> SweptBox {
-        let v = v as usize;
-        SweptBox::vertex_until(self.step.pos0()[v], self.step.pos1()[v], 1.0)
     }
 
     /// Whether [`Mode::All`] looks at the vertex-face pair `[v, f]`.
-    fn vf_candidate(&self, [v, f]: [u32; 2]) -> bool {
-        let face = (self.step.triangles()[f as usize].iter())
-            .fold(SweptBox::EMPTY, |b, &w| b.merge(&self.vertex_box(w)));
-        let owner = self.topo.triangles_of(v)[0];
-        self.vertex_box(v).near(&face, self.sep) && self.owners_overlap(owner, f)
+    fn vf_candidate(&self, pair: [u32; 2]) -> bool {
+        self.view.vf_looked_at(pair)
     }
 
     /// Whether [`Mode::All`] looks at the edge-edge pair `[e, f]` (indices into the edges).
-    fn ee_candidate(&self, [e, f]: [u32; 2]) -> bool {
-        let edge = |e: u32| {
-            let [i, j] = self.topo.edges[e as usize];
-            self.vertex_box(i).merge(&self.vertex_box(j))
-        };
-        let owner = |e: u32| self.topo.edge_owner[e as usize];
-        edge(e).near(&edge(f), self.sep) && self.owners_overlap(owner(e), owner(f))
-    }
-
-    /// Whether the k-DOPs of triangles `a` and `b` swept over `[0, t_max]`, the per-step
-    /// hierarchy's leaves in [`Mode::All`], overlap.
-    fn owners_overlap(&self, a: u32, b: u32) -> bool {
-        fn overlap<const H: usize>(w: &WholeStep, a: u32, b: u32) -> bool {
-            let volume = triangle_volume::<H>(w.step, w.t_max, w.sep);
-            volume(a).overlaps(&volume(b))
-        }
-        match self.kdop {
-            DopKind::K6 => overlap::<3>(self, a, b),
-            DopKind::K14 => overlap::<7>(self, a, b),
-            DopKind::K18 => overlap::<9>(self, a, b),
-            DopKind::K26 => overlap::<13>(self, a, b),
-        }
+    fn ee_candidate(&self, pair: [u32; 2]) -> bool {
+        self.view.ee_looked_at(pair)
     }
 }
 
