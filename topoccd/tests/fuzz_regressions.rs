@@ -13,6 +13,20 @@ fn p(x: f64, y: f64, z: f64) -> DVec3 {
     DVec3::new(x, y, z)
 }
 
+/// The elementary test's input for vertex `v` against the face with corners `f`.
+fn vf_query(x0: &[DVec3], x1: &[DVec3], v: usize, [f0, f1, f2]: [usize; 3]) -> VertexFace {
+    VertexFace {
+        v_t0: x0[v],
+        f0_t0: x0[f0],
+        f1_t0: x0[f1],
+        f2_t0: x0[f2],
+        v_t1: x1[v],
+        f0_t1: x1[f0],
+        f1_t1: x1[f1],
+        f2_t1: x1[f2],
+    }
+}
+
 /// `step` target: three triangles sharing the edge (4, 3), a non-manifold fan, with vertices
 /// already touching the fan at t=0. Under `max_iterations = 1` the elementary test of
 /// (vertex 0, face 2) cannot rule out a contact over [0, 1], so `Mode::All` reports it at
@@ -467,18 +481,8 @@ fn mixed_scales_exhaust_the_iteration_limit_and_stay_conservative() {
     let (x0, x1) = (step.pos0(), step.pos1());
     let mut certainties = Vec::new();
     for c in &brute.vf {
-        let [f0, f1, f2] = step.triangles()[c.face as usize].map(|i| i as usize);
-        let v = c.vertex as usize;
-        let q = VertexFace {
-            v_t0: x0[v],
-            f0_t0: x0[f0],
-            f1_t0: x0[f1],
-            f2_t0: x0[f2],
-            v_t1: x1[v],
-            f0_t1: x1[f0],
-            f1_t1: x1[f1],
-            f2_t1: x1[f2],
-        };
+        let face = step.triangles()[c.face as usize].map(|i| i as usize);
+        let q = vf_query(x0, x1, c.vertex as usize, face);
         match vertex_face(&q, &options.narrow) {
             Outcome::Contact { toi, certainty } => {
                 assert_eq!(toi, c.toi);
@@ -546,16 +550,7 @@ fn earliest_reports_no_pair_all_leaves_out() {
         kdop: topoccd::kdop::DopKind::K6,
         ..QueryOptions::default()
     };
-    let q = VertexFace {
-        v_t0: x0[1],
-        f0_t0: x0[3],
-        f1_t0: x0[7],
-        f2_t0: x0[2],
-        v_t1: x1[1],
-        f0_t1: x1[3],
-        f1_t1: x1[7],
-        f2_t1: x1[2],
-    };
+    let q = vf_query(&x0, &x1, 1, face);
     assert!(matches!(
         vertex_face(&q, &options.narrow),
         Outcome::Contact { toi, .. } if toi == 0.0

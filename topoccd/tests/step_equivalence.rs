@@ -293,13 +293,12 @@ fn a_sequence_of_the_same_triangles_refits_the_tree_and_matches_the_oracle() {
 /// Over a shorter interval (`t_max` = 0.4) every method tests owner triangles with their
 /// k-DOPs swept over `[0, t_max]`, the per-step hierarchy's leaves: the BVH, the cluster method
 /// with its certificates distrusted, and the oracle report bitwise the same contacts, in both
-/// modes. Against the whole step's query: a pair it
-/// reports more than two tolerances before `t_max` is reported over the shorter interval too,
-/// within the tolerance of the same time, and nothing is reported after `t_max`.
+/// modes. Against the whole step's query: a pair it reports more than two tolerances before
+/// `t_max` is reported over the shorter interval too, within the tolerance of the same time,
+/// and nothing is reported after `t_max`.
 #[test]
 fn a_shorter_interval_matches_the_oracle() {
     let mut ccd = Ccd::new();
-    ccd.record_candidates(true);
     let t_max = 0.4;
     let mut checked = 0;
     for kind in SceneKind::ALL {
