@@ -9,7 +9,7 @@ set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 data="${1:-$here/../../shared/data}"
 corpus="$here/corpus"
-mkdir -p "$corpus"/{ply,obj,parents,queries_csv,step}
+mkdir -p "$corpus"/{ply,obj,stl,parents,queries_csv,step}
 
 if [[ ! -d "$data" ]]; then
     echo "seed.sh: shared data not found at $data; only the hand-made seeds are written" >&2
@@ -92,6 +92,19 @@ for path in sorted(glob.glob(os.path.join(data, "scenes/*/frames/*.ply")))[:1]:
         text += "".join(f"f {i + 1} {i + 2} {i + 3}\n" for i in range(6))
         put("obj", "frame-prefix", text)
 
+# --- STL: hand-made ASCII and binary soups (a square whose corners repeat, a degenerate facet) --
+facet = "facet normal 0 0 1\n outer loop\n vertex {} \n vertex {} \n vertex {} \n endloop\nendfacet\n"
+put("stl", "ascii-square", "solid square\n" + facet.format("0 0 0", "1 0 0", "1 1 0")
+    + facet.format("0 0 0", "1 1 0", "0 1 0") + facet.format("0 0 0", "-0 0 0", "1 1 1")
+    + "endsolid square\nsolid second\n" + facet.format("1e300 nan 0", "1 1 1", "2 2 2")
+    + "endsolid\n")
+soup = [((0, 0, 0), (1, 0, 0), (1, 1, 0)), ((0, 0, 0), (1, 1, 0), (0, 1, 0)),
+        ((0, 0, 0), (-0.0, 0, 0), (1, 1, 1))]
+binary = b"solid but binary".ljust(80, b" ") + struct.pack("<I", len(soup))
+for tri in soup:
+    binary += struct.pack("<3f", 0, 0, 1) + b"".join(struct.pack("<3f", *c) for c in tri) + b"\0\0"
+put("stl", "binary-square", binary)
+
 # --- parents: two bytes of vertex counts (previous, new), then the text ----------------------
 put("parents", "simple", bytes([4, 2]) + b"# NEW_ID PARENT_ID\n4 0\n5 2\n")
 put("parents", "comments", bytes([10, 5]) + b"\n10 3 # crack\n\n14 9\n12\t1\n")
@@ -106,6 +119,6 @@ for path in sorted(glob.glob(os.path.join(data, "queries/*/*/data_0_0.csv"))):
 put("queries_csv", "hand-made", "".join(f"{i},1,-{i},2,0,4,1\n" for i in range(8)))
 PY
 
-for t in ply obj parents queries_csv step; do
+for t in ply obj stl parents queries_csv step; do
     echo "$t: $(ls "$corpus/$t" | wc -l) seeds"
 done
