@@ -25,9 +25,8 @@ fn scratch() -> &'static PathBuf {
 }
 
 fn same(a: &Mesh, b: &Mesh) -> bool {
-    let bits = |m: &Mesh| -> Vec<u64> {
-        m.positions.iter().flatten().map(|c| c.to_bits()).collect()
-    };
+    let bits =
+        |m: &Mesh| -> Vec<u64> { m.positions.iter().flatten().map(|c| c.to_bits()).collect() };
     a.triangles == b.triangles && bits(a) == bits(b)
 }
 

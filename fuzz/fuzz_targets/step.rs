@@ -427,8 +427,14 @@ fuzz_target!(|input: Input| {
         .query(&step, Method::Cluster, &options)
         .expect("valid options");
     ccd.distrust_certificates(false);
-    assert_eq!(distrusted.vf, brute.vf, "vf differs between distrusted cluster and brute");
-    assert_eq!(distrusted.ee, brute.ee, "ee differs between distrusted cluster and brute");
+    assert_eq!(
+        distrusted.vf, brute.vf,
+        "vf differs between distrusted cluster and brute"
+    );
+    assert_eq!(
+        distrusted.ee, brute.ee,
+        "ee differs between distrusted cluster and brute"
+    );
     assert_eq!(distrusted.earliest, brute.earliest);
 
     options.mode = Mode::Earliest;
