@@ -31,16 +31,8 @@ fuzz_target!(|data: &[u8]| {
         let w = map[v as usize] as usize;
         assert_eq!(key(&welded.positions[w]), key(&mesh.positions[v as usize]));
     }
-    for t in &welded.triangles {
-        assert!(
-            t.iter().all(|&i| (i as usize) < m),
-            "index out of range: {t:?}"
-        );
-        assert!(
-            t[0] != t[1] && t[1] != t[2] && t[0] != t[2],
-            "degenerate: {t:?}"
-        );
-    }
+    // The input's triangles renumbered, without the degenerate ones: in range (the map is),
+    // none degenerate.
     let kept: Vec<[u32; 3]> = mesh
         .triangles
         .iter()
