@@ -129,9 +129,13 @@ impl Ccd {
     ///     mode: ``"all"`` (every colliding pair) or ``"earliest"`` (only the pair or pairs
     ///         within ``tolerance`` of the earliest time: faster, for a line search). Earliest
     ///         reports contacts of ``"all"``, unchanged, but may leave out a near miss within
-    ///         ``tolerance`` (or a pair given up on) that its shorter search proves apart.
+    ///         ``tolerance`` (or a pair given up on) that its shorter search proves apart
+    ///         (with coordinates of 1e300 beside coordinates of 1, the rounding of the large
+    ///         ones counts as within: such a pair may touch only later).
     ///     tolerance: time resolution of the elementary tests, in (0, 1). Reported times are
-    ///         never later than the true first contact and at most this much earlier.
+    ///         never later than the true first contact and at most this much earlier, unless
+    ///         the features come that close (relative to their displacement, plus rounding)
+    ///         before they touch.
     ///     min_separation: distance (coordinate units, >= 0) at or below which features count
     ///         as touching.
     ///     t_max: only contacts at times in ``[0, t_max]``, ``t_max`` in (0, 1].

@@ -17,9 +17,12 @@ pub enum Mode {
     ///
     /// What it reports are contacts of [`Mode::All`], unchanged: All's contacts within the
     /// tolerance of the earliest, but for a pair the elementary test cannot tell from a touch
-    /// over the whole step (one that comes within the tolerance without touching, or that the
-    /// search gave up on), which Earliest, searching a shorter interval first, may rule out
-    /// and leave out. No pair that touches is left out.
+    /// over the whole step at the time it reports, which Earliest, searching a shorter
+    /// interval first, may rule out and leave out: one the search gave up on, or one that
+    /// comes within the tolerance without touching then (the solver's bound, which includes
+    /// the rounding of the pair's coordinates: with coordinates of 1e300 beside coordinates of
+    /// 1, a pair 0.78 apart that touches only later). No pair that touches within the
+    /// tolerance of the earliest time is left out.
     Earliest,
 }
 
