@@ -685,11 +685,10 @@ fn earliest_may_leave_out_a_near_miss_all_reports() {
 /// `Mode::Earliest` looks at the pair over a start of the step only (its first pass's 1/256,
 /// or `[0, 2 tolerance]` once edge pairs at toi 0 are known), where its prefilter proves it
 /// apart, and leaves it out (and (3, face 1), alike); brute force and the cluster method meet
-/// it before any other contact and keep it. So the
-/// pairs Earliest may leave out include one that grazes at scales this far apart and touches
-/// only later; what holds is that it does not touch within the tolerance of the earliest time.
-/// The fuzz target had expected exact agreement whenever All resolved every pair at the default
-/// tolerance.
+/// it before any contact at toi 0, search it further and keep it. So the pairs Earliest may
+/// leave out include one that grazes at scales this far apart and touches only later; what
+/// holds is that it does not touch within the tolerance of the earliest time. The fuzz target
+/// had expected exact agreement whenever All resolved every pair at the default tolerance.
 #[test]
 fn earliest_may_leave_out_a_pair_that_grazes_at_mixed_scales() {
     let far = -1e300;
