@@ -760,10 +760,8 @@ fn earliest_may_leave_out_a_pair_that_grazes_at_mixed_scales() {
         let mut ccd = Ccd::new();
         let all = ccd.query(&step, method, &options).unwrap();
         assert_eq!(all.unresolved, 0, "{method}");
-        assert_eq!(
-            all.vf.iter().filter(|c| grazes(c) && c.toi == 0.0).count(),
-            2
-        );
+        let at_zero = all.vf.iter().filter(|c| grazes(c) && c.toi == 0.0);
+        assert_eq!(at_zero.count(), 2, "{method}");
         let earliest_options = QueryOptions {
             mode: Mode::Earliest,
             ..options
