@@ -13,7 +13,10 @@ measures with the release binaries of this repository:
                 refitted, memory reused), and its traversal (pairs, pair filter, narrow phase);
 - BV warm:      the bounding-volume self-traversal of `bvh_probe`, best after the first;
 - rest warm:    query warm's traversal minus BV warm: the triangle pairs' features, the pair
-                filter, the star certificates and the elementary tests.
+                filter, the star certificates and the elementary tests;
+- neighbours:   of the overlapping triangle pairs the BV layer enumerates, the share whose two
+                triangles share a vertex (mesh neighbours, whose volumes always overlap; the
+                pair filter drops most of them after the hierarchy has found them).
 
 With `--base OLD/topoccd --factor F`, also measures the old build's query cold and prints the
 budget a new query has to meet to be F times faster (old median / F). Medians over the rounds.
@@ -78,7 +81,7 @@ def main():
     bins = Path(a.bin_dir)
     topoccd, bvh_probe, step_probe = (str(bins / n) for n in ["topoccd", "bvh_probe", "step_probe"])
     env = dict(os.environ, BVH_PROBE_IN_PLACE="1")
-    keys = ["base", "q_cold", "bv_cold", "q_warm", "q_trav", "bv_trav"]
+    keys = ["base", "q_cold", "bv_cold", "q_warm", "q_trav", "bv_trav", "neighbours"]
     res = {p: {k: [] for k in keys} for p in a.inputs}
     with tempfile.TemporaryDirectory() as tmp:
         args = {p: cli_args(p, tmp) for p in a.inputs}
@@ -91,12 +94,17 @@ def main():
                 b = json_lines([bvh_probe, p, "4"], env)
                 r["bv_cold"].append(1e3 * (b[0]["build"] + b[0]["traverse"]))
                 r["bv_trav"].append(1e3 * min(x["traverse"] for x in b[1:]))
+                if "neighbours" in b[0]:
+                    r["neighbours"].append(b[0]["neighbours"] / max(b[0]["pairs"], 1))
                 q = json_lines([step_probe, p, "bvh", "all", "4", "1"])
                 r["q_warm"].append(1e3 * min(x["build"] + x["traverse"] for x in q[1:]))
                 r["q_trav"].append(1e3 * min(x["traverse"] for x in q[1:]))
     budget = f" | budget (base / {a.factor:g})" if a.base else ""
-    print(f"| input{budget} | query cold | BV cold | query warm | its traversal | BV warm | rest warm |")
-    print("|---" * (8 if a.base else 7) + "|")
+    print(
+        f"| input{budget} | query cold | BV cold | query warm | its traversal | BV warm | rest warm"
+        " | neighbours |"
+    )
+    print("|---" * (9 if a.base else 8) + "|")
     for p in a.inputs:
         m = {k: statistics.median(v) if v else None for k, v in res[p].items()}
         cells = [Path(p).name]
@@ -104,6 +112,7 @@ def main():
             cells.append(f"{m['base'] / a.factor:.1f} ({m['base']:.1f} / {a.factor:g})")
         cells += [f"{m[k]:.1f}" for k in ["q_cold", "bv_cold", "q_warm", "q_trav", "bv_trav"]]
         cells.append(f"{m['q_trav'] - m['bv_trav']:.1f}")
+        cells.append("–" if m["neighbours"] is None else f"{100 * m['neighbours']:.0f}%")
         print("| " + " | ".join(cells) + " |")
 
 
