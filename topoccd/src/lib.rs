@@ -54,6 +54,7 @@ macro_rules! internal {
 internal!(broad, bvh, kdop, math, mesh, narrow, query);
 
 pub mod io;
+pub mod pair;
 
 pub use kdop::DopKind;
 pub use mesh::{CanCollide, Frame, Positions, Step, StepError, Triangles};

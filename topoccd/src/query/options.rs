@@ -204,7 +204,22 @@ impl QueryOptions {
     /// Checks every option against its documented range. [`Ccd::query`](crate::Ccd::query)
     /// calls it first and refuses invalid options.
     pub fn validate(&self) -> Result<(), OptionsError> {
-        let n = &self.narrow;
+        self.narrow.validate()
+    }
+}
+
+impl NarrowOptions {
+    /// Checks every option against its documented range, as [`QueryOptions::validate`] and the
+    /// [`pair`](crate::pair) tests do.
+    ///
+    /// ```
+    /// use topoccd::{NarrowOptions, OptionsError};
+    /// assert!(NarrowOptions::default().validate().is_ok());
+    /// let bad = NarrowOptions { tolerance: 0.0, ..NarrowOptions::default() };
+    /// assert!(matches!(bad.validate(), Err(OptionsError::Tolerance(_))));
+    /// ```
+    pub fn validate(&self) -> Result<(), OptionsError> {
+        let n = self;
         if !(n.tolerance > 0.0 && n.tolerance < 1.0) {
             return Err(OptionsError::Tolerance(n.tolerance));
         }
