@@ -7,6 +7,8 @@ method's leaf clusters) counts. For every sequence, method and thread count it r
 new alternately, `--reps` times each, and prints the median over the repetitions of the summed
 step totals over steps 1.. (step 0 starts from nothing), of the summed leaf-growth seconds and
 leaf clusters (cluster method), and the new/base ratio. Python 3 standard library only.
+For issue 35's per-step table in a simulator's loop beside Self-CCD, see its successor
+`simloop.py`.
 
 `--substeps N` also times, for every sequence (or scene folder with `frames/`, such as the shared
 real steps, which is then timed this way only), a copy of its first step cut into N steps of

@@ -61,6 +61,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.dont_write_bytecode = True  # no __pycache__ beside the scripts
 from sequence import substepped  # noqa: E402  (the frame reader and substeps of sequence.py)
 
 # Issue 35's sequences, in the order of its table.
@@ -189,7 +190,7 @@ def later_mean(steps, key="total"):
 
 
 def ms(x):
-    return DASH if x is None else f"{x * 1e3:.1f}" if x < 10 else f"{x * 1e3:,.0f}"
+    return DASH if x is None else f"{x * 1e3:,.1f}" if x < 10 else f"{x * 1e3:,.0f}"
 
 
 def ratio(a, b):
