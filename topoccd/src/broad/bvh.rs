@@ -9,11 +9,16 @@
 
 use std::ops::ControlFlow;
 
+use rayon::prelude::*;
+
 use super::{triangle_volume, BroadInput, TaskPairs};
-use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf, ParOptions};
+use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf, LeafCheck, ParOptions, TestAll};
 use crate::kdop::Kdop;
 use crate::math::{lerp, DVec3};
-use crate::mesh::Step;
+use crate::bvh::run_batches;
+use crate::mesh::filter::shared_corners;
+use crate::mesh::star::StarView;
+use crate::mesh::{Step, Topology};
 
 /// The hierarchy of one k-DOP type over the triangles' swept volumes (leaf `t` is triangle
 /// `t`), kept for reuse across steps. The leaves' volumes live in the tree's nodes only: they
@@ -27,6 +32,60 @@ pub(crate) struct PerStepBvh<const H: usize> {
     shape: Option<Shape>,
     /// Whether the last [`PerStepBvh::build`] refitted the tree rather than rebuilt it.
     pub refitted: bool,
+    /// Per node (meaningful for leaves only): the leaf triangle's corners and which of them
+    /// have a certified star this step ([`PerStepBvh::mark_stars`]), beside the tree so that
+    /// the traversal drops neighbours in a certified star without testing their volumes.
+    corners: Vec<Corners>,
+    /// Whether `corners` holds this step's certified stars: set by [`PerStepBvh::mark_stars`],
+    /// cleared by every build, so a stale mark never drops a pair.
+    marked: bool,
+    /// The front of the tree's self-traversal for the relation "the triangles share a vertex"
+    /// ([`Bvh::front`]), valid while `front_valid`: the tree's shape and its triangles are
+    /// those it was computed for (a rebuild clears it; a refit keeps it).
+    front: Vec<(u32, u32)>,
+    front_valid: bool,
+    /// This step's neighbouring triangle pairs that share no vertex with a certified star
+    /// ([`PerStepBvh::mark_stars`]): with the front, the traversal's only related pairs.
+    neighbours: Vec<[u32; 2]>,
+    /// The node of each leaf triangle.
+    leaf_node: Vec<u32>,
+}
+
+/// Pairs of the front one task of the front's traversal takes (a fixed number, so the tasks do
+/// not depend on the thread count).
+const FRONT_TASK: usize = 1 << 10;
+/// Neighbouring pairs one task takes.
+const NEIGHBOUR_TASK: usize = 1 << 12;
+
+/// A leaf's triangle, as the traversal's [`LeafCheck`] reads it.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(align(16))]
+struct Corners {
+    /// The triangle's vertices.
+    vertices: [u32; 3],
+    /// Bit `i`: the star of `vertices[i]` is certified (rule 6 of the pair filter).
+    certified: u8,
+}
+
+/// Rule 6 of the pair filter before the volumes: two leaf triangles that share a vertex whose
+/// star is certified give no candidate ([`Features::triangle_pair`] drops them first), so the
+/// traversal need not test them. (Their volumes always overlap: both contain the shared
+/// vertex's path.)
+///
+/// [`Features::triangle_pair`]: crate::mesh::features::Features::triangle_pair
+struct CertifiedNeighbours<'a>(&'a [Corners]);
+
+impl LeafCheck for CertifiedNeighbours<'_> {
+    #[inline(always)]
+    fn skip(&self, a: u32, b: u32) -> bool {
+        let (x, y) = (&self.0[a as usize], &self.0[b as usize]);
+        let mut shared = 0u8;
+        for (i, v) in x.vertices.iter().enumerate() {
+            let hit = *v == y.vertices[0] || *v == y.vertices[1] || *v == y.vertices[2];
+            shared |= u8::from(hit) << i;
+        }
+        shared & x.certified != 0
+    }
 }
 
 /// The volumes a hierarchy's shape was built for, and how well it fitted them.
@@ -79,6 +138,7 @@ impl<const H: usize> PerStepBvh<H> {
     ) {
         let volume = triangle_volume::<H>(step, t_max, sep);
         self.swept = (t_max, sep);
+        self.marked = false;
         let kept = self.shape.filter(|s| same_triangles && s.t_max == t_max && s.sep == sep);
         if let Some(shape) = kept {
             let built = shape.spread.unwrap_or_else(|| spread(&self.bvh));
@@ -89,10 +149,12 @@ impl<const H: usize> PerStepBvh<H> {
                     spread: Some(built),
                     ..shape
                 });
+                self.find_front();
                 return;
             }
         }
         self.refitted = false;
+        self.front_valid = false;
         let (x0, x1, tris) = (step.pos0(), step.pos1(), step.triangles());
         // A leaf stands for its triangle's box at 0 and at `t_max` when splitting.
         let t_end = t_max.clamp(0.0, 1.0);
@@ -107,11 +169,69 @@ impl<const H: usize> PerStepBvh<H> {
             (lo + hi) * 0.5
         };
         self.bvh.rebuild_from_fn(tris.len(), center, volume, ws);
+        self.corners.clear();
+        self.corners.extend(self.bvh.nodes().iter().map(|n| Corners {
+            vertices: n.leaf().map_or([u32::MAX; 3], |t| tris[t as usize]),
+            certified: 0,
+        }));
+        self.leaf_node.clear();
+        self.leaf_node.resize(tris.len(), 0);
+        for (i, n) in self.bvh.nodes().iter().enumerate() {
+            if let Some(t) = n.leaf() {
+                self.leaf_node[t as usize] = i as u32;
+            }
+        }
         self.shape = Some(Shape {
             t_max,
             sep,
             spread: None,
         });
+        self.find_front();
+    }
+
+    /// Computes the front of the tree as it is, unless it is valid already. A triangle's volume
+    /// contains its corners' paths, so two triangles that share a vertex overlap, as
+    /// [`Bvh::front`] needs; but not if a volume holds a NaN (coordinates near `f64::MAX`,
+    /// whose projections overflow): then there is no front, and the traversal starts from the
+    /// root as before.
+    fn find_front(&mut self) {
+        if self.front_valid {
+            return;
+        }
+        let nan = |v: &Kdop<H>| v.lo.iter().chain(&v.hi).any(|x| x.is_nan());
+        if self.bvh.nodes().iter().any(|n| n.leaf().is_some() && nan(&n.volume)) {
+            return;
+        }
+        let corners = &self.corners;
+        let shares = |a: u32, b: u32| {
+            let (x, y) = (&corners[a as usize].vertices, &corners[b as usize].vertices);
+            x.iter().any(|v| y.contains(v))
+        };
+        self.bvh.front(&shares, &mut self.front);
+        self.front_valid = true;
+    }
+
+    /// Records which leaf triangles' corners have a certified star this step (`None`: none,
+    /// as with a minimum separation), for the traversal to drop the neighbours that rule 6 of
+    /// the pair filter drops; and, with a front, lists the neighbouring triangles (of
+    /// `topo`) that rule 6 keeps. Call it after [`PerStepBvh::build`], every step.
+    pub fn mark_stars(&mut self, stars: Option<StarView<'_>>, topo: &Topology, tris: &[[u32; 3]]) {
+        let mark = |c: &mut Corners| {
+            c.certified = match (stars, c.vertices[0]) {
+                (_, u32::MAX) | (None, _) => 0,
+                (Some(s), _) => (0..3).fold(0, |m, i| m | u8::from(s.certified(c.vertices[i])) << i),
+            };
+        };
+        if self.corners.len() >= 1 << 14 {
+            self.corners.par_iter_mut().with_min_len(1 << 12).for_each(mark);
+        } else {
+            self.corners.iter_mut().for_each(mark);
+        }
+        self.marked = true;
+        self.neighbours.clear();
+        if self.front_valid {
+            neighbours(stars, topo, tris, &mut self.neighbours);
+        }
     }
 
     /// Refits the hierarchy to the volumes swept over the times searched, `[0, t_max]` (same
@@ -154,9 +274,103 @@ impl<const H: usize> TaskPairs for PerStepBvh<H> {
         finish: impl Fn(&mut T) + Sync + Send,
         consume: impl FnMut(T) -> ControlFlow<()>,
     ) -> u64 {
-        self.bvh
-            .par_self_pairs_until(ws, par, make, pair, finish, consume)
+        if self.marked && self.front_valid {
+            self.front_pairs(par, make, pair, finish, consume)
+        } else if self.marked {
+            let check = CertifiedNeighbours(&self.corners);
+            self.bvh
+                .par_self_pairs_until(ws, par, &check, make, pair, finish, consume)
+        } else {
+            self.bvh
+                .par_self_pairs_until(ws, par, &TestAll, make, pair, finish, consume)
+        }
     }
+}
+
+/// A task of the traversal from the front: neighbouring pairs, or pairs of the front.
+enum FrontTask<'a> {
+    Neighbours(&'a [[u32; 2]]),
+    Front(&'a [(u32, u32)]),
+}
+
+impl<const H: usize> PerStepBvh<H> {
+    /// [`TaskPairs::pairs`] from the front: the neighbouring triangle pairs that rule 6 keeps
+    /// (those whose volumes overlap), then the traversal from the front, in fixed tasks.
+    /// The same triangle pairs as the traversal from the root with [`CertifiedNeighbours`],
+    /// but for neighbours in a certified star, which neither reports to the caller's filter.
+    fn front_pairs<T: Send>(
+        &self,
+        par: &ParOptions,
+        make: impl Fn() -> T + Sync + Send,
+        pair: impl Fn(&mut T, u32, u32) + Sync + Send,
+        finish: impl Fn(&mut T) + Sync + Send,
+        mut consume: impl FnMut(T) -> ControlFlow<()>,
+    ) -> u64 {
+        let tasks: Vec<FrontTask<'_>> = (self.neighbours.chunks(NEIGHBOUR_TASK))
+            .map(FrontTask::Neighbours)
+            .chain(self.front.chunks(FRONT_TASK).map(FrontTask::Front))
+            .collect();
+        let nodes = self.bvh.nodes();
+        let body = |stack: &mut Vec<(u32, u32)>, task: &FrontTask<'_>, acc: &mut T| match task {
+            FrontTask::Neighbours(list) => {
+                for &[s, t] in *list {
+                    let (x, y) = (self.leaf_node[s as usize], self.leaf_node[t as usize]);
+                    if nodes[x as usize].volume.overlaps(&nodes[y as usize].volume) {
+                        pair(acc, s, t);
+                    }
+                }
+                list.len() as u64
+            }
+            FrontTask::Front(front) => {
+                self.bvh.front_pairs(front, stack, &mut |a, b| pair(acc, a, b))
+            }
+        };
+        run_batches(&tasks, par, Vec::new, body, make, finish, &mut consume)
+    }
+}
+
+/// The neighbouring triangle pairs `[s, t]` (`s < t`, sharing a vertex) that share no vertex
+/// with a certified star (all of them without `stars`), each once (from its smallest shared
+/// vertex), in vertex order, into `out`. Only the stars that failed are looked at.
+fn neighbours(
+    stars: Option<StarView<'_>>,
+    topo: &Topology,
+    tris: &[[u32; 3]],
+    out: &mut Vec<[u32; 2]>,
+) {
+    let certified = |v: u32| stars.is_some_and(|s| s.certified(v));
+    let of = |v: u32| {
+        let fan = topo.triangles_of(v);
+        let mut pairs = Vec::new();
+        if certified(v) {
+            return pairs;
+        }
+        for (i, &s) in fan.iter().enumerate() {
+            for &t in &fan[i + 1..] {
+                let (a, b) = (tris[s as usize], tris[t as usize]);
+                let equal = shared_corners(a, b);
+                // Shared vertices, smallest first: `v` must be the smallest, and none certified.
+                let shared = (0..3).filter(|&i| equal >> (3 * i) & 7 != 0).map(|i| a[i]);
+                let mut first = u32::MAX;
+                let mut any_certified = false;
+                for w in shared {
+                    first = first.min(w);
+                    any_certified |= w != v && certified(w);
+                }
+                if first == v && !any_certified {
+                    pairs.push([s, t]);
+                }
+            }
+        }
+        pairs
+    };
+    let n = topo.vertex_offsets.len().saturating_sub(1) as u32;
+    out.par_extend(
+        (0..n)
+            .into_par_iter()
+            .with_min_len(1 << 12)
+            .flat_map_iter(of),
+    );
 }
 
 #[cfg(test)]

@@ -42,6 +42,7 @@
 //! ```
 
 mod build;
+mod front;
 mod parallel;
 mod refit;
 mod traverse;
@@ -49,6 +50,7 @@ mod validation;
 
 pub use parallel::{ParOptions, ParPairs};
 pub(crate) use parallel::run_batches;
+pub(crate) use traverse::{LeafCheck, TestAll};
 pub use validation::BvhError;
 
 use crate::math::DVec3;

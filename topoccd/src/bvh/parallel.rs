@@ -6,7 +6,7 @@ use std::ops::ControlFlow;
 
 use rayon::prelude::*;
 
-use super::traverse::{run, step, Sink, OTHER};
+use super::traverse::{run, step, LeafCheck, Sink, TestAll, OTHER};
 use super::{BoundingVolume, Bvh, BvhWorkspace, Node};
 
 /// How a parallel traversal splits and hands over its work. The tasks depend on these and on
@@ -173,16 +173,19 @@ impl<V: BoundingVolume> Bvh<V> {
             consume(r);
             ControlFlow::Continue(())
         };
-        self.par_self_pairs_until(ws, options, make, leaf_pair, finish, consume)
+        self.par_self_pairs_until(ws, options, &TestAll, make, leaf_pair, finish, consume)
     }
 
     /// [`Bvh::par_self_pairs_finished`] whose `consume` may stop the traversal: once it returns
     /// [`ControlFlow::Break`], the results of the batch under way are still handed over, and
-    /// no further batch runs. Returns the bounding-volume tests made.
+    /// no further batch runs. Leaf pairs that `check` skips are neither tested nor reported.
+    /// Returns the bounding-volume tests made.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn par_self_pairs_until<T: Send>(
         &self,
         ws: &mut BvhWorkspace,
         options: &ParOptions,
+        check: &impl LeafCheck,
         make: impl Fn() -> T + Sync + Send,
         leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
@@ -196,7 +199,8 @@ impl<V: BoundingVolume> Bvh<V> {
         }
         let small = self.nodes.len() < options.min_nodes;
         let nodes = &self.nodes[..];
-        par_run(nodes, nodes, t, 0, small, options, make, leaf_pair, finish, consume)
+        let run = (nodes, nodes, check);
+        par_run(run, t, 0, small, options, make, leaf_pair, finish, consume)
     }
 
     /// [`Bvh::tree_pairs`] on the current rayon thread pool, with per-task accumulators
@@ -262,7 +266,7 @@ impl<V: BoundingVolume> Bvh<V> {
             consume(r);
             ControlFlow::Continue(())
         };
-        par_run(na, nb, t, 1, small, options, make, leaf_pair, |_| {}, consume)
+        par_run((na, nb, &TestAll), t, 1, small, options, make, leaf_pair, |_| {}, consume)
     }
 }
 
@@ -272,8 +276,7 @@ impl<V: BoundingVolume> Bvh<V> {
 /// first result holds the leaf pairs found while splitting. Returns the overlap tests.
 #[allow(clippy::too_many_arguments)]
 fn par_run<V: BoundingVolume, T: Send>(
-    na: &[Node<V>],
-    nb: &[Node<V>],
+    (na, nb, check): (&[Node<V>], &[Node<V>], &impl LeafCheck),
     t: &mut Tasks,
     mut bv_tests: u64,
     small: bool,
@@ -290,7 +293,7 @@ fn par_run<V: BoundingVolume, T: Send>(
             found: &mut t.found,
         };
         for &(a, b) in &t.entries {
-            bv_tests += step(na, nb, a, b, &mut round);
+            bv_tests += step(na, nb, a, b, check, &mut round);
         }
         std::mem::swap(&mut t.entries, &mut t.next);
     }
@@ -305,7 +308,7 @@ fn par_run<V: BoundingVolume, T: Send>(
     let body = |stack: &mut Vec<(u32, u32)>, &(a, b): &(u32, u32), acc: &mut T| {
         stack.clear();
         stack.push((a, b));
-        run(na, nb, stack, &mut |x, y| leaf_pair(acc, x, y))
+        run(na, nb, stack, check, &mut |x, y| leaf_pair(acc, x, y))
     };
     bv_tests + run_batches(&t.entries, options, Vec::new, body, make, finish, &mut consume)
 }

@@ -245,6 +245,7 @@ fn a_traversal_stops_after_the_batch_where_consume_asks() {
                 x.par_self_pairs_until(
                     &mut BvhWorkspace::default(),
                     &options,
+                    &super::TestAll,
                     Vec::new,
                     |v, p, q| v.push((p, q)),
                     |_| {},
@@ -262,5 +263,64 @@ fn a_traversal_stops_after_the_batch_where_consume_asks() {
             assert_eq!(got.len(), expected, "{threads} threads, grow {grow}");
             assert_eq!(got, all.results[..got.len()], "{threads} threads, grow {grow}");
         }
+    }
+}
+
+/// The leaf ids below node `n`.
+fn leaves_below(bvh: &Bvh<Kdop<9>>, n: u32, out: &mut Vec<u32>) {
+    match bvh.nodes()[n as usize].children() {
+        None => out.push(bvh.nodes()[n as usize].leaf().unwrap()),
+        Some([a, b]) => {
+            leaves_below(bvh, a, out);
+            leaves_below(bvh, b, out);
+        }
+    }
+}
+
+/// The front covers every unrelated pair of leaves exactly once and no related pair, and the
+/// traversal from it reports exactly the unrelated pairs whose volumes overlap (brute force),
+/// for a relation that holds only between overlapping leaves, as [`Bvh::front`] needs.
+#[test]
+fn front_covers_the_unrelated_pairs_once() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    for n in [2, 3, 17, 300, 1000] {
+        let leaves = leaves(&mut rng, n);
+        let bvh = Bvh::from_leaves(&leaves);
+        let volume = |id: u32| leaves.iter().find(|l| l.id == id).unwrap().volume;
+        // Related: overlapping, and ids of the same parity (about half the overlapping pairs).
+        let rel = |x: u32, y: u32| x % 2 == y % 2 && volume(x).overlaps(&volume(y));
+        let nodes = bvh.nodes();
+        let leaf = |node: u32| nodes[node as usize].leaf().unwrap();
+        let mut front = Vec::new();
+        bvh.front(&|a, b| rel(leaf(a), leaf(b)), &mut front);
+        let mut covered = std::collections::HashMap::new();
+        for &(a, b) in &front {
+            let (mut la, mut lb) = (Vec::new(), Vec::new());
+            leaves_below(&bvh, a, &mut la);
+            leaves_below(&bvh, b, &mut lb);
+            for &x in &la {
+                for &y in &lb {
+                    *covered.entry((x.min(y), x.max(y))).or_insert(0) += 1;
+                }
+            }
+        }
+        for (i, a) in leaves.iter().enumerate() {
+            for b in &leaves[i + 1..] {
+                let key = (a.id.min(b.id), a.id.max(b.id));
+                let times = covered.get(&key).copied().unwrap_or(0);
+                let expected = if rel(a.id, b.id) { 0 } else { 1 };
+                assert_eq!(times, expected, "n = {n}, pair {key:?}");
+            }
+        }
+        let mut found = Vec::new();
+        let tests = bvh.front_pairs(&front, &mut Vec::new(), &mut |x, y| {
+            found.push((x.min(y), x.max(y)))
+        });
+        assert!(tests >= front.len() as u64);
+        let expected: Vec<_> = brute_self(&leaves)
+            .into_iter()
+            .filter(|&(x, y)| !rel(x, y))
+            .collect();
+        assert_eq!(sorted(found), expected, "n = {n}");
     }
 }

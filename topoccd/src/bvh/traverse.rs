@@ -33,7 +33,7 @@ impl<V: BoundingVolume> Bvh<V> {
         if self.nodes.len() > 1 {
             stack.push((0, 0));
         }
-        run(&self.nodes, &self.nodes, stack, &mut leaf_pair)
+        run(&self.nodes, &self.nodes, stack, &TestAll, &mut leaf_pair)
     }
 
     /// Calls `leaf(id)` for every leaf whose volume overlaps `volume`, each once, in a
@@ -133,7 +133,7 @@ impl<V: BoundingVolume> Bvh<V> {
             }
             _ => {
                 stack.push((0, OTHER));
-                tests + run(na, nb, stack, &mut leaf_pair)
+                tests + run(na, nb, stack, &TestAll, &mut leaf_pair)
             }
         }
     }
@@ -144,6 +144,25 @@ impl<V: BoundingVolume> Bvh<V> {
 /// itself". A tree has at most `2^30` leaves ([`Bvh::rebuild`] checks), so fewer than `2^31`
 /// nodes, and never has this bit in a node index.
 pub(super) const OTHER: u32 = 1 << 31;
+
+/// What a self-traversal may know of a pair of leaves before testing their volumes, from their
+/// node indices: a caller whose leaves are triangles can drop, without a test, pairs it would
+/// drop anyway once they overlap (neighbours it has proved free of contact). Skipping such a
+/// pair changes only the tests made, never the pairs a caller keeps.
+pub(crate) trait LeafCheck: Sync {
+    /// `true`: the leaves of nodes `a` and `b` give nothing; no test is made.
+    fn skip(&self, a: u32, b: u32) -> bool;
+}
+
+/// Tests every leaf pair.
+pub(crate) struct TestAll;
+
+impl LeafCheck for TestAll {
+    #[inline(always)]
+    fn skip(&self, _: u32, _: u32) -> bool {
+        false
+    }
+}
 
 /// Where one step of the traversal puts its output: the node pairs still to descend, and the
 /// overlapping leaf pairs.
@@ -178,11 +197,12 @@ pub(super) fn run<V: BoundingVolume>(
     na: &[Node<V>],
     nb: &[Node<V>],
     stack: &mut Vec<(u32, u32)>,
+    check: &impl LeafCheck,
     leaf_pair: &mut impl FnMut(u32, u32),
 ) -> u64 {
     let mut tests = 0u64;
     while let Some((a, tagged)) = stack.pop() {
-        tests += step(na, nb, a, tagged, &mut Stack { stack, leaf_pair });
+        tests += step(na, nb, a, tagged, check, &mut Stack { stack, leaf_pair });
     }
     tests
 }
@@ -195,53 +215,53 @@ pub(super) fn run<V: BoundingVolume>(
 ///   (or against the leaf), and each overlapping pair is reported (two leaves) or pushed.
 ///
 /// Children are tested as soon as their parents' pair is processed, so only overlapping pairs
-/// are pushed. Returns the number of overlap tests.
+/// are pushed. Pairs of leaves that `check` skips are not tested. Returns the number of
+/// overlap tests.
 #[inline(always)]
 pub(super) fn step<V: BoundingVolume>(
     na: &[Node<V>],
     nb: &[Node<V>],
     a: u32,
     tagged: u32,
+    check: &impl LeafCheck,
     sink: &mut impl Sink,
 ) -> u64 {
     if a == tagged {
         let c = na[a as usize].a;
-        test(na, na, c, c + 1, 0, sink);
+        let tests = test(na, na, c, c + 1, 0, check, sink);
         for x in [c + 1, c] {
             if na[x as usize].b != LEAF {
                 sink.push(x, x);
             }
         }
-        return 1;
+        return tests;
     }
     let tag = tagged & OTHER;
     let b = tagged & !OTHER;
     let (x, y) = (&na[a as usize], &nb[b as usize]);
     match (x.b != LEAF, y.b != LEAF) {
         (true, true) => {
+            let mut tests = 0;
             for i in [x.a, x.b] {
                 for j in [y.a, y.b] {
-                    test(na, nb, i, j, tag, sink);
+                    tests += test(na, nb, i, j, tag, check, sink);
                 }
             }
-            4
+            tests
         }
         (true, false) => {
-            test(na, nb, x.a, b, tag, sink);
-            test(na, nb, x.b, b, tag, sink);
-            2
+            test(na, nb, x.a, b, tag, check, sink) + test(na, nb, x.b, b, tag, check, sink)
         }
         (false, true) => {
-            test(na, nb, a, y.a, tag, sink);
-            test(na, nb, a, y.b, tag, sink);
-            2
+            test(na, nb, a, y.a, tag, check, sink) + test(na, nb, a, y.b, tag, check, sink)
         }
         (false, false) => unreachable!("leaf pairs are reported, not pushed"),
     }
 }
 
-/// Tests node `a` of `na` against node `b` of `nb`; on overlap, reports the leaf pair or
-/// pushes the pair (with `tag`, [`OTHER`] for two trees).
+/// Tests node `a` of `na` against node `b` of `nb` (unless both are leaves that `check`
+/// skips); on overlap, reports the leaf pair or pushes the pair (with `tag`, [`OTHER`] for
+/// two trees). Returns the tests made (0 or 1).
 #[inline(always)]
 fn test<V: BoundingVolume>(
     na: &[Node<V>],
@@ -249,14 +269,20 @@ fn test<V: BoundingVolume>(
     a: u32,
     b: u32,
     tag: u32,
+    check: &impl LeafCheck,
     sink: &mut impl Sink,
-) {
+) -> u64 {
     let (x, y) = (&na[a as usize], &nb[b as usize]);
+    let leaves = x.b == LEAF && y.b == LEAF;
+    if leaves && check.skip(a, b) {
+        return 0;
+    }
     if x.volume.overlaps(&y.volume) {
-        if x.b == LEAF && y.b == LEAF {
+        if leaves {
             sink.leaf(x.a, y.a);
         } else {
             sink.push(a, b | tag);
         }
     }
+    1
 }

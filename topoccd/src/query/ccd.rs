@@ -219,6 +219,16 @@ impl Ccd {
                 }
             };
             rayon::join(prepare, build);
+            // Rule 6 before the volumes: the traversal drops neighbours in a certified star.
+            let topo = &self.features.topo;
+            let view = stars_on.then(|| self.stars.view(step, topo));
+            let tris = step.triangles();
+            match options.kdop {
+                DopKind::K6 => self.k6.mark_stars(view, topo, tris),
+                DopKind::K14 => self.k14.mark_stars(view, topo, tris),
+                DopKind::K18 => self.k18.mark_stars(view, topo, tris),
+                DopKind::K26 => self.k26.mark_stars(view, topo, tris),
+            }
         } else {
             self.features.update(step, same, 1.0);
             self.stars.reset(step.vertex_count());
