@@ -12,7 +12,7 @@ use std::ops::ControlFlow;
 use rayon::prelude::*;
 
 use super::{triangle_volume, BroadInput, TaskPairs};
-use crate::bvh::{Bvh, BvhError, BvhWorkspace, Leaf, LeafCheck, ParOptions, TestAll};
+use crate::bvh::{Bvh, BvhError, BvhWorkspace, Front, Leaf, LeafCheck, ParOptions, TestAll};
 use crate::kdop::Kdop;
 use crate::math::{lerp, DVec3};
 use crate::bvh::run_batches;
@@ -42,14 +42,20 @@ pub(crate) struct PerStepBvh<const H: usize> {
     /// The front of the tree's self-traversal for the relation "the triangles share a vertex"
     /// ([`Bvh::front`]), valid while `front_valid`: the tree's shape and its triangles are
     /// those it was computed for (a rebuild clears it; a refit keeps it).
-    front: Vec<(u32, u32)>,
+    front: Front,
     front_valid: bool,
+    /// The parent of each node (the root's is itself), for the ancestors of changed leaves.
+    parent: Vec<u32>,
     /// This step's neighbouring triangle pairs that share no vertex with a certified star
     /// ([`PerStepBvh::mark_stars`]): with the front, the traversal's only related pairs.
     neighbours: Vec<[u32; 2]>,
     /// The node of each leaf triangle.
     leaf_node: Vec<u32>,
 }
+
+/// Past one triangle in this many with other corners, a tree over as many triangles is rebuilt
+/// rather than refitted.
+const CHANGED_SHARE: usize = 8;
 
 /// Pairs of the front one task of the front's traversal takes (a fixed number, so the tasks do
 /// not depend on the thread count).
@@ -139,7 +145,21 @@ impl<const H: usize> PerStepBvh<H> {
         let volume = triangle_volume::<H>(step, t_max, sep);
         self.swept = (t_max, sep);
         self.marked = false;
-        let kept = self.shape.filter(|s| same_triangles && s.t_max == t_max && s.sep == sep);
+        let tris = step.triangles();
+        // A tree over as many triangles, swept the same way, is refitted: over the very same
+        // triangles (the everyday step), or over triangles of which a few changed their
+        // corners (a cut or a tear re-indexes the triangles along it).
+        let same_count = self.leaf_node.len() == tris.len();
+        let changed = if same_triangles || !same_count {
+            Vec::new()
+        } else {
+            self.changed_leaves(tris)
+        };
+        let count_kept =
+            same_count && (same_triangles || changed.len() <= tris.len() / CHANGED_SHARE);
+        let kept = self
+            .shape
+            .filter(|s| count_kept && s.t_max == t_max && s.sep == sep);
         if let Some(shape) = kept {
             let built = shape.spread.unwrap_or_else(|| spread(&self.bvh));
             self.bvh.refit(volume);
@@ -149,13 +169,13 @@ impl<const H: usize> PerStepBvh<H> {
                     spread: Some(built),
                     ..shape
                 });
-                self.find_front();
+                self.update_corners(tris, &changed);
                 return;
             }
         }
         self.refitted = false;
         self.front_valid = false;
-        let (x0, x1, tris) = (step.pos0(), step.pos1(), step.triangles());
+        let (x0, x1) = (step.pos0(), step.pos1());
         // A leaf stands for its triangle's box at 0 and at `t_max` when splitting.
         let t_end = t_max.clamp(0.0, 1.0);
         let center = |t: usize| {
@@ -176,9 +196,15 @@ impl<const H: usize> PerStepBvh<H> {
         }));
         self.leaf_node.clear();
         self.leaf_node.resize(tris.len(), 0);
+        self.parent.clear();
+        self.parent.resize(self.bvh.nodes().len(), 0);
         for (i, n) in self.bvh.nodes().iter().enumerate() {
-            if let Some(t) = n.leaf() {
-                self.leaf_node[t as usize] = i as u32;
+            match n.children() {
+                None => self.leaf_node[n.leaf().expect("a leaf") as usize] = i as u32,
+                Some([a, b]) => {
+                    self.parent[a as usize] = i as u32;
+                    self.parent[b as usize] = i as u32;
+                }
             }
         }
         self.shape = Some(Shape {
@@ -198,8 +224,7 @@ impl<const H: usize> PerStepBvh<H> {
         if self.front_valid {
             return;
         }
-        let nan = |v: &Kdop<H>| v.lo.iter().chain(&v.hi).any(|x| x.is_nan());
-        if self.bvh.nodes().iter().any(|n| n.leaf().is_some() && nan(&n.volume)) {
+        if !self.leaves_without_nan() {
             return;
         }
         let corners = &self.corners;
@@ -209,6 +234,53 @@ impl<const H: usize> PerStepBvh<H> {
         };
         self.bvh.front(&shares, &mut self.front);
         self.front_valid = true;
+    }
+
+    /// Whether no leaf volume holds a NaN (see [`PerStepBvh::find_front`]).
+    fn leaves_without_nan(&self) -> bool {
+        let nan = |v: &Kdop<H>| v.lo.iter().chain(&v.hi).any(|x| x.is_nan());
+        !self.bvh.nodes().iter().any(|n| n.leaf().is_some() && nan(&n.volume))
+    }
+
+    /// The leaf triangles whose corners are not those of `tris` (as many triangles as leaves).
+    fn changed_leaves(&self, tris: &[[u32; 3]]) -> Vec<u32> {
+        let corners = &self.corners;
+        let node = &self.leaf_node;
+        (0..tris.len() as u32)
+            .filter(|&t| corners[node[t as usize] as usize].vertices != tris[t as usize])
+            .collect()
+    }
+
+    /// Gives the `changed` triangles their new corners, and updates the front for them: only
+    /// the blocks of their ancestors change ([`Bvh::update_front`]).
+    fn update_corners(&mut self, tris: &[[u32; 3]], changed: &[u32]) {
+        if changed.is_empty() {
+            return self.find_front();
+        }
+        let mut dirty = vec![false; self.parent.len()];
+        for &t in changed {
+            let mut n = self.leaf_node[t as usize];
+            self.corners[n as usize].vertices = tris[t as usize];
+            while n != 0 && !dirty[self.parent[n as usize] as usize] {
+                n = self.parent[n as usize];
+                dirty[n as usize] = true;
+            }
+        }
+        if !self.front_valid {
+            return self.find_front();
+        }
+        // The recomputed blocks take disjoint volumes as unrelated (see `find_front`).
+        if !self.leaves_without_nan() {
+            self.front_valid = false;
+            return;
+        }
+        let corners = &self.corners;
+        let shares = |a: u32, b: u32| {
+            let (x, y) = (&corners[a as usize].vertices, &corners[b as usize].vertices);
+            x.iter().any(|v| y.contains(v))
+        };
+        self.bvh
+            .update_front(&shares, &|n| dirty[n as usize], &mut self.front);
     }
 
     /// Records which leaf triangles' corners have a certified star this step (`None`: none,
@@ -308,7 +380,7 @@ impl<const H: usize> PerStepBvh<H> {
     ) -> u64 {
         let tasks: Vec<FrontTask<'_>> = (self.neighbours.chunks(NEIGHBOUR_TASK))
             .map(FrontTask::Neighbours)
-            .chain(self.front.chunks(FRONT_TASK).map(FrontTask::Front))
+            .chain(self.front.pairs.chunks(FRONT_TASK).map(FrontTask::Front))
             .collect();
         let nodes = self.bvh.nodes();
         let body = |stack: &mut Vec<(u32, u32)>, task: &FrontTask<'_>, acc: &mut T| match task {
@@ -413,10 +485,37 @@ mod tests {
         assert_eq!(tree.validate(&step), Ok(()));
         tree.build(&step, (0.5, 0.0), true, &mut ws);
         assert!(!tree.refitted, "other times swept");
-        tree.build(&step, (0.5, 0.0), false, &mut ws);
-        assert!(!tree.refitted, "other triangles");
         tree.build(&step, (0.5, 0.0), true, &mut ws);
         assert!(tree.refitted);
         assert_eq!(tree.validate(&step), Ok(()));
+        // Other triangles: a cut (a few triangles take copies of two vertices) is refitted,
+        // its front updated; most triangles changed, or another count, is rebuilt.
+        let x: Vec<[f64; 3]> = (0..402).chain([201, 202]).map(|i| folded(i).to_array()).collect();
+        let mut tris: Vec<[u32; 3]> = (0..400).map(|i| [i, i + 1, i + 2]).collect();
+        for t in &mut tris[201..204] {
+            *t = t.map(|v| if v == 201 || v == 202 { v + 201 } else { v });
+        }
+        let cut = Step::new(x.clone(), x, tris).expect("a valid step");
+        tree.build(&cut, (0.5, 0.0), false, &mut ws);
+        assert!(tree.refitted, "a cut");
+        assert_eq!(tree.validate(&cut), Ok(()));
+        let corners = &tree.corners;
+        let shares = |a: u32, b: u32| {
+            let (x, y) = (&corners[a as usize].vertices, &corners[b as usize].vertices);
+            x.iter().any(|v| y.contains(v))
+        };
+        let mut fresh = Front::default();
+        tree.bvh.front(&shares, &mut fresh);
+        assert!(tree.front_valid);
+        assert_eq!(tree.front.pairs, fresh.pairs, "the updated front");
+        let x: Vec<[f64; 3]> = (0..402).map(|i| folded(i).to_array()).collect();
+        let flipped = (0..400).map(|i| [i, i + 2, i + 1]).collect::<Vec<_>>();
+        let flipped = Step::new(x.clone(), x, flipped).expect("a valid step");
+        tree.build(&flipped, (0.5, 0.0), false, &mut ws);
+        assert!(!tree.refitted, "other triangles");
+        assert_eq!(tree.validate(&flipped), Ok(()));
+        tree.build(&strip(300, folded), (0.5, 0.0), false, &mut ws);
+        assert!(!tree.refitted, "fewer triangles");
+        assert_eq!(tree.validate(&strip(300, folded)), Ok(()));
     }
 }

@@ -19,31 +19,93 @@
 use super::traverse::{run, TestAll};
 use super::{BoundingVolume, Bvh, LEAF};
 
+/// A front kept with its tree, in blocks: the block of an internal node is the front below
+/// the pair of its two children. A change of relation below some leaves changes only the
+/// blocks of their ancestors ([`Bvh::update_front`]).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Front {
+    /// The pairs of the front, block after block, the internal nodes in post-order.
+    pub pairs: Vec<(u32, u32)>,
+    /// Per node: the start and the length of its block in `pairs` (empty for a leaf).
+    blocks: Vec<(u32, u32)>,
+    /// Scratch memory for the next `pairs` and `blocks`.
+    next_pairs: Vec<(u32, u32)>,
+    next_blocks: Vec<(u32, u32)>,
+}
+
+/// The blocks of a front, read while the next are written.
+#[derive(Clone, Copy)]
+struct Blocks<'a> {
+    pairs: &'a [(u32, u32)],
+    blocks: &'a [(u32, u32)],
+}
+
 impl<V: BoundingVolume> Bvh<V> {
-    /// The front of the self-traversal (see the module documentation) into `out`, in a
-    /// deterministic order, each pair `(a, b)` of node indices once. `related(a, b)` says
+    /// Computes the front of the self-traversal (see the module documentation) into `front`,
+    /// in a deterministic order, each pair `(a, b)` of node indices once. `related(a, b)` says
     /// whether the leaves of nodes `a` and `b` are related; it must hold only for leaves whose
     /// volumes overlap (the search takes two subtrees whose volumes are disjoint as unrelated).
     /// Costs about one full traversal.
-    pub(crate) fn front(&self, related: &impl Fn(u32, u32) -> bool, out: &mut Vec<(u32, u32)>) {
-        out.clear();
-        if self.nodes.len() > 1 {
-            self.front_of_self(0, related, out);
-        }
+    pub(crate) fn front(&self, related: &impl Fn(u32, u32) -> bool, front: &mut Front) {
+        front.blocks.clear();
+        self.update_front(related, &|_| true, front);
     }
 
-    /// The front below the self pair of internal node `n`.
-    fn front_of_self(&self, n: u32, related: &impl Fn(u32, u32) -> bool, out: &mut Vec<(u32, u32)>) {
+    /// Recomputes the blocks of the nodes that `dirty` names (by node index) and keeps the
+    /// others: the front of [`Bvh::front`] for a relation that changed only between leaves
+    /// below dirty nodes, when the tree's shape is the one `front` was computed for (a refit
+    /// keeps it). Every ancestor of a dirty node must be dirty. Costs the dirty blocks, plus a
+    /// copy of the others.
+    pub(crate) fn update_front(
+        &self,
+        related: &impl Fn(u32, u32) -> bool,
+        dirty: &impl Fn(u32) -> bool,
+        front: &mut Front,
+    ) {
+        let mut pairs = std::mem::take(&mut front.next_pairs);
+        let mut blocks = std::mem::take(&mut front.next_blocks);
+        pairs.clear();
+        blocks.clear();
+        blocks.resize(self.nodes.len(), (0, 0));
+        if self.nodes.len() > 1 {
+            let old = Blocks {
+                pairs: &front.pairs,
+                blocks: &front.blocks,
+            };
+            self.front_blocks(0, related, dirty, old, &mut pairs, &mut blocks);
+        }
+        front.next_pairs = std::mem::replace(&mut front.pairs, pairs);
+        front.next_blocks = std::mem::replace(&mut front.blocks, blocks);
+    }
+
+    /// The blocks of internal node `n`'s subtree, in post-order, into `out` and `blocks`: the
+    /// old ones where `dirty` does not name the node, else computed anew.
+    fn front_blocks(
+        &self,
+        n: u32,
+        related: &impl Fn(u32, u32) -> bool,
+        dirty: &impl Fn(u32) -> bool,
+        old: Blocks<'_>,
+        out: &mut Vec<(u32, u32)>,
+        blocks: &mut [(u32, u32)],
+    ) {
         let node = &self.nodes[n as usize];
         let (l, r) = (node.a, node.b);
         for c in [l, r] {
             if self.nodes[c as usize].b != LEAF {
-                self.front_of_self(c, related, out);
+                self.front_blocks(c, related, dirty, old, out, blocks);
             }
         }
-        if !self.front_of_pair(l, r, related, out) {
-            out.push((l, r));
+        let start = out.len();
+        if dirty(n) {
+            if !self.front_of_pair(l, r, related, out) {
+                out.push((l, r));
+            }
+        } else {
+            let (from, len) = old.blocks[n as usize];
+            out.extend_from_slice(&old.pairs[from as usize..(from + len) as usize]);
         }
+        blocks[n as usize] = (start as u32, (out.len() - start) as u32);
     }
 
     /// Whether nodes `a` and `b` (distinct, neither below the other) are related; if they are,

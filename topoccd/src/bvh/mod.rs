@@ -50,6 +50,7 @@ mod validation;
 
 pub use parallel::{ParOptions, ParPairs};
 pub(crate) use parallel::run_batches;
+pub(crate) use front::Front;
 pub(crate) use traverse::{LeafCheck, TestAll};
 pub use validation::BvhError;
 

@@ -291,8 +291,9 @@ fn front_covers_the_unrelated_pairs_once() {
         let rel = |x: u32, y: u32| x % 2 == y % 2 && volume(x).overlaps(&volume(y));
         let nodes = bvh.nodes();
         let leaf = |node: u32| nodes[node as usize].leaf().unwrap();
-        let mut front = Vec::new();
-        bvh.front(&|a, b| rel(leaf(a), leaf(b)), &mut front);
+        let mut kept = super::Front::default();
+        bvh.front(&|a, b| rel(leaf(a), leaf(b)), &mut kept);
+        let front = kept.pairs.clone();
         let mut covered = std::collections::HashMap::new();
         for &(a, b) in &front {
             let (mut la, mut lb) = (Vec::new(), Vec::new());
@@ -322,5 +323,56 @@ fn front_covers_the_unrelated_pairs_once() {
             .filter(|&(x, y)| !rel(x, y))
             .collect();
         assert_eq!(sorted(found), expected, "n = {n}");
+    }
+}
+
+/// After the relation changes below a few leaves, updating the blocks of their ancestors gives
+/// the front computed afresh.
+#[test]
+fn an_updated_front_is_the_front_computed_afresh() {
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    for n in [5, 64, 700] {
+        let leaves = leaves(&mut rng, n);
+        let bvh = Bvh::from_leaves(&leaves);
+        let nodes = bvh.nodes();
+        let volume = |node: u32| nodes[node as usize].volume;
+        let mut parent = vec![0u32; nodes.len()];
+        for (i, node) in nodes.iter().enumerate() {
+            if let Some([a, b]) = node.children() {
+                parent[a as usize] = i as u32;
+                parent[b as usize] = i as u32;
+            }
+        }
+        // Leaves are related by a label of theirs (and overlap); some labels then change.
+        let mut label: Vec<u32> = (0..nodes.len()).map(|_| rng.random_range(0..3)).collect();
+        let mut front = super::Front::default();
+        for round in 0..5 {
+            let rel = |a: u32, b: u32| {
+                label[a as usize] == label[b as usize] && volume(a).overlaps(&volume(b))
+            };
+            if round == 0 {
+                bvh.front(&rel, &mut front);
+            }
+            let mut fresh = super::Front::default();
+            bvh.front(&rel, &mut fresh);
+            assert_eq!(front.pairs, fresh.pairs, "n = {n}, round {round}");
+            // Relabel a few leaves; their ancestors are dirty.
+            let mut dirty = vec![false; nodes.len()];
+            for _ in 0..rng.random_range(1..4) {
+                let mut x = rng.random_range(0..nodes.len() as u32);
+                while nodes[x as usize].leaf().is_none() {
+                    x = rng.random_range(0..nodes.len() as u32);
+                }
+                label[x as usize] = rng.random_range(0..3);
+                while x != 0 {
+                    x = parent[x as usize];
+                    dirty[x as usize] = true;
+                }
+            }
+            let rel = |a: u32, b: u32| {
+                label[a as usize] == label[b as usize] && volume(a).overlaps(&volume(b))
+            };
+            bvh.update_front(&rel, &|x| dirty[x as usize], &mut front);
+        }
     }
 }
