@@ -11,7 +11,7 @@ use std::ops::ControlFlow;
 
 use rayon::prelude::*;
 
-use super::{triangle_volume, BroadInput, TaskPairs};
+use super::{corner_volumes, triangle_volume, triangle_volume_from, BroadInput, TaskPairs};
 use crate::bvh::{Bvh, BvhError, BvhWorkspace, Front, Leaf, LeafCheck, ParOptions, TestAll};
 use crate::kdop::Kdop;
 use crate::math::{lerp, DVec3};
@@ -51,6 +51,8 @@ pub(crate) struct PerStepBvh<const H: usize> {
     neighbours: Vec<[u32; 2]>,
     /// The node of each leaf triangle.
     leaf_node: Vec<u32>,
+    /// Scratch: the vertices' parts of this step's volumes ([`corner_volumes`]).
+    corner_volumes: Vec<(Kdop<H>, DVec3)>,
 }
 
 /// Past one triangle in this many with other corners, a tree over as many triangles is rebuilt
@@ -142,7 +144,8 @@ impl<const H: usize> PerStepBvh<H> {
         same_triangles: bool,
         ws: &mut BvhWorkspace,
     ) {
-        let volume = triangle_volume::<H>(step, t_max, sep);
+        corner_volumes(step, t_max, &mut self.corner_volumes);
+        let volume = triangle_volume_from(step, &self.corner_volumes, t_max, sep);
         self.swept = (t_max, sep);
         self.marked = false;
         let tris = step.triangles();
@@ -317,7 +320,9 @@ impl<const H: usize> PerStepBvh<H> {
         }
         let (sep, t_max) = (input.filter.sep, input.filter.t_max());
         self.swept = (t_max, sep);
-        self.bvh.refit(triangle_volume::<H>(input.step, t_max, sep));
+        corner_volumes(input.step, t_max, &mut self.corner_volumes);
+        let volume = triangle_volume_from(input.step, &self.corner_volumes, t_max, sep);
+        self.bvh.refit(volume);
     }
 
     /// Checks the hierarchy of the last step, `step`, against its leaves: the triangles'

@@ -35,6 +35,7 @@ use rayon::prelude::*;
 
 use crate::bvh::{BvhWorkspace, ParOptions};
 use crate::kdop::Kdop;
+use crate::math::DVec3;
 use crate::mesh::features::Features;
 use crate::mesh::filter::PairFilter;
 use crate::mesh::Step;
@@ -183,5 +184,36 @@ pub(crate) fn triangle_volume<'a, const H: usize>(
         let [a, b, c] = tris[t as usize].map(|i| i as usize);
         let (t0, t1) = ([x0[a], x0[b], x0[c]], [x1[a], x1[b], x1[c]]);
         Kdop::swept_triangle_until(&t0, &t1, t_max, inflation)
+    }
+}
+
+/// Each vertex's part of the triangles' swept volumes over `[0, t_max]`
+/// ([`Kdop::swept_point_until`]), into `out`: projected once per vertex rather than once per
+/// incident triangle.
+pub(crate) fn corner_volumes<const H: usize>(
+    step: &Step<'_>,
+    t_max: f64,
+    out: &mut Vec<(Kdop<H>, DVec3)>,
+) {
+    let ends = step.pos0().par_iter().zip(step.pos1());
+    out.clear();
+    out.par_extend(
+        ends.with_min_len(1 << 12)
+            .map(|(&a, &b)| Kdop::swept_point_until(a, b, t_max)),
+    );
+}
+
+/// [`triangle_volume`] from the vertices' [`corner_volumes`] over the same `t_max`: the same
+/// volumes.
+pub(crate) fn triangle_volume_from<'a, const H: usize>(
+    step: &'a Step<'_>,
+    corners: &'a [(Kdop<H>, DVec3)],
+    t_max: f64,
+    inflation: f64,
+) -> impl Fn(u32) -> Kdop<H> + Sync + Send + Copy + 'a {
+    let tris = step.triangles();
+    move |t| {
+        let c = tris[t as usize].map(|v| corners[v as usize]);
+        Kdop::swept_triangle_from(&c, t_max, inflation)
     }
 }
