@@ -61,6 +61,22 @@ const MAX_VALENCE: usize = 16;
 pub(crate) struct Stars {
     /// Per vertex: [`UNKNOWN`], [`CERTIFIED`] or [`REFUSED`].
     state: Vec<AtomicU8>,
+    /// Condition 1 of every star (it depends on the topology only), for [`Stars::certify_all`]
+    /// over the topology it was derived for.
+    links: Links,
+}
+
+/// Condition 1 of every star of one topology ([`link`]), kept while the topology is: the
+/// per-step certificate then checks conditions 2 and 3 only, on the step's positions.
+#[derive(Debug, Default)]
+struct Links {
+    /// Per vertex: whether its link passes.
+    passes: Vec<bool>,
+    /// Beside `topo.vertex_triangles`: the link edges' starts and `next` of each star.
+    start: Vec<u32>,
+    next: Vec<u8>,
+    /// Whether these are the links of the topology last given to [`Stars::certify_all`].
+    valid: bool,
 }
 
 impl Clone for Stars {
@@ -75,8 +91,10 @@ const CERTIFIED: u8 = 1;
 const REFUSED: u8 = 2;
 
 impl Stars {
-    /// Forgets every star, for a step with `n` vertices.
-    pub fn reset(&mut self, n: usize) {
+    /// Forgets every star, for a step with `n` vertices; without `same_topology` (the step's
+    /// triangles and vertex count are those of the last reset's), the links too.
+    pub fn reset(&mut self, n: usize, same_topology: bool) {
+        self.links.valid &= same_topology;
         self.state.truncate(n);
         for s in &mut self.state {
             *s.get_mut() = UNKNOWN;
@@ -86,15 +104,24 @@ impl Stars {
 
     /// Certifies every star of `step` (topology `topo`) at once, in parallel, after a
     /// [`Stars::reset`]: cheaper than one by one when nearly all will be asked about (the
-    /// per-step hierarchy and the oracle ask about every vertex of a mesh).
+    /// per-step hierarchy and the oracle ask about every vertex of a mesh). The links derived
+    /// for the topology serve while the resets say it is the same: only the conditions on the
+    /// positions are checked then.
     pub fn certify_all(&mut self, step: &Step, topo: &Topology) {
-        let view = self.view(step, topo);
-        let n = self.state.len() as u32;
-        // Every state is unknown after the reset: asking certifies.
-        let certify = |v: u32| {
-            view.certified(v);
+        let n = self.state.len();
+        if !(self.links.valid && self.links.passes.len() == n) {
+            self.links.derive(topo, step.triangles());
+        }
+        let (links, state) = (&self.links, &self.state);
+        let positions = (step.pos0(), step.pos1());
+        let offsets = &topo.vertex_offsets;
+        let certify = |v: usize| {
+            let (lo, hi) = (offsets[v] as usize, offsets[v + 1] as usize);
+            let c = links.passes[v]
+                && star_geometry(v as u32, &links.start[lo..hi], &links.next[lo..hi], positions);
+            state[v].store(if c { CERTIFIED } else { REFUSED }, Ordering::Relaxed);
         };
-        if n as usize >= PAR_LEN {
+        if n >= PAR_LEN {
             (0..n).into_par_iter().with_min_len(PAR_LEN / 4).for_each(certify);
         } else {
             (0..n).for_each(certify);
@@ -111,6 +138,26 @@ impl Stars {
             tris: step.triangles(),
             positions: (step.pos0(), step.pos1()),
         }
+    }
+}
+
+impl Links {
+    /// Condition 1 of every star of `topo` (triangles `tris`).
+    fn derive(&mut self, topo: &Topology, tris: &[[u32; 3]]) {
+        let n = topo.vertex_offsets.len().saturating_sub(1);
+        let total = topo.vertex_triangles.len();
+        self.start.clear();
+        self.start.resize(total, 0);
+        self.next.clear();
+        self.next.resize(total, 0);
+        self.passes.clear();
+        self.passes.resize(n, false);
+        for v in 0..n {
+            let (lo, hi) = (topo.vertex_offsets[v] as usize, topo.vertex_offsets[v + 1] as usize);
+            self.passes[v] = hi - lo <= MAX_VALENCE
+                && link(v as u32, topo, tris, &mut self.start[lo..hi], &mut self.next[lo..hi]);
+        }
+        self.valid = true;
     }
 }
 
@@ -146,15 +193,25 @@ fn star_certified(
     v: u32,
     topo: &Topology,
     tris: &[[u32; 3]],
-    (x0, x1): (&[DVec3], &[DVec3]),
+    positions: (&[DVec3], &[DVec3]),
 ) -> bool {
+    let mut start = [0u32; MAX_VALENCE];
+    let mut next = [0u8; MAX_VALENCE];
+    let k = topo.triangles_of(v).len();
+    link(v, topo, tris, &mut start, &mut next)
+        && star_geometry(v, &start[..k], &next[..k], positions)
+}
+
+/// Condition 1 of the certificate, which depends on the topology only: writes the link edges'
+/// starts (`start[i]`, of the `i`-th triangle around `v`) and where each edge's end starts one
+/// (`next[i]`), and says whether the link passes.
+fn link(v: u32, topo: &Topology, tris: &[[u32; 3]], start: &mut [u32], next: &mut [u8]) -> bool {
     let fan = topo.triangles_of(v);
     let k = fan.len();
     if !(3..=MAX_VALENCE).contains(&k) {
         return false;
     }
     // Link edges a_i -> b_i.
-    let mut start = [0u32; MAX_VALENCE];
     let mut end = [0u32; MAX_VALENCE];
     for (i, &t) in fan.iter().enumerate() {
         let tri = tris[t as usize];
@@ -165,21 +222,26 @@ fn star_certified(
     // 1. The link edges' starts are distinct, and every end is the start of exactly one edge
     // (`next[i]`, then also distinct): the directed link splits into cycles (the winding test
     // below admits only one).
-    let mut next = [0usize; MAX_VALENCE];
     let mut bad = 0;
     for i in 0..k {
         let mut found = 0;
+        next[i] = 0;
         for j in 0..k {
             let hit = end[i] == start[j];
             found += usize::from(hit);
-            next[i] = if hit { j } else { next[i] };
+            next[i] = if hit { j as u8 } else { next[i] };
             bad += usize::from(j > i && start[i] == start[j]);
         }
         bad += usize::from(found != 1);
     }
-    if bad != 0 {
-        return false;
-    }
+    bad == 0
+}
+
+/// Conditions 2 and 3 of the certificate for the star of `v` whose link passed condition 1
+/// ([`link`]), on the step's positions.
+fn star_geometry(v: u32, start: &[u32], next: &[u8], (x0, x1): (&[DVec3], &[DVec3])) -> bool {
+    let k = start.len();
+    let next = |i: usize| next[i] as usize;
     // The arms from v to the link vertices, at t=0 and t=1.
     let (c0, c1) = (x0[v as usize], x1[v as usize]);
     let mut arm0 = [DVec3::ZERO; MAX_VALENCE];
@@ -193,7 +255,7 @@ fn star_certified(
         size[i] = max_abs(arm0[i]).max(max_abs(arm1[i]));
     }
     for i in 0..k {
-        let j = next[i];
+        let j = next(i);
         direction += arm0[i].cross(arm0[j]) + arm1[i].cross(arm1[j]);
     }
     // 2. n(t)·V > 0 on [0, 1] for every triangle (v, a, b), n = (a - v) x (b - v): its control
@@ -201,7 +263,7 @@ fn star_certified(
     let v1 = direction.abs().element_sum();
     let scale = NORMAL_ERROR * UNIT_ROUNDOFF * v1;
     for i in 0..k {
-        let j = next[i];
+        let j = next(i);
         let (p0, p1, q0, q1) = (arm0[i], arm1[i], arm0[j], arm1[j]);
         let error = scale * size[i] * size[j] + UNDERFLOW_ERROR;
         let b0 = direction.dot(p0.cross(q0));
@@ -225,7 +287,7 @@ fn star_certified(
     let mut low = [0.0; MAX_VALENCE];
     let mut acute = 0;
     for i in 0..k {
-        let j = next[i];
+        let j = next(i);
         let (pa, pb) = (arm0[i], arm0[j]);
         low[i] = pa.dot(pb) * vv - along[i] * along[j] - unit * max_abs(pa) * max_abs(pb);
         acute += usize::from(low[i] > 0.0);
@@ -243,7 +305,7 @@ fn star_certified(
         let l = low[i];
         total += if l <= 0.0 {
             6
-        } else if 4.0 * l * l * (1.0 - 1e-9) >= length(i) * length(next[i]) * (1.0 + 1e-9) {
+        } else if 4.0 * l * l * (1.0 - 1e-9) >= length(i) * length(next(i)) * (1.0 + 1e-9) {
             2
         } else {
             3
@@ -269,14 +331,20 @@ mod tests {
         let step = Step::new(x0, x1, tris).expect("a valid step");
         let topo = Topology::new(tris, x0.len());
         let mut stars = Stars::default();
-        stars.reset(x0.len());
+        stars.reset(x0.len(), false);
         let view = stars.view(&step, &topo);
         let lazy: Vec<bool> = (0..x0.len() as u32).map(|v| view.certified(v)).collect();
-        stars.reset(x0.len());
+        stars.reset(x0.len(), false);
         stars.certify_all(&step, &topo);
         let view = stars.view(&step, &topo);
         let all: Vec<bool> = (0..x0.len() as u32).map(|v| view.certified(v)).collect();
         assert_eq!(lazy, all);
+        // Again, with the links kept from the call before.
+        stars.reset(x0.len(), true);
+        stars.certify_all(&step, &topo);
+        let view = stars.view(&step, &topo);
+        let kept: Vec<bool> = (0..x0.len() as u32).map(|v| view.certified(v)).collect();
+        assert_eq!(kept, all);
         all
     }
 

@@ -213,7 +213,7 @@ impl Ccd {
             // the tree. (With a first pass, the features' boxes are those of the first pass.)
             let prepare = || {
                 features.update(step, same, first_end.unwrap_or(1.0));
-                stars.reset(step.vertex_count());
+                stars.reset(step.vertex_count(), same);
                 if stars_on {
                     stars.certify_all(step, &features.topo);
                 }
@@ -231,7 +231,7 @@ impl Ccd {
             }
         } else {
             self.features.update(step, same, 1.0);
-            self.stars.reset(step.vertex_count());
+            self.stars.reset(step.vertex_count(), same);
             // The oracle asks about every star; the cluster method only about those of its
             // clusters' borders, one by one.
             if stars_on && method == Method::Brute {
