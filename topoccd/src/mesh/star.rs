@@ -301,8 +301,7 @@ fn star_geometry(v: u32, start: &[u32], next: &[u8], (x0, x1): (&[DVec3], &[DVec
         p.dot(p) * vv - along[i] * along[i] + unit * max_abs(p).powi(2)
     };
     let mut total = 0;
-    for i in 0..k {
-        let l = low[i];
+    for (i, &l) in low[..k].iter().enumerate() {
         total += if l <= 0.0 {
             6
         } else if 4.0 * l * l * (1.0 - 1e-9) >= length(i) * length(next(i)) * (1.0 + 1e-9) {
