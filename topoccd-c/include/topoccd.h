@@ -832,7 +832,7 @@ void topoccd_sequence_free(struct topoccd_sequence **sequence);
 //
 // Returns `TOPOCCD_STATUS_NULL_POINTER` for NULL and `TOPOCCD_STATUS_INVALID_ARGUMENT` for a
 // size this library does not know (smaller than the first version's, larger than its own, or
-// not a multiple of 8); then nothing is written.
+// not a multiple of the struct's alignment); then nothing is written.
 //
 // # Safety
 // `options` is NULL or valid for writes of `size` bytes.

@@ -13,6 +13,8 @@
 // Report is valid until the next query on its Ccd, the arrays of a Mesh or Frames until it is
 // destroyed, and the arrays given to a Step must outlive the query.
 //
+// topoccd.hpp includes topoccd.h, <array>, <cstdint>, <optional>, <string> and <vector>.
+//
 // Eigen: with <Eigen/Dense> on the include path (and TOPOCCD_NO_EIGEN not defined), Rows (so
 // Step and Ccd::query) also take Eigen matrices, maps and blocks with 3 columns in row-major
 // order, read in place: Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> for

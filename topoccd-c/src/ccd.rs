@@ -254,3 +254,55 @@ pub unsafe extern "C" fn topoccd_ccd_last_error(ccd: *const topoccd_ccd) -> *con
         }
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::ffi::CStr;
+
+    /// A panic inside a call (none is known: this one is made on purpose) is caught at the
+    /// boundary: the status is `Internal`, the message says what panicked, and the object is
+    /// reset and stays usable.
+    #[test]
+    fn a_panic_is_a_status_and_the_object_stays_usable() {
+        let mut ccd = topoccd_ccd_new();
+        let status = unsafe { with_state(ccd, |_| panic!("made on purpose")) };
+        assert_eq!(status, topoccd_status::Internal);
+        let message = unsafe { CStr::from_ptr(topoccd_ccd_last_error(ccd)) };
+        let message = message.to_str().unwrap();
+        assert!(message.contains("internal error in topoccd"), "{message}");
+        assert!(message.contains("made on purpose"), "{message}");
+
+        let x = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let t = [[0u32, 1, 2]];
+        let step = topoccd_step {
+            x0: x.as_ptr().cast(),
+            x0_count: 3,
+            x1: x.as_ptr().cast(),
+            x1_count: 3,
+            triangles: t.as_ptr().cast(),
+            triangle_count: 1,
+            parents: ptr::null(),
+            parent_count: 0,
+            groups: ptr::null(),
+            group_count: 0,
+        };
+        let status = unsafe { topoccd_ccd_query(ccd, &step, ptr::null()) };
+        assert_eq!(status, topoccd_status::Ok);
+        unsafe { topoccd_ccd_free(&mut ccd) };
+        assert!(ccd.is_null());
+    }
+
+    /// The same for a function that reports through a `topoccd_error`.
+    #[test]
+    fn a_panic_in_a_reader_is_an_error_object() {
+        let mut error: *mut crate::topoccd_error = ptr::null_mut();
+        let result = guard(|| -> Result<(), Failure> { panic!("in a reader") });
+        let status = unsafe { crate::error::deliver(result, &mut error) };
+        assert_eq!(status, topoccd_status::Internal);
+        let message = unsafe { CStr::from_ptr(crate::topoccd_error_message(error)) };
+        assert!(message.to_str().unwrap().contains("in a reader"));
+        unsafe { crate::topoccd_error_free(&mut error) };
+        assert!(error.is_null());
+    }
+}

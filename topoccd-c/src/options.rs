@@ -107,8 +107,9 @@ pub struct topoccd_query_options {
     pub _padding: [u8; 6],
 }
 
-/// The size of the first version of the struct: the smallest `size` accepted.
-const FIRST_SIZE: usize = 64;
+/// The size of the first version of the struct (it ends with `_padding`): the smallest `size`
+/// accepted.
+const FIRST_SIZE: usize = offset_of!(topoccd_query_options, _padding) + 6;
 
 /// The `bool` fields, whose bytes are checked before the struct is read as Rust values.
 const BOOL_FIELDS: [usize; 2] = [
@@ -116,13 +117,14 @@ const BOOL_FIELDS: [usize; 2] = [
     offset_of!(topoccd_query_options, crack_filter),
 ];
 
-// Appending a field: add it after `_padding` (or in its place, keeping the size a multiple of
-// 8), give it its default below, list it in `BOOL_FIELDS` if it is a `bool`, and update this
-// check to the new last field.
-const _: () = assert!(
-    size_of::<topoccd_query_options>() == offset_of!(topoccd_query_options, _padding) + 6
-        && FIRST_SIZE <= size_of::<topoccd_query_options>()
-);
+// Appending a field (the only change allowed: callers built against an older header pass a
+// smaller struct): add it after the last field, give it its default in `Default` below, list
+// it in `BOOL_FIELDS` if it is a `bool`, and end the struct with explicit padding, never
+// implicit (a field appended later must start at or after every older `size`, or an older
+// caller's padding would be read as its value). This check names the last field: move it to
+// the new one (`size_of == offset_of!(.., new_field) + size of its type`).
+const _: () =
+    assert!(size_of::<topoccd_query_options>() == offset_of!(topoccd_query_options, _padding) + 6);
 
 impl Default for topoccd_query_options {
     fn default() -> Self {
@@ -164,7 +166,7 @@ pub(crate) fn method_code(method: Method) -> u32 {
 ///
 /// Returns `TOPOCCD_STATUS_NULL_POINTER` for NULL and `TOPOCCD_STATUS_INVALID_ARGUMENT` for a
 /// size this library does not know (smaller than the first version's, larger than its own, or
-/// not a multiple of 8); then nothing is written.
+/// not a multiple of the struct's alignment); then nothing is written.
 ///
 /// # Safety
 /// `options` is NULL or valid for writes of `size` bytes.
@@ -195,7 +197,8 @@ pub unsafe extern "C" fn topoccd_query_options_init(
 
 fn check_size(size: usize) -> Result<(), Failure> {
     let own = size_of::<topoccd_query_options>();
-    if size < FIRST_SIZE || size > own || !size.is_multiple_of(8) {
+    let align = std::mem::align_of::<topoccd_query_options>();
+    if size < FIRST_SIZE || size > own || !size.is_multiple_of(align) {
         return Err(Failure::new(
             topoccd_status::InvalidArgument,
             format!(
@@ -313,10 +316,11 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_first_version_is_this_one() {
-        // The struct has not grown yet: the first version's size is its size. When a field is
-        // appended, FIRST_SIZE stays 64 and this test moves to the new size.
-        assert_eq!(size_of::<topoccd_query_options>(), FIRST_SIZE);
+    fn the_first_version_is_64_bytes_on_64_bit_targets() {
+        // The size C callers built against the first header pass (x86_64, aarch64).
+        if size_of::<usize>() == 8 {
+            assert_eq!(FIRST_SIZE, 64);
+        }
     }
 
     #[test]
