@@ -23,6 +23,8 @@ fi
 echo "== Rust tests (release)"
 cargo test --workspace --release
 
+scripts/test-c.sh  # the C API and the C++ wrapper: examples, tests under ASan, doc blocks
+
 echo "== Python package: a fresh virtual environment, then its pytest suite"
 # The suite compares with the CLI (target/release/topoccd) and reads the shared data; with
 # CI=true it fails rather than skips where either is absent.

@@ -1,0 +1,610 @@
+// topoccd: continuous collision detection for deforming, topology-changing triangle meshes.
+// The header-only C++17 wrapper of the C API (topoccd.h, libtopoccd_c): RAII objects,
+// exceptions carrying the library's message, views of the results without copies, and, when
+// Eigen is found, overloads taking its row-major n x 3 matrices.
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//
+//     topoccd::Ccd ccd;                                   // keep it across steps
+//     auto report = ccd.query(topoccd::Step(x0, x1, triangles).parents(parents));
+//     for (const auto& c : report.vf()) use(c.vertex, c.face, c.toi);
+//
+// Every failure throws topoccd::Error (a std::runtime_error) whose what() is the library's
+// message and whose status() is the C status code. Views (Report, Span, Rows) borrow: a
+// Report is valid until the next query on its Ccd, the arrays of a Mesh or Frames until it is
+// destroyed, and the arrays given to a Step must outlive the query.
+//
+// topoccd.hpp includes topoccd.h, <array>, <cstdint>, <optional>, <string> and <vector>.
+//
+// Eigen: with <Eigen/Dense> on the include path (and TOPOCCD_NO_EIGEN not defined), Rows (so
+// Step and Ccd::query) also take Eigen matrices, maps and blocks with 3 columns in row-major
+// order, read in place: Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> for
+// positions, Eigen::Matrix<int or uint32_t, Eigen::Dynamic, 3, Eigen::RowMajor> for
+// triangles. A column-major matrix (Eigen's default, libigl's V and F) is refused at compile
+// time rather than copied: convert it once with
+// `Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> V_rows = V;`.
+
+#ifndef TOPOCCD_HPP
+#define TOPOCCD_HPP
+
+#if !defined(__cplusplus) || (__cplusplus < 201703L && (!defined(_MSVC_LANG) || _MSVC_LANG < 201703L))
+#error "topoccd.hpp needs C++17 or later (use topoccd.h from C)"
+#endif
+
+#include "topoccd.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#if !defined(TOPOCCD_NO_EIGEN) && defined(__has_include)
+#if __has_include(<Eigen/Dense>)
+#include <Eigen/Dense>
+#define TOPOCCD_HAS_EIGEN 1
+#endif
+#endif
+
+#if defined(__has_include)
+#if __has_include(<span>) && __cplusplus >= 202002L
+#include <span>
+#endif
+#endif
+
+namespace topoccd {
+
+/// A failed call: the library's message (what()) and status code.
+class Error : public std::runtime_error {
+ public:
+  Error(topoccd_status status, const std::string& message)
+      : std::runtime_error(message), status_(status) {}
+
+  /// The C status code (TOPOCCD_STATUS_...).
+  topoccd_status status() const noexcept { return status_; }
+
+  /// The status code's name, e.g. "TOPOCCD_STATUS_INVALID_STEP".
+  const char* status_name() const noexcept { return topoccd_status_name(status_); }
+
+ private:
+  topoccd_status status_;
+};
+
+/// A view of `size()` contiguous elements owned by someone else (std::span's subset that
+/// C++17 lacks); converts to std::span in C++20.
+template <class T>
+class Span {
+ public:
+  using element_type = T;
+  using value_type = std::remove_cv_t<T>;
+  using iterator = T*;
+
+  constexpr Span() noexcept = default;
+  constexpr Span(T* data, std::size_t size) noexcept : data_(data), size_(size) {}
+
+  constexpr T* data() const noexcept { return data_; }
+  constexpr std::size_t size() const noexcept { return size_; }
+  constexpr bool empty() const noexcept { return size_ == 0; }
+  constexpr T& operator[](std::size_t i) const noexcept { return data_[i]; }
+  constexpr T* begin() const noexcept { return data_; }
+  constexpr T* end() const noexcept { return data_ + size_; }
+  constexpr T& front() const noexcept { return data_[0]; }
+  constexpr T& back() const noexcept { return data_[size_ - 1]; }
+
+  /// Element `i`, checked: throws topoccd::Error (TOPOCCD_STATUS_OUT_OF_RANGE) past the end.
+  T& at(std::size_t i) const {
+    if (i >= size_) {
+      throw Error(TOPOCCD_STATUS_OUT_OF_RANGE, "index " + std::to_string(i) +
+                                                   " is out of range: the view has " +
+                                                   std::to_string(size_) + " elements");
+    }
+    return data_[i];
+  }
+
+#if defined(__cpp_lib_span)
+  constexpr operator std::span<T>() const noexcept { return {data_, size_}; }
+#endif
+
+ private:
+  T* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
+/// The broad phase of a query (every method reports the same pairs).
+enum class Method : std::uint32_t {
+  Auto = TOPOCCD_METHOD_AUTO,
+  Bvh = TOPOCCD_METHOD_BVH,
+  Cluster = TOPOCCD_METHOD_CLUSTER,
+  Brute = TOPOCCD_METHOD_BRUTE,
+};
+
+/// What a query reports: every contact, or the earliest ones (for a line search).
+enum class Mode : std::uint32_t {
+  All = TOPOCCD_MODE_ALL,
+  Earliest = TOPOCCD_MODE_EARLIEST,
+};
+
+/// How the cluster method grows its leaf clusters.
+enum class Growth : std::uint32_t {
+  Certificate = TOPOCCD_GROWTH_CERTIFICATE,
+  Paper = TOPOCCD_GROWTH_PAPER,
+};
+
+namespace detail {
+
+/// Throws the message of a failed call that handed back a topoccd_error, and frees it. The
+/// error is taken by reference: it is read after the call that sets it has run.
+inline void check(topoccd_status status, topoccd_error*& error) {
+  if (status == TOPOCCD_STATUS_OK) {
+    topoccd_error_free(&error);
+    return;
+  }
+  std::string message = error != nullptr ? topoccd_error_message(error) : "";
+  topoccd_error_free(&error);
+  if (message.empty()) {
+    message = topoccd_status_name(status);
+  }
+  throw Error(status, message);
+}
+
+/// An object of the C API, freed by `Free` when this goes out of scope; movable, not copyable.
+template <class T, void (*Free)(T**)>
+class Owned {
+ public:
+  Owned() noexcept = default;
+  explicit Owned(T* p) noexcept : p_(p) {}
+  ~Owned() { Free(&p_); }
+  Owned(Owned&& other) noexcept : p_(std::exchange(other.p_, nullptr)) {}
+  Owned& operator=(Owned&& other) noexcept {
+    if (this != &other) {
+      Free(&p_);
+      p_ = std::exchange(other.p_, nullptr);
+    }
+    return *this;
+  }
+  Owned(const Owned&) = delete;
+  Owned& operator=(const Owned&) = delete;
+
+  T* get() const noexcept { return p_; }
+
+ private:
+  T* p_ = nullptr;
+};
+
+}  // namespace detail
+
+/// The options of a query and of the per-pair tests, with the library's defaults; set what
+/// you need with the chained setters:
+/// `topoccd::QueryOptions().mode(topoccd::Mode::Earliest).geometry(true)`.
+/// Ranges are checked by the library at the query (topoccd::Error naming the option).
+class QueryOptions {
+ public:
+  QueryOptions() {
+    topoccd_status status = topoccd_query_options_default(&c_);
+    if (status != TOPOCCD_STATUS_OK) {
+      throw Error(status, "topoccd_query_options_default failed: the library is older than "
+                          "topoccd.hpp");
+    }
+  }
+
+  QueryOptions& method(Method m) noexcept { return set(c_.method, static_cast<std::uint32_t>(m)); }
+  QueryOptions& mode(Mode m) noexcept { return set(c_.mode, static_cast<std::uint32_t>(m)); }
+  /// Resolution of the elementary tests, in time units, in (0, 1). Default 1e-6.
+  QueryOptions& tolerance(double t) noexcept { return set(c_.tolerance, t); }
+  /// At least 1. Default 1,000,000.
+  QueryOptions& max_iterations(std::uint32_t n) noexcept { return set(c_.max_iterations, n); }
+  /// 6, 14, 18 or 26. Default 18.
+  QueryOptions& k(std::uint32_t k) noexcept { return set(c_.k, k); }
+  /// Distance (coordinate units, >= 0) at or below which features count as touching.
+  QueryOptions& min_separation(double d) noexcept { return set(c_.min_separation, d); }
+  /// End of the time interval searched, in (0, 1]. Default 1.
+  QueryOptions& t_max(double t) noexcept { return set(c_.t_max, t); }
+  QueryOptions& growth(Growth g) noexcept { return set(c_.growth, static_cast<std::uint32_t>(g)); }
+  /// 0 for one thread per core (the default), else a pool of n kept by the Ccd.
+  QueryOptions& threads(std::uint32_t n) noexcept { return set(c_.threads, n); }
+  /// Contacts with their geometry (barycentric coordinates, point, normal, distance).
+  QueryOptions& geometry(bool on) noexcept { return set(c_.geometry, on); }
+  /// Keep the two sides of a fresh crack apart (default true).
+  QueryOptions& crack_filter(bool on) noexcept { return set(c_.crack_filter, on); }
+
+  Method method() const noexcept { return static_cast<Method>(c_.method); }
+  Mode mode() const noexcept { return static_cast<Mode>(c_.mode); }
+  double tolerance() const noexcept { return c_.tolerance; }
+  std::uint32_t max_iterations() const noexcept { return c_.max_iterations; }
+  std::uint32_t k() const noexcept { return c_.k; }
+  double min_separation() const noexcept { return c_.min_separation; }
+  double t_max() const noexcept { return c_.t_max; }
+  Growth growth() const noexcept { return static_cast<Growth>(c_.growth); }
+  std::uint32_t threads() const noexcept { return c_.threads; }
+  bool geometry() const noexcept { return c_.geometry; }
+  bool crack_filter() const noexcept { return c_.crack_filter; }
+
+  /// The C struct, for the C API or for a field this wrapper does not name.
+  const topoccd_query_options& c() const noexcept { return c_; }
+  topoccd_query_options& c() noexcept { return c_; }
+
+ private:
+  template <class F, class V>
+  QueryOptions& set(F& field, V value) noexcept {
+    field = static_cast<F>(value);
+    return *this;
+  }
+
+  topoccd_query_options c_{};
+};
+
+/// `rows()` rows of `N` values of `T`, borrowed in place (never copied): from a pointer and a
+/// row count, a std::vector<std::array<T, N>>, a C array T[M][N], a flat std::vector<T>, or
+/// (with Eigen) a row-major matrix with N columns.
+template <class T, std::size_t N>
+class Rows {
+  static_assert(sizeof(std::array<T, N>) == N * sizeof(T), "std::array<T, N> is padded");
+
+ public:
+  /// No rows.
+  Rows() noexcept = default;
+  /// `rows` rows at `data` (`rows * N` values).
+  Rows(const T* data, std::size_t rows) noexcept : data_(data), rows_(rows) {}
+  Rows(const std::vector<std::array<T, N>>& v) noexcept  // NOLINT: implicit on purpose
+      : data_(v.empty() ? nullptr : v.front().data()), rows_(v.size()) {}
+  template <std::size_t M>
+  Rows(const std::array<std::array<T, N>, M>& a) noexcept  // NOLINT
+      : data_(M == 0 ? nullptr : a[0].data()), rows_(M) {}
+  template <std::size_t M>
+  Rows(const T (&a)[M][N]) noexcept : data_(&a[0][0]), rows_(M) {}  // NOLINT
+  /// A flat array `x0 y0 z0 x1 ...`; its size must be a multiple of N.
+  Rows(const std::vector<T>& flat)  // NOLINT
+      : data_(flat.empty() ? nullptr : flat.data()), rows_(flat.size() / N) {
+    if (flat.size() % N != 0) {
+      throw Error(TOPOCCD_STATUS_INVALID_ARGUMENT,
+                  "a flat array of " + std::to_string(flat.size()) +
+                      " values is not rows of " + std::to_string(N));
+    }
+  }
+
+#if defined(TOPOCCD_HAS_EIGEN)
+  /// An Eigen matrix, map or block of N columns in row-major order, read in place.
+  template <class Derived>
+  Rows(const Eigen::DenseBase<Derived>& m) {  // NOLINT
+    using Scalar = typename Derived::Scalar;
+    static_assert(std::is_same<Scalar, T>::value ||
+                      (std::is_integral<T>::value && std::is_integral<Scalar>::value &&
+                       sizeof(Scalar) == sizeof(T)),
+                  "topoccd: positions are double, indices 32-bit integers (int or uint32_t)");
+    static_assert(Derived::ColsAtCompileTime == static_cast<int>(N) ||
+                      Derived::ColsAtCompileTime == Eigen::Dynamic,
+                  "topoccd: the matrix must have 3 columns (2 for parents)");
+    static_assert(bool(Derived::IsRowMajor),
+                  "topoccd reads matrices in row-major order, in place: use "
+                  "Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> (convert a "
+                  "column-major matrix once: RowMatrix V_rows = V;)");
+    static_assert(bool(Derived::Flags & Eigen::DirectAccessBit),
+                  "topoccd: evaluate the expression into a matrix first");
+    const Derived& d = m.derived();
+    if (d.cols() != static_cast<Eigen::Index>(N)) {
+      throw Error(TOPOCCD_STATUS_INVALID_ARGUMENT,
+                  "an Eigen matrix of " + std::to_string(d.cols()) + " columns, not " +
+                      std::to_string(N));
+    }
+    if (d.rows() > 1 && (d.outerStride() != static_cast<Eigen::Index>(N) || d.innerStride() != 1)) {
+      throw Error(TOPOCCD_STATUS_INVALID_ARGUMENT,
+                  "an Eigen block whose rows are not contiguous: copy it into a matrix first");
+    }
+    data_ = d.rows() == 0 ? nullptr : reinterpret_cast<const T*>(d.data());
+    rows_ = static_cast<std::size_t>(d.rows());
+  }
+#endif
+
+  const T* data() const noexcept { return data_; }
+  std::size_t rows() const noexcept { return rows_; }
+  bool empty() const noexcept { return rows_ == 0; }
+  /// Row `i`: its N values.
+  const T* operator[](std::size_t i) const noexcept { return data_ + i * N; }
+
+ private:
+  const T* data_ = nullptr;
+  std::size_t rows_ = 0;
+};
+
+/// Positions: rows of x y z.
+using Points = Rows<double, 3>;
+/// Triangles: rows of three vertex indices.
+using Indices = Rows<std::uint32_t, 3>;
+/// Parents of a topology change: rows [child, parent].
+using ParentRows = Rows<std::uint32_t, 2>;
+/// One group id per vertex.
+using GroupIds = Rows<std::uint32_t, 1>;
+
+/// The input of one step, borrowed (see topoccd_step): positions at t=0 and t=1, triangles,
+/// and optionally the parents of a topology change and group ids.
+class Step {
+ public:
+  Step(Points x0, Points x1, Indices triangles) noexcept {
+    c_.x0 = x0.data();
+    c_.x0_count = x0.rows();
+    c_.x1 = x1.data();
+    c_.x1_count = x1.rows();
+    c_.triangles = triangles.data();
+    c_.triangle_count = triangles.rows();
+  }
+
+  /// A step as the C API describes it (e.g. from topoccd_frames_step).
+  explicit Step(const topoccd_step& step) noexcept : c_(step) {}
+
+  /// A topology change: x0 may have fewer vertices than x1 (the new ones start at their
+  /// parent); each row [child, parent] says child was split from parent. Given even when empty.
+  Step& parents(ParentRows rows) noexcept {
+    c_.parents = rows.empty() ? kNoRows : rows.data();
+    c_.parent_count = rows.rows();
+    return *this;
+  }
+
+  /// One group id per vertex: features whose vertices all share one group with the other
+  /// feature's are not tested (one id per object turns off its self-collision).
+  Step& groups(GroupIds ids) noexcept {
+    c_.groups = ids.empty() ? kNoRows : ids.data();
+    c_.group_count = ids.rows();
+    return *this;
+  }
+
+  /// The group ids as a std::vector<std::uint32_t>.
+  Step& groups(const std::vector<std::uint32_t>& ids) noexcept {
+    return groups(GroupIds(ids.empty() ? nullptr : ids.data(), ids.size()));
+  }
+
+  const topoccd_step& c() const noexcept { return c_; }
+
+ private:
+  // A non-NULL pointer for an empty array that is given (a topology change without rows).
+  static constexpr std::uint32_t kNoRows[2] = {0, 0};
+  topoccd_step c_{};
+};
+
+/// The report of a query, read in place from its Ccd: valid until the Ccd's next query or
+/// destruction. Contacts are the C structs topoccd_vf_contact (vertex, face, toi, certainty,
+/// geometry) and topoccd_ee_contact (a[2], b[2], toi, ...).
+class Report {
+ public:
+  explicit Report(const topoccd_report* r) noexcept : r_(r) {}
+
+  /// Vertex-face contacts, sorted by (vertex, face).
+  Span<const topoccd_vf_contact> vf() const noexcept { return {r_->vf, r_->vf_count}; }
+  /// Edge-edge contacts, sorted by (a, b).
+  Span<const topoccd_ee_contact> ee() const noexcept { return {r_->ee, r_->ee_count}; }
+  std::size_t contact_count() const noexcept { return r_->vf_count + r_->ee_count; }
+  /// The earliest time of impact, or none when nothing collides.
+  std::optional<double> earliest_toi() const noexcept {
+    if (r_->earliest_kind == TOPOCCD_CONTACT_KIND_NONE) {
+      return std::nullopt;
+    }
+    return r_->earliest_toi;
+  }
+  /// The earliest contact if it is a vertex-face one, else nullptr.
+  const topoccd_vf_contact* earliest_vf() const noexcept {
+    return r_->earliest_kind == TOPOCCD_CONTACT_KIND_VF ? r_->vf + r_->earliest_index : nullptr;
+  }
+  /// The earliest contact if it is an edge-edge one, else nullptr.
+  const topoccd_ee_contact* earliest_ee() const noexcept {
+    return r_->earliest_kind == TOPOCCD_CONTACT_KIND_EE ? r_->ee + r_->earliest_index : nullptr;
+  }
+  /// Contacts where the search gave up (their times are only lower bounds).
+  std::size_t unresolved() const noexcept { return r_->unresolved; }
+  /// Work counters and seconds per phase.
+  const topoccd_stats& stats() const noexcept { return r_->stats; }
+  /// The method that ran (what Method::Auto chose).
+  Method method() const noexcept { return static_cast<Method>(r_->stats.method); }
+  const topoccd_report& c() const noexcept { return *r_; }
+
+ private:
+  const topoccd_report* r_;
+};
+
+/// A reusable query: keep one per simulation (its buffers are reused) and per thread.
+class Ccd {
+ public:
+  Ccd() : p_(topoccd_ccd_new()) {
+    if (p_.get() == nullptr) {
+      throw Error(TOPOCCD_STATUS_INTERNAL, "topoccd_ccd_new failed");
+    }
+  }
+
+  /// Every contact of one step (or the earliest, with Mode::Earliest).
+  Report query(const Step& step, const QueryOptions& options = QueryOptions()) {
+    check(topoccd_ccd_query(p_.get(), &step.c(), &options.c()));
+    return report();
+  }
+
+  /// A step without topology change.
+  Report query(Points x0, Points x1, Indices triangles,
+               const QueryOptions& options = QueryOptions()) {
+    return query(Step(x0, x1, triangles), options);
+  }
+
+  /// The report of the last query (empty before the first and after a failed one).
+  Report report() const {
+    const topoccd_report* r = nullptr;
+    check(topoccd_ccd_report(p_.get(), &r));
+    return Report(r);
+  }
+
+  /// The C object (NULL after a move).
+  topoccd_ccd* get() const noexcept { return p_.get(); }
+
+ private:
+  void check(topoccd_status status) const {
+    if (status != TOPOCCD_STATUS_OK) {
+      throw Error(status, topoccd_ccd_last_error(p_.get()));
+    }
+  }
+
+  detail::Owned<topoccd_ccd, topoccd_ccd_free> p_;
+};
+
+/// The answer of a per-pair test.
+struct Outcome {
+  /// Whether the features (may) touch during [0, t_max].
+  bool contact = false;
+  /// With a contact, its time of impact (never later than the first contact); NaN without.
+  double toi = 0.0;
+  topoccd_certainty certainty = TOPOCCD_CERTAINTY_RESOLVED;
+
+  explicit operator bool() const noexcept { return contact; }
+};
+
+/// The per-pair test of a vertex against a triangle (see topoccd_pair_vertex_face).
+inline Outcome vertex_face(const topoccd_vertex_face& query,
+                           const QueryOptions& options = QueryOptions()) {
+  topoccd_outcome o{};
+  topoccd_error* error = nullptr;
+  detail::check(topoccd_pair_vertex_face(&query, &options.c(), &o, &error), error);
+  return Outcome{o.contact, o.toi, o.certainty};
+}
+
+/// The per-pair test of two edges (see topoccd_pair_edge_edge).
+inline Outcome edge_edge(const topoccd_edge_edge& query,
+                         const QueryOptions& options = QueryOptions()) {
+  topoccd_outcome o{};
+  topoccd_error* error = nullptr;
+  detail::check(topoccd_pair_edge_edge(&query, &options.c(), &o, &error), error);
+  return Outcome{o.contact, o.toi, o.certainty};
+}
+
+/// A triangle mesh read from a PLY, OBJ or STL file; its arrays live as long as it does.
+class Mesh {
+ public:
+  /// Reads a mesh (the format by the extension); throws topoccd::Error naming the file and
+  /// the line or element.
+  static Mesh read(const std::string& path) {
+    topoccd_mesh* m = nullptr;
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_mesh_read(path.c_str(), &m, &error), error);
+    return Mesh(m);
+  }
+
+  Points positions() const noexcept { return {view().positions, view().vertex_count}; }
+  Indices triangles() const noexcept { return {view().triangles, view().triangle_count}; }
+  /// nullptr when triangle t is face t of the file; else rows [face, sub] per triangle.
+  const std::uint32_t* face_origin() const noexcept { return view().face_origin; }
+
+  /// What the reader did beyond reading (polygons split, an STL welded), one sentence each.
+  std::vector<std::string> notes() const {
+    std::size_t n = 0;
+    topoccd_mesh_note_count(p_.get(), &n);
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < n; i++) {
+      const char* note = nullptr;
+      if (topoccd_mesh_note(p_.get(), i, &note) == TOPOCCD_STATUS_OK) {
+        out.emplace_back(note);
+      }
+    }
+    return out;
+  }
+
+  topoccd_mesh* get() const noexcept { return p_.get(); }
+
+ private:
+  explicit Mesh(topoccd_mesh* m) noexcept : p_(m) { topoccd_mesh_data(m, &view_); }
+  const topoccd_mesh_view& view() const noexcept { return view_; }
+
+  detail::Owned<topoccd_mesh, topoccd_mesh_free> p_;
+  topoccd_mesh_view view_{};
+};
+
+/// One step read from two frame files (and a parents file across a topology change); its
+/// step() borrows its arrays, valid as long as it lives.
+class Frames {
+ public:
+  /// Reads positions at t=0 from t0, positions at t=1 and the triangles from t1.
+  static Frames read(const std::string& t0, const std::string& t1) {
+    return read_paths(t0.c_str(), t1.c_str(), nullptr);
+  }
+
+  /// The same, with the parents file of a topology change (t1 may have more vertices).
+  static Frames read(const std::string& t0, const std::string& t1, const std::string& parents) {
+    return read_paths(t0.c_str(), t1.c_str(), parents.c_str());
+  }
+
+  /// The step, ready for Ccd::query.
+  Step step() const noexcept { return Step(step_); }
+  /// nullptr when triangle t is face t of t1's file; else rows [face, sub] per triangle.
+  const std::uint32_t* face_origin() const noexcept {
+    const std::uint32_t* rows = nullptr;
+    topoccd_frames_face_origin(p_.get(), &rows);
+    return rows;
+  }
+
+  /// What the readers did to either file, one sentence each, starting with the file.
+  std::vector<std::string> notes() const {
+    std::size_t n = 0;
+    topoccd_frames_note_count(p_.get(), &n);
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < n; i++) {
+      const char* note = nullptr;
+      if (topoccd_frames_note(p_.get(), i, &note) == TOPOCCD_STATUS_OK) {
+        out.emplace_back(note);
+      }
+    }
+    return out;
+  }
+
+  topoccd_frames* get() const noexcept { return p_.get(); }
+
+ private:
+  friend class Sequence;
+
+  explicit Frames(topoccd_frames* f) noexcept : p_(f) { topoccd_frames_step(f, &step_); }
+
+  static Frames read_paths(const char* t0, const char* t1, const char* parents) {
+    topoccd_frames* f = nullptr;
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_frames_read(t0, t1, parents, &f, &error), error);
+    return Frames(f);
+  }
+
+  detail::Owned<topoccd_frames, topoccd_frames_free> p_;
+  topoccd_step step_{};
+};
+
+/// A frame sequence on disk (0000.ply, 0001.ply, ... with optional .parents files).
+class Sequence {
+ public:
+  /// Lists the frames of a folder and checks their numbering.
+  static Sequence open(const std::string& dir) {
+    topoccd_sequence* s = nullptr;
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_sequence_open(dir.c_str(), &s, &error), error);
+    return Sequence(s);
+  }
+
+  /// The number of steps (frames less one).
+  std::size_t steps() const noexcept {
+    std::size_t n = 0;
+    topoccd_sequence_step_count(p_.get(), &n);
+    return n;
+  }
+
+  /// Reads step k (frames k and k + 1, and frame k + 1's parents file if any).
+  Frames load(std::size_t k) const {
+    topoccd_frames* f = nullptr;
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_sequence_load(p_.get(), k, &f, &error), error);
+    return Frames(f);
+  }
+
+  topoccd_sequence* get() const noexcept { return p_.get(); }
+
+ private:
+  explicit Sequence(topoccd_sequence* s) noexcept : p_(s) {}
+
+  detail::Owned<topoccd_sequence, topoccd_sequence_free> p_;
+};
+
+/// The library's version, "MAJOR.MINOR.PATCH".
+inline std::string version() { return topoccd_version(); }
+
+}  // namespace topoccd
+
+#endif  // TOPOCCD_HPP

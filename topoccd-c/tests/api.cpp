@@ -1,0 +1,224 @@
+// Tests of the C++ wrapper, run under AddressSanitizer by scripts/test-c.sh, with Eigen (and
+// once without, -DTOPOCCD_NO_EIGEN): RAII and moves, exceptions carrying the library's
+// message, views that point into the library's arrays, every input layout, the Eigen
+// overloads and their refusals. The last line says how many checks passed and failed.
+#include <topoccd.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+static int passed, failed;
+
+#define CHECK(cond, what)                                                               \
+  do {                                                                                  \
+    if (cond) {                                                                         \
+      passed++;                                                                         \
+    } else {                                                                            \
+      failed++;                                                                         \
+      std::fprintf(stderr, "FAILED %s:%d: %s: %s\n", __FILE__, __LINE__, #cond,         \
+                   std::string(what).c_str());                                          \
+    }                                                                                   \
+  } while (0)
+
+// Runs `body`, which must throw topoccd::Error with `status` and a message containing `part`.
+template <class F>
+static void expect_error(F body, topoccd_status status, const std::string& part,
+                         const std::string& what) {
+  try {
+    body();
+    CHECK(false, what + ": no exception");
+  } catch (const topoccd::Error& e) {
+    CHECK(e.status() == status, what + ": " + e.status_name());
+    CHECK(std::string(e.what()).find(part) != std::string::npos,
+          what + ": '" + e.what() + "' lacks '" + part + "'");
+  }
+}
+
+// A triangle (3 4 5) falls through a fixed one (0 1 2): vertex 3 at t=0.5, 4 and 5 at 0.75.
+static const std::vector<std::array<double, 3>> X0 = {
+    {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.2, 0.2, 1}, {0.3, 0.2, 1.5}, {0.2, 0.3, 1.5}};
+static const std::vector<std::array<double, 3>> X1 = {
+    {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.2, 0.2, -1}, {0.3, 0.2, -0.5}, {0.2, 0.3, -0.5}};
+static const std::vector<std::array<std::uint32_t, 3>> TRIS = {{0, 1, 2}, {3, 4, 5}};
+
+static bool is_fall(const topoccd::Report& r) {
+  if (r.vf().size() != 3 || !r.ee().empty()) return false;
+  const std::uint32_t vertex[3] = {3, 4, 5};
+  const double toi[3] = {0.5, 0.75, 0.75};
+  for (std::size_t i = 0; i < 3; i++) {
+    const topoccd_vf_contact& c = r.vf()[i];
+    if (c.vertex != vertex[i] || c.face != 0 || !(c.toi <= toi[i] && c.toi > toi[i] - 1e-6))
+      return false;
+  }
+  return r.earliest_vf() == &r.vf()[0] && r.earliest_ee() == nullptr && r.unresolved() == 0;
+}
+
+static void test_layouts() {
+  topoccd::Ccd ccd;
+  topoccd::Report r = ccd.query(X0, X1, TRIS);
+  CHECK(is_fall(r), "vectors of arrays");
+  CHECK(r.vf().data() == r.c().vf, "the view points into the library's array, no copy");
+  CHECK(r.method() == topoccd::Method::Bvh, "auto ran bvh");
+  CHECK(r.earliest_toi() && *r.earliest_toi() == r.vf()[0].toi, "earliest toi");
+
+  const double c0[6][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.2, 0.2, 1}, {0.3, 0.2, 1.5}, {0.2, 0.3, 1.5}};
+  const double c1[6][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.2, 0.2, -1}, {0.3, 0.2, -0.5}, {0.2, 0.3, -0.5}};
+  const std::uint32_t ct[2][3] = {{0, 1, 2}, {3, 4, 5}};
+  CHECK(is_fall(ccd.query(c0, c1, ct)), "C arrays");
+
+  std::vector<double> f0(&X0[0][0], &X0[0][0] + 18), f1(&X1[0][0], &X1[0][0] + 18);
+  std::vector<std::uint32_t> ft = {0, 1, 2, 3, 4, 5};
+  CHECK(is_fall(ccd.query(f0, f1, ft)), "flat vectors");
+  CHECK(is_fall(ccd.query(topoccd::Points(f0.data(), 6), topoccd::Points(f1.data(), 6),
+                          topoccd::Indices(ft.data(), 2))),
+        "pointers and row counts");
+  f0.pop_back();
+  expect_error([&] { ccd.query(f0, f1, ft); }, TOPOCCD_STATUS_INVALID_ARGUMENT,
+               "a flat array of 17 values is not rows of 3", "flat size");
+  expect_error([&] { r.vf().at(3); }, TOPOCCD_STATUS_OUT_OF_RANGE, "index 3 is out of range",
+               "at() past the end");
+
+  auto groups = std::vector<std::uint32_t>{0, 0, 0, 0, 0, 0};
+  CHECK(ccd.query(topoccd::Step(X0, X1, TRIS).groups(groups)).contact_count() == 0, "one group");
+}
+
+static void test_options_and_errors() {
+  topoccd::Ccd ccd;
+  auto earliest = topoccd::QueryOptions().mode(topoccd::Mode::Earliest).geometry(true);
+  CHECK(earliest.mode() == topoccd::Mode::Earliest && earliest.geometry() && earliest.k() == 18,
+        "setters and getters");
+  topoccd::Report r = ccd.query(topoccd::Step(X0, X1, TRIS), earliest);
+  CHECK(r.vf().size() == 1 && r.vf()[0].vertex == 3 && r.vf()[0].has_geometry, "earliest");
+  CHECK(r.vf()[0].geometry.normal[2] == 1.0, "the face's normal, towards the vertex");
+
+  expect_error([&] { ccd.query(X0, X1, TRIS, topoccd::QueryOptions().tolerance(0)); },
+               TOPOCCD_STATUS_INVALID_OPTIONS, "tolerance must be in (0, 1), got 0", "tolerance");
+  expect_error([&] { ccd.query(X0, X1, TRIS, topoccd::QueryOptions().k(7)); },
+               TOPOCCD_STATUS_INVALID_OPTIONS, "k must be 6, 14, 18 or 26, got 7", "k");
+  CHECK(ccd.report().contact_count() == 0, "the report is empty after a failure");
+
+  auto bad = TRIS;
+  bad[1][2] = 99;
+  expect_error([&] { ccd.query(X0, X1, bad); }, TOPOCCD_STATUS_INVALID_STEP,
+               "triangle 1 names vertex 99, but there are only 6 vertices", "index out of range");
+  auto nan = X1;
+  nan[4][1] = std::nan("");
+  expect_error([&] { ccd.query(X0, nan, TRIS); }, TOPOCCD_STATUS_INVALID_STEP,
+               "vertex 4 has a non-finite coordinate at t=1", "NaN");
+  auto shorter = X1;
+  shorter.pop_back();
+  expect_error([&] { ccd.query(X0, shorter, TRIS); }, TOPOCCD_STATUS_INVALID_STEP,
+               "the step has 6 vertices at t=0 but 5 at t=1", "mismatched lengths");
+
+  // A moved-from Ccd holds nothing: its queries are refused, not run on freed memory.
+  topoccd::Ccd moved = std::move(ccd);
+  CHECK(ccd.get() == nullptr && moved.get() != nullptr, "move");
+  expect_error([&] { ccd.query(X0, X1, TRIS); }, TOPOCCD_STATUS_NULL_POINTER, "ccd is NULL",
+               "moved-from Ccd");
+  CHECK(is_fall(moved.query(X0, X1, TRIS)), "the moved-to Ccd works");
+  ccd = std::move(moved);
+  CHECK(is_fall(ccd.query(X0, X1, TRIS)), "move assignment");
+}
+
+static void test_cut() {
+  // The README's step across a cut (see the guide's C++ quick start).
+  std::vector<std::array<double, 3>> x0 = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.8, 0.8, 1}};
+  std::vector<std::array<double, 3>> x1 = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0},
+                                           {0, 0, -1}, {1, 0, 0}, {0, 1, 0}};
+  std::vector<std::array<std::uint32_t, 3>> triangles = {{0, 1, 2}, {4, 3, 5}};
+  std::vector<std::array<std::uint32_t, 2>> parents = {{4, 1}, {5, 2}};
+  topoccd::Ccd ccd;
+  auto r = ccd.query(topoccd::Step(x0, x1, triangles).parents(parents));
+  CHECK(r.contact_count() == 1 && r.vf()[0].vertex == 3 && std::fabs(r.vf()[0].toi - 0.5) < 1e-6,
+        "the tip falls through at 0.5");
+  expect_error([&] { ccd.query(x0, x1, triangles); }, TOPOCCD_STATUS_INVALID_STEP,
+               "4 vertices at t=0 but 6 at t=1", "a cut without parents");
+  std::vector<std::array<std::uint32_t, 2>> none;
+  CHECK(ccd.query(topoccd::Step(x0, x1, triangles).parents(none)).contact_count() > 1,
+        "empty parents: the new vertices do not move, and sit on the old ones");
+}
+
+static void test_pairs_and_files() {
+  topoccd_vertex_face q{};
+  q.v_t0[0] = q.v_t0[1] = q.v_t1[0] = q.v_t1[1] = 0.2;
+  q.v_t0[2] = 1;
+  q.v_t1[2] = -1;
+  q.f1_t0[0] = q.f1_t1[0] = 1;
+  q.f2_t0[1] = q.f2_t1[1] = 1;
+  topoccd::Outcome o = topoccd::vertex_face(q);
+  CHECK(o && o.toi <= 0.5 && o.toi > 0.5 - 1e-6 && o.certainty == TOPOCCD_CERTAINTY_RESOLVED,
+        "vertex_face");
+  expect_error([&] { topoccd::vertex_face(q, topoccd::QueryOptions().max_iterations(0)); },
+               TOPOCCD_STATUS_INVALID_OPTIONS, "max_iterations must be at least 1", "pair options");
+  topoccd_edge_edge e{};
+  e.ea1_t0[0] = e.ea1_t1[0] = 1;  // edge a from the origin along x, edge b far away
+  e.eb0_t0[2] = e.eb1_t0[2] = e.eb0_t1[2] = e.eb1_t1[2] = 5;
+  e.eb1_t0[1] = e.eb1_t1[1] = 1;
+  CHECK(!topoccd::edge_edge(e) && std::isnan(topoccd::edge_edge(e).toi), "edge_edge apart");
+
+  expect_error([] { topoccd::Mesh::read("/nonexistent/x.ply"); }, TOPOCCD_STATUS_IO,
+               "/nonexistent/x.ply: cannot open", "missing mesh");
+  expect_error([] { topoccd::Frames::read("/nonexistent/a.obj", "/nonexistent/b.obj"); },
+               TOPOCCD_STATUS_IO, "/nonexistent/a.obj", "missing frames");
+  expect_error([] { topoccd::Sequence::open("/nonexistent"); }, TOPOCCD_STATUS_IO,
+               "cannot list the folder", "missing sequence");
+}
+
+#if defined(TOPOCCD_HAS_EIGEN)
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+using RowIndices = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+static void test_eigen() {
+  RowMatrix x0(6, 3), x1(6, 3);
+  for (int i = 0; i < 6; i++) {
+    for (int j = 0; j < 3; j++) {
+      x0(i, j) = X0[i][j];
+      x1(i, j) = X1[i][j];
+    }
+  }
+  RowIndices f(2, 3);
+  f << 0, 1, 2, 3, 4, 5;
+  topoccd::Ccd ccd;
+  CHECK(is_fall(ccd.query(x0, x1, f)), "Eigen row-major matrices");
+  topoccd::Points view(x0);
+  CHECK(view.data() == x0.data() && view.rows() == 6, "read in place, not copied");
+
+  Eigen::Map<const RowMatrix> m0(&X0[0][0], 6, 3), m1(&X1[0][0], 6, 3);
+  CHECK(is_fall(ccd.query(m0, m1, f)), "Eigen maps of the caller's memory");
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> dyn = x0;
+  CHECK(is_fall(ccd.query(dyn, x1, f)), "a dynamic row-major matrix of 3 columns");
+  RowMatrix both(12, 3);
+  both << x0, x1;
+  CHECK(is_fall(ccd.query(both.topRows(6), both.bottomRows(6), f)), "row blocks are contiguous");
+
+  Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> wide(6, 4);
+  wide.leftCols(3) = x0;
+  expect_error([&] { ccd.query(wide.leftCols(3), x1, f); }, TOPOCCD_STATUS_INVALID_ARGUMENT,
+               "rows are not contiguous", "a column block");
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> four(6, 4);
+  expect_error([&] { ccd.query(four, x1, f); }, TOPOCCD_STATUS_INVALID_ARGUMENT,
+               "an Eigen matrix of 4 columns, not 3", "4 columns");
+  f(1, 2) = -1;  // a negative index reads as 4294967295: out of range, refused
+  expect_error([&] { ccd.query(x0, x1, f); }, TOPOCCD_STATUS_INVALID_STEP,
+               "triangle 1 names vertex 4294967295", "a negative index");
+}
+#endif
+
+int main() {
+  test_layouts();
+  test_options_and_errors();
+  test_cut();
+  test_pairs_and_files();
+#if defined(TOPOCCD_HAS_EIGEN)
+  test_eigen();
+  std::printf("(with Eigen %d.%d.%d) ", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION);
+#else
+  std::printf("(without Eigen) ");
+#endif
+  std::printf("\n%d passed, %d failed\n", passed, failed);
+  return failed != 0;
+}
