@@ -96,12 +96,9 @@ impl LeafCheck for CertifiedNeighbours<'_> {
     }
 }
 
-/// The volumes a hierarchy's shape was built for, and how well it fitted them.
+/// How well a hierarchy's shape fitted its volumes when built.
 #[derive(Clone, Copy, Debug)]
 struct Shape {
-    /// The end of the times swept and the inflation.
-    t_max: f64,
-    sep: f64,
     /// [`spread`] right after the build; `None` until a refit first needs it (until then the
     /// tree is as built, so it is measured then).
     spread: Option<f64>,
@@ -133,10 +130,11 @@ impl<const H: usize> PerStepBvh<H> {
     /// only, not the step's topology.
     ///
     /// With `same_triangles` (the step has the very triangles of the last step this was
-    /// built for), and volumes swept over the same times with the same inflation, the last
-    /// tree is refitted (`O(n)`, as Self-CCD does every step) rather than rebuilt, unless the
-    /// refitted tree fits its leaves much worse than when it was built ([`REFIT_SPREAD`]).
-    /// Either way every node contains its leaves, so what the traversal reports is the same.
+    /// built for), or as many triangles of which at most one in [`CHANGED_SHARE`] have other
+    /// corners (a cut), the last tree is refitted (`O(n)`, as Self-CCD does every step)
+    /// rather than rebuilt, whatever times its volumes were swept over, unless the refitted
+    /// tree fits its leaves much worse than when it was built ([`REFIT_SPREAD`]). Either way
+    /// every node contains its leaves, so what the traversal reports is the same.
     pub fn build(
         &mut self,
         step: &Step,
@@ -160,17 +158,13 @@ impl<const H: usize> PerStepBvh<H> {
         };
         let count_kept =
             same_count && (same_triangles || changed.len() <= tris.len() / CHANGED_SHARE);
-        let kept = self
-            .shape
-            .filter(|s| count_kept && s.t_max == t_max && s.sep == sep);
-        if let Some(shape) = kept {
+        if let Some(shape) = self.shape.filter(|_| count_kept) {
             let built = shape.spread.unwrap_or_else(|| spread(&self.bvh));
             self.bvh.refit(volume);
             self.refitted = spread(&self.bvh) <= REFIT_SPREAD * built;
             if self.refitted {
                 self.shape = Some(Shape {
                     spread: Some(built),
-                    ..shape
                 });
                 self.update_corners(tris, &changed);
                 return;
@@ -210,11 +204,7 @@ impl<const H: usize> PerStepBvh<H> {
                 }
             }
         }
-        self.shape = Some(Shape {
-            t_max,
-            sep,
-            spread: None,
-        });
+        self.shape = Some(Shape { spread: None });
         self.find_front();
     }
 
@@ -461,9 +451,9 @@ mod tests {
         Step::new(x.clone(), x, tris).expect("a valid step")
     }
 
-    /// The same triangles again are refitted while the tree fits them, and rebuilt once the
-    /// refitted tree would fit them much worse; over other times swept, or after a step of
-    /// other triangles, the tree is rebuilt. Every tree holds its leaves.
+    /// The same triangles again are refitted while the tree fits them (over any times swept),
+    /// and rebuilt once the refitted tree would fit them much worse; after a cut the tree is
+    /// refitted, after a step of other triangles rebuilt. Every tree holds its leaves.
     #[test]
     fn refits_only_while_the_tree_fits() {
         let along = |i: u32| DVec3::new(i as f64 * 0.5, (i % 2) as f64, 0.0);
@@ -488,10 +478,10 @@ mod tests {
         tree.build(&step, whole, true, &mut ws);
         assert!(!tree.refitted, "a tree this loose is rebuilt");
         assert_eq!(tree.validate(&step), Ok(()));
+        // Other times swept (an Earliest query's first look at the start of the step): the
+        // same tree serves, refitted while it fits.
         tree.build(&step, (0.5, 0.0), true, &mut ws);
-        assert!(!tree.refitted, "other times swept");
-        tree.build(&step, (0.5, 0.0), true, &mut ws);
-        assert!(tree.refitted);
+        assert!(tree.refitted, "other times swept");
         assert_eq!(tree.validate(&step), Ok(()));
         // Other triangles: a cut (a few triangles take copies of two vertices) is refitted,
         // its front updated; most triangles changed, or another count, is rebuilt.
