@@ -53,7 +53,9 @@ macro_rules! internal {
 
 internal!(broad, bvh, kdop, math, mesh, narrow, query);
 
+pub mod check;
 pub mod io;
+pub mod line_search;
 pub mod pair;
 
 pub use kdop::DopKind;

@@ -19,6 +19,8 @@ Contents:
   (``mode="earliest"``), with parents for a topology change and groups for the pair filter.
 - :class:`Report`: the pairs, their times and certainty codes, optional contact geometry,
   the earliest pair, the work counters and the time of each phase.
+- :func:`point_triangle_ccd`, :func:`edge_edge_ccd`: one pair of features, or a batch of
+  pairs, in the IPC toolkit's shape.
 - :func:`read_mesh`, :func:`read_sequence`: PLY / OBJ frames as numpy arrays.
 - :mod:`topoccd.batch`: every step of a frame sequence over Ray tasks or a process pool.
 - Errors: :class:`InputError` and :class:`OptionsError` (both ``ValueError``),
@@ -35,6 +37,8 @@ from ._topoccd import (
     Report,
     Sequence,
     __version__,
+    edge_edge_ccd,
+    point_triangle_ccd,
     read_mesh,
     read_sequence,
 )
@@ -48,6 +52,8 @@ __all__ = [
     "query",
     "read_mesh",
     "read_sequence",
+    "point_triangle_ccd",
+    "edge_edge_ccd",
     "InputError",
     "OptionsError",
     "FormatError",
