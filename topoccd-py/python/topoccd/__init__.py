@@ -21,6 +21,8 @@ Contents:
   the earliest pair, the work counters and the time of each phase.
 - :func:`point_triangle_ccd`, :func:`edge_edge_ccd`: one pair of features, or a batch of
   pairs, in the IPC toolkit's shape.
+- :func:`collision_free_stepsize`, :func:`is_step_collision_free`: a line search's questions.
+- :func:`intersecting_triangles`: the triangles of one configuration that intersect.
 - :func:`read_mesh`, :func:`read_sequence`: PLY / OBJ frames as numpy arrays.
 - :mod:`topoccd.batch`: every step of a frame sequence over Ray tasks or a process pool.
 - Errors: :class:`InputError` and :class:`OptionsError` (both ``ValueError``),
@@ -38,10 +40,12 @@ from ._topoccd import (
     Sequence,
     __version__,
     edge_edge_ccd,
+    intersecting_triangles,
     point_triangle_ccd,
     read_mesh,
     read_sequence,
 )
+from .line_search import collision_free_stepsize, is_step_collision_free
 from . import batch  # noqa: E402  (imports Ray only when used)
 
 __all__ = [
@@ -54,6 +58,9 @@ __all__ = [
     "read_sequence",
     "point_triangle_ccd",
     "edge_edge_ccd",
+    "collision_free_stepsize",
+    "is_step_collision_free",
+    "intersecting_triangles",
     "InputError",
     "OptionsError",
     "FormatError",
