@@ -2,11 +2,78 @@
 //! (`../shared/data/queries`, exact ground truth): no false negative, every time of impact in
 //! `[0, t_max]`, and the false positives held to Tight-Inclusion's count on the same files.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
-use topoccd::io::queries::{find_query_files, read_query_file, QueryKind};
 use topoccd::pair::{edge_edge, vertex_face, EdgeEdge, Outcome, VertexFace};
 use topoccd::NarrowOptions;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum QueryKind {
+    VertexFace,
+    EdgeEdge,
+}
+
+/// One query of a file: its eight points, its ground truth and its first line.
+struct Query {
+    points: [[f64; 3]; 8],
+    touching: bool,
+    line: usize,
+}
+
+/// Reads a Sample-Queries file: 8 rows `xnum,xden,ynum,yden,znum,znum,gt` per query, each
+/// coordinate an exact rational with a power-of-two denominator (so the division is exact).
+fn read_queries(path: &Path) -> Vec<Query> {
+    let text = std::fs::read_to_string(path).expect("query file readable");
+    let rows: Vec<Vec<i128>> = text
+        .lines()
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            l.split(',')
+                .map(|v| v.trim().parse().expect("an integer"))
+                .collect()
+        })
+        .collect();
+    assert_eq!(
+        rows.len() % 8,
+        0,
+        "{}: not 8 rows per query",
+        path.display()
+    );
+    rows.chunks(8)
+        .enumerate()
+        .map(|(q, block)| Query {
+            points: std::array::from_fn(|i| {
+                std::array::from_fn(|k| block[i][2 * k] as f64 / block[i][2 * k + 1] as f64)
+            }),
+            touching: block[0][6] == 1,
+            line: 8 * q + 1,
+        })
+        .collect()
+}
+
+/// The query files below `dir`: `*/vertex-face/*.csv` and `*/edge-edge/*.csv`, sorted.
+fn find_query_files(dir: &Path) -> Vec<(QueryKind, PathBuf)> {
+    let mut out = Vec::new();
+    for scene in std::fs::read_dir(dir).expect("query folder readable") {
+        let scene = scene.expect("entry").path();
+        for (kind, sub) in [
+            (QueryKind::VertexFace, "vertex-face"),
+            (QueryKind::EdgeEdge, "edge-edge"),
+        ] {
+            let Ok(files) = std::fs::read_dir(scene.join(sub)) else {
+                continue;
+            };
+            for f in files {
+                let f = f.expect("entry").path();
+                if f.extension().is_some_and(|e| e == "csv") {
+                    out.push((kind, f));
+                }
+            }
+        }
+    }
+    out.sort_by(|a, b| a.1.cmp(&b.1));
+    out
+}
 
 fn data_dir() -> Option<PathBuf> {
     let dir = std::env::var_os("TOPOCCD_DATA")
@@ -35,12 +102,12 @@ fn run(
     options: &NarrowOptions,
 ) -> (usize, usize, Vec<String>, usize) {
     let (mut queries, mut touching, mut missed, mut false_pos) = (0, 0, vec![], 0);
-    for (k, path) in find_query_files(dir).expect("query folder readable") {
+    for (k, path) in find_query_files(dir) {
         if k != kind {
             continue;
         }
-        for q in read_query_file(&path).expect("query file well formed") {
-            let points = q.points.map(|p| p.to_array());
+        for q in read_queries(&path) {
+            let points = q.points;
             let outcome = match kind {
                 QueryKind::VertexFace => vertex_face(&VertexFace::from_points(points), options),
                 QueryKind::EdgeEdge => edge_edge(&EdgeEdge::from_points(points), options),
