@@ -11,7 +11,10 @@ use topoccd::{Ccd, Certainty, Method, QueryOptions, Step};
 /// The exact earliest root of cloth-funnel's step (the data's `toi/227vf_toi.txt`).
 const FUNNEL_EARLIEST: f64 = 0.0452322;
 
-fn funnel() -> Option<(Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<[u32; 3]>)> {
+/// A step's positions at t=0 and t=1 and its triangles.
+type Frames = (Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<[u32; 3]>);
+
+fn funnel() -> Option<Frames> {
     let dir = std::env::var_os("TOPOCCD_DATA")
         .map(PathBuf::from)
         .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data"))

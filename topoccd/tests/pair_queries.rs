@@ -96,11 +96,7 @@ fn data_dir() -> Option<PathBuf> {
 }
 
 /// Queries, touching ones, false negatives (file:line) and false positives of one kind.
-fn run(
-    dir: &PathBuf,
-    kind: QueryKind,
-    options: &NarrowOptions,
-) -> (usize, usize, Vec<String>, usize) {
+fn run(dir: &Path, kind: QueryKind, options: &NarrowOptions) -> (usize, usize, Vec<String>, usize) {
     let (mut queries, mut touching, mut missed, mut false_pos) = (0, 0, vec![], 0);
     for (k, path) in find_query_files(dir) {
         if k != kind {
