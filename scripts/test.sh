@@ -45,8 +45,8 @@ rm -rf "$DIST"
 "$BUILD_VENV/bin/maturin" sdist --manifest-path topoccd-py/Cargo.toml --out "$DIST"
 sdist=$(ls "$DIST"/topoccd-*.tar.gz)
 # The wheel is built from the sdist (so the sdist builds): zig links against glibc 2.17.
-MATURIN_PEP517_ARGS="--zig --compatibility manylinux2014" CARGO_TARGET_DIR="$PWD/target/wheel" \
-    "$BUILD_VENV/bin/python" -m pip wheel --quiet --no-build-isolation --no-deps -w "$DIST" "$sdist"
+PATH="$PWD/$BUILD_VENV/bin:$PATH" MATURIN_PEP517_ARGS="--zig --compatibility manylinux2014" \
+    CARGO_TARGET_DIR="$PWD/target/wheel" "$BUILD_VENV/bin/python" -m pip wheel --quiet --no-build-isolation --no-deps -w "$DIST" "$sdist"
 wheel=$(ls "$DIST"/topoccd-*.whl)
 size=$(stat -c %s "$wheel")
 echo "$(basename "$sdist"), $(basename "$wheel"): $((size / 1024)) kB"
