@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The library as a registry takes it: `cargo package -p topoccd` (which builds the packaged
-# sources on their own), then, outside the workspace, the packaged crate's own tests and
-# doctests, and a scratch crate that depends on the packaged crate and runs a step.
+# sources on their own), then, outside the workspace, the packaged crate's own tests, and a
+# scratch crate that depends on the packaged crate and runs a step.
 # Needs the Rust toolchain and crates.io (the packaged crate resolves its dependencies there,
 # pinned to the workspace's Cargo.lock). Run from anywhere; CI runs it (.ci/run).
 set -euo pipefail
@@ -36,8 +36,8 @@ if [ -d "$data" ]; then
 fi
 echo "== the packaged crate's tests, outside the workspace (no generators, no internals)"
 (cd "$unpacked" && cargo test --quiet)
-echo "== the packaged crate's doctests (its README, the public API; the internals' with --features internals)"
-(cd "$unpacked" && cargo test --doc --features internals --quiet)
+# Its doctests are the workspace's (`cargo test -p topoccd --doc`, run by scripts/test.sh) on the
+# same sources; in the packaged crate they need `--features internals` (see its Cargo.toml).
 
 echo "== a scratch crate that depends on the packaged crate"
 mkdir -p "$scratch/user/src"
