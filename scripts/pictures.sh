@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the README pictures in docs/ from the shared scenes, with `topoccd render`.
+# Regenerates the guide's pictures in docs/guide/src/images/ from the shared scenes, with `topoccd render`.
 #
 #   scripts/pictures.sh            # from anywhere; the data is looked for in ../shared/data
 #   TOPOCCD_DATA=/path/to/data scripts/pictures.sh
@@ -19,7 +19,7 @@ done
 
 cargo build --release -q -p topoccd-cli
 topoccd() { cargo run --release -q -p topoccd-cli -- "$@"; }
-mkdir -p docs
+mkdir -p docs/guide/src/images
 
 # Every picture carries a title and a legend; the up axis is chosen from the data (`--up auto`:
 # y for cloth-ball, a sheet thinnest along y; z for cloth-funnel, falling along -z; z for the
@@ -29,7 +29,7 @@ mkdir -p docs
 #    intermediate-cluster boundaries outlined, as in the paper's figures 4 and 5.
 ball=$scenes/cloth-ball/frames
 topoccd render "$ball/cloth_ball92.ply" --step "$ball/cloth_ball93.ply" --color clusters \
-    --indexed --out docs/cloth-ball-clusters.png
+    --indexed --out docs/guide/src/images/cloth-ball-clusters.png
 
 # 2. The contacts of cloth-funnel's step (frame 227 to 228), found by the whole-step query:
 #    the triangles involved in red (faded where the funnel's wall hides them), framed on them;
@@ -39,7 +39,7 @@ pairs=$(mktemp "${TMPDIR:-/tmp}/topoccd-funnel-pairs.XXXXXX")
 trap 'rm -f "$pairs"' EXIT
 topoccd step "$funnel/227.ply" "$funnel/228.ply" --pairs "$pairs"
 topoccd render "$funnel/227.ply" --step "$funnel/228.ply" --color contacts --pairs "$pairs" \
-    --camera 35,20 --fit contacts --indexed --out docs/cloth-funnel-contacts.png
+    --camera 35,20 --fit contacts --indexed --out docs/guide/src/images/cloth-funnel-contacts.png
 
 # 3. The contacts of a fracture step: step 1 of the generated bunny-dragon scene (scale 0.05),
 #    the first that breaks pieces off the dragon, seen while the bunny's ears and the dragon's
@@ -50,6 +50,6 @@ trap 'rm -f "$pairs"; rm -rf "$scene"' EXIT
 rmdir "$scene"
 topoccd gen bunny-dragon "$scene" --scale 0.05 --frames 3 --seed 1
 topoccd render "$scene/0001.ply" --step "$scene/0002.ply" --color contacts \
-    --indexed --out docs/fracture-contacts.png
+    --indexed --out docs/guide/src/images/fracture-contacts.png
 
-ls -l docs/cloth-ball-clusters.png docs/cloth-funnel-contacts.png docs/fracture-contacts.png
+ls -l docs/guide/src/images/cloth-ball-clusters.png docs/guide/src/images/cloth-funnel-contacts.png docs/guide/src/images/fracture-contacts.png

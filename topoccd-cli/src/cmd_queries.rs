@@ -4,10 +4,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use topoccd::io::queries::{find_query_files, read_query_file, QueryKind};
-use topoccd::narrow::{edge_edge, vertex_face, EdgeEdge, NarrowOptions, VertexFace};
+use topoccd::narrow::{edge_edge, vertex_face, EdgeEdge, NarrowOptions, Outcome, VertexFace};
+use topoccd::Certainty;
 
 /// Arguments of `topoccd queries`.
 #[derive(clap::Args, Debug)]
@@ -20,6 +21,12 @@ pub struct Args {
     /// Search tolerance, in time units (see `NarrowOptions::tolerance`).
     #[arg(long, default_value_t = NarrowOptions::default().tolerance)]
     tolerance: f64,
+    /// Also write every query's outcome to FILE, one line
+    /// `KIND,FILE,LINE,TOUCHING,HIT,TOI,CERTAINTY` (TOI empty without a hit, in the shortest
+    /// form that reads back to the same f64; CERTAINTY resolved, iteration_limit or
+    /// invalid_input), for comparisons with other implementations.
+    #[arg(long, value_name = "FILE")]
+    outcomes: Option<PathBuf>,
 }
 
 /// Counts for one kind of query.
@@ -55,6 +62,7 @@ pub fn run(args: &Args) -> Result<ExitCode> {
         loaded.push((*kind, read_query_file(path)?));
     }
     let mut any_false_negative = false;
+    let mut outcomes = String::new();
     for kind in [QueryKind::VertexFace, QueryKind::EdgeEdge] {
         let mut s = Summary {
             kind: kind.short_name(),
@@ -65,16 +73,36 @@ pub fn run(args: &Args) -> Result<ExitCode> {
             seconds: 0.0,
         };
         let start = Instant::now();
-        for (_, records) in loaded.iter().filter(|(k, _)| *k == kind) {
+        for ((_, path), (_, records)) in files.iter().zip(&loaded).filter(|(_, (k, _))| *k == kind)
+        {
             for q in records {
-                let hit = match kind {
+                let outcome = match kind {
                     QueryKind::VertexFace => {
-                        vertex_face(&VertexFace::from_points(q.points), &options).is_contact()
+                        vertex_face(&VertexFace::from_points(q.points), &options)
                     }
-                    QueryKind::EdgeEdge => {
-                        edge_edge(&EdgeEdge::from_points(q.points), &options).is_contact()
-                    }
+                    QueryKind::EdgeEdge => edge_edge(&EdgeEdge::from_points(q.points), &options),
                 };
+                let hit = outcome.is_contact();
+                if args.outcomes.is_some() {
+                    let (toi, certainty) = match outcome {
+                        Outcome::Separated => (String::new(), "resolved"),
+                        Outcome::Contact { toi, certainty } => (
+                            format!("{toi:?}"),
+                            match certainty {
+                                Certainty::Resolved => "resolved",
+                                Certainty::IterationLimit => "iteration_limit",
+                                Certainty::InvalidInput => "invalid_input",
+                            },
+                        ),
+                    };
+                    outcomes.push_str(&format!(
+                        "{},{},{},{},{hit},{toi},{certainty}\n",
+                        kind.short_name(),
+                        path.display(),
+                        q.line,
+                        q.touching
+                    ));
+                }
                 s.queries += 1;
                 s.positives += usize::from(hit);
                 s.false_negatives += usize::from(q.touching && !hit);
@@ -91,6 +119,10 @@ pub fn run(args: &Args) -> Result<ExitCode> {
                 s.kind, s.queries, s.positives, s.false_negatives, s.false_positives, s.seconds
             );
         }
+    }
+    if let Some(file) = &args.outcomes {
+        std::fs::write(file, outcomes)
+            .with_context(|| format!("{}: cannot write", file.display()))?;
     }
     Ok(if any_false_negative {
         ExitCode::from(1)

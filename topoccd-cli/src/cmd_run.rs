@@ -7,9 +7,10 @@ use std::time::{Duration, Instant};
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
+use topoccd::check::step_intersections;
 use topoccd::io::read_mesh;
 use topoccd::io::sequence::Sequence;
-use topoccd::Ccd;
+use topoccd::{Ccd, Frame, Step};
 
 use crate::cmd_step::{coincidence_warning, write_pairs, StepOut};
 use crate::query_args::{MethodArgs, QueryArgs};
@@ -37,6 +38,10 @@ pub struct Args {
     /// format of `topoccd step --pairs`.
     #[arg(long, value_name = "DIR")]
     pairs_dir: Option<PathBuf>,
+    /// Skip the static check of each step's start (a warning on stderr when a frame starts
+    /// intersecting: see `topoccd check`).
+    #[arg(long)]
+    no_check: bool,
 }
 
 /// One step's JSON line.
@@ -123,6 +128,45 @@ fn warn_first_frame(sequence: &Sequence) -> Result<()> {
     Ok(())
 }
 
+/// Watches the frames of a run for intersecting triangles: a warning on stderr when a frame
+/// intersects and the one before it did not (so a sequence that stays intersecting warns once).
+#[derive(Default)]
+struct IntersectionWatch {
+    intersecting: bool,
+}
+
+impl IntersectionWatch {
+    /// Checks one end of `step`; `frame` names its file.
+    fn check(&mut self, step: &Step<'_>, end: Frame, frame: &Path, bar: &ProgressBar) {
+        let pairs = step_intersections(step, end);
+        if !pairs.is_empty() && !self.intersecting {
+            let shown: Vec<String> = pairs
+                .iter()
+                .take(3)
+                .map(|[a, b]| format!("{a} and {b}"))
+                .collect();
+            bar.suspend(|| {
+                eprintln!(
+                    "warning: {}: {} pairs of triangles intersect (triangles {}{}); a step's \
+                     contacts are those that begin during it, so triangles that already pass \
+                     through each other may go unreported. `topoccd check {}` lists them \
+                     (`--no-check` skips this check).",
+                    frame.display(),
+                    pairs.len(),
+                    shown.join(", "),
+                    if pairs.len() > shown.len() {
+                        ", ..."
+                    } else {
+                        ""
+                    },
+                    frame.display()
+                )
+            });
+        }
+        self.intersecting = !pairs.is_empty();
+    }
+}
+
 /// Runs the command.
 pub fn run(args: &Args) -> Result<()> {
     let options = args.query.options()?;
@@ -137,8 +181,13 @@ pub fn run(args: &Args) -> Result<()> {
     bar.enable_steady_tick(Duration::from_millis(250));
     let mut ccd = Ccd::new();
     let mut summary = Summary::default();
+    let mut watch = IntersectionWatch::default();
+    let mut last = None;
     for item in sequence.iter() {
         let (k, step) = item?;
+        if !args.no_check {
+            watch.check(&step, Frame::Start, &sequence.frames[k], &bar);
+        }
         let method = args.method.method.into();
         let report = ccd.query(&step, method, &options)?;
         if let Some(dir) = &args.pairs_dir {
@@ -167,6 +216,10 @@ pub fn run(args: &Args) -> Result<()> {
             // Results go to stdout whether or not stderr (the progress bar) is a terminal.
             bar.suspend(|| println!("step {k:04}: {}", out.text()));
         }
+        last = Some((k, step));
+    }
+    if let (false, Some((k, step))) = (args.no_check, &last) {
+        watch.check(step, Frame::End, &sequence.frames[k + 1], &bar);
     }
     bar.finish_and_clear();
     summary.wall_seconds = started.elapsed().as_secs_f64();

@@ -1,6 +1,7 @@
 //! The `topoccd` command-line tool. Results go to stdout, errors and progress to stderr.
 
 mod cmd_bench;
+mod cmd_check;
 mod cmd_demo;
 mod cmd_gen;
 mod cmd_queries;
@@ -50,6 +51,9 @@ enum Command {
     /// Generate a frame sequence of one of the paper's scenes (nidus, nidus-cut, airbag, lion,
     /// bunny-dragon, crash) into a new or empty folder.
     Gen(cmd_gen::Args),
+    /// The pairs of triangles of one frame that intersect or touch (sharing no vertex),
+    /// decided exactly; exit status 1 when there are any. A CCD step assumes none at its start.
+    Check(cmd_check::Args),
 }
 
 fn main() -> ExitCode {
@@ -78,6 +82,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => cmd_bench::run(&args),
         Command::Render(args) => cmd_render::run(&args),
         Command::Gen(args) => cmd_gen::run(&args).map(|()| ExitCode::SUCCESS),
+        Command::Check(args) => cmd_check::run(&args),
     };
     match result {
         Ok(code) => code,

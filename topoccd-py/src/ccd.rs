@@ -122,8 +122,10 @@ impl Ccd {
     ///         ``can_collide`` rule of ipctk): give each rigid or non-self-colliding object one id.
     ///     method: ``"auto"`` (the default: ``"bvh"`` below 100,000 triangles, ``"cluster"``
     ///         above; ``stats["method"]`` says which ran), ``"bvh"`` (a k-DOP hierarchy built
-    ///         per step), ``"cluster"`` (the paper's certified clusters: fastest on large
-    ///         deforming meshes) or ``"brute"`` (the sweep-and-prune oracle). All report the
+    ///         per step), ``"cluster"`` (the paper's certified clusters: measured 1.1 to 2
+    ///         times faster than ``"bvh"`` where clusters hold hundreds of triangles, as on
+    ///         thin shells, smooth bodies and their fragments, and 0.75 to 0.9 times as fast on
+    ///         crumpled cloth) or ``"brute"`` (the sweep-and-prune oracle). All report the
     ///         same pairs, but for a near miss within ``tolerance`` (or a pair given up on)
     ///         inside a certified cluster, which ``"cluster"`` proves apart and leaves out.
     ///     mode: ``"all"`` (every colliding pair) or ``"earliest"`` (only the pair or pairs

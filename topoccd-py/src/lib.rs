@@ -7,13 +7,19 @@
 //! - `options`: keyword options to the library's options.
 //! - `report`: the library's report to numpy arrays.
 //! - `files`: mesh and sequence readers.
+//! - `check`: the static intersection check (`intersecting_triangles`).
+//! - `pair`: the per-pair tests (`point_triangle_ccd`, `edge_edge_ccd`).
+//! - `points`: numpy arrays of points in.
 //! - `errors`: the exceptions.
 
 mod ccd;
+mod check;
 mod errors;
 mod files;
 mod input;
 mod options;
+mod pair;
+mod points;
 mod report;
 
 use pyo3::prelude::*;
@@ -28,6 +34,9 @@ fn _topoccd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<files::Sequence>()?;
     m.add_function(wrap_pyfunction!(files::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(files::read_sequence, m)?)?;
+    m.add_function(wrap_pyfunction!(pair::point_triangle_ccd, m)?)?;
+    m.add_function(wrap_pyfunction!(pair::edge_edge_ccd, m)?)?;
+    m.add_function(wrap_pyfunction!(check::intersecting_triangles, m)?)?;
     m.add("InputError", py.get_type::<errors::InputError>())?;
     m.add("OptionsError", py.get_type::<errors::OptionsError>())?;
     m.add("FormatError", py.get_type::<errors::FormatError>())?;

@@ -6,7 +6,7 @@ import shutil
 
 import pytest
 import topoccd
-from topoccd.batch import process_step, run_sequence
+from topoccd.batch import process_step, process_steps, run_sequence
 
 
 def assert_same_pairs(out_dir, cli_pairs_dir, steps):
@@ -96,3 +96,66 @@ def test_ray_matches_topoccd_run(sequence, cli_run, tmp_path):
         if started_here and ray.is_initialized():
             ray.shutdown()
         shutil.rmtree(out, ignore_errors=True)
+
+
+@pytest.mark.parametrize("per_task", [1, 2, 3])
+def test_runs_of_steps_match_topoccd_run(sequence, cli_run, tmp_path, per_task):
+    pairs_dir, cli_lines = cli_run
+    out = tmp_path / f"runs-{per_task}"
+    result = run_sequence(
+        sequence, out, engine="process", workers=2, steps_per_task=per_task, progress=False
+    )
+    assert not result.failed and result.summary["steps_per_task"] == per_task
+    assert [line["step"] for line in result.lines] == [0, 1, 2]
+    assert_same_pairs(out, pairs_dir, 3)
+    assert_same_lines(result, cli_lines)
+
+
+@pytest.fixture(scope="module")
+def uncut_sequence(cli, tmp_path_factory):
+    """A generated sequence whose triangles stay the same (nidus, 4 frames)."""
+    from conftest import run_cli
+
+    folder = tmp_path_factory.mktemp("uncut") / "nidus"
+    run_cli(cli, "gen", "nidus", str(folder), "--scale", "0.1", "--frames", "4")
+    return folder
+
+
+def test_a_task_keeps_its_ccd_across_its_steps(uncut_sequence, cli, tmp_path):
+    """In a run of steps, the cluster method offers a step the last step's leaves
+    (reused_leaves > 0 on step 1, and on every step as many as `topoccd run` reuses); steps
+    run alone start afresh. Same pairs either way."""
+    import subprocess
+
+    options = {"method": "cluster", "threads": 1}
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    together = process_steps(str(uncut_sequence), 0, 3, str(tmp_path / "a"), options)
+    assert not [line for line in together if "error" in line], together
+    alone = [process_step(str(uncut_sequence), k, str(tmp_path / "b"), options) for k in range(3)]
+    assert [line["clusters"]["reused_leaves"] for line in alone] == [0, 0, 0]
+    assert together[0]["clusters"]["reused_leaves"] == 0
+    assert together[1]["clusters"]["reused_leaves"] > 0, together
+    for k in range(3):
+        name = f"{k:04d}.csv"
+        assert (tmp_path / "a" / name).read_text() == (tmp_path / "b" / name).read_text()
+    cli_out = subprocess.run(
+        [cli, "--threads", "1", "run", str(uncut_sequence), "--method", "cluster", "--json"],
+        capture_output=True, text=True, check=True,
+    ).stdout.splitlines()
+    cli_lines = [json.loads(line) for line in cli_out[:-1]]
+    for line, cli_line in zip(together, cli_lines):
+        assert line["clusters"]["reused_leaves"] == cli_line["stats"]["cluster"]["reused_leaves"]
+        assert (line["vf"], line["ee"]) == (cli_line["vf"], cli_line["ee"])
+
+
+def test_a_failed_step_in_a_run_loses_no_other_step(copy_sequence, cli_run, tmp_path):
+    pairs_dir, _ = cli_run
+    folder = copy_sequence()
+    (folder / "0001.ply").write_bytes((folder / "0001.ply").read_bytes()[:300])
+    lines = process_steps(str(folder), 0, 3, str(tmp_path), {"threads": 1})
+    assert [line["step"] for line in lines] == [0, 1, 2]
+    assert ["error" in line for line in lines] == [True, True, False]
+    assert (tmp_path / "0002.csv").read_text() == (pairs_dir / "0002.csv").read_text()
+    with pytest.raises(ValueError, match="steps_per_task"):
+        run_sequence(folder, tmp_path / "o", engine="process", steps_per_task=0)

@@ -53,7 +53,9 @@ macro_rules! internal {
 
 internal!(broad, bvh, kdop, math, mesh, narrow, query);
 
+pub mod check;
 pub mod io;
+pub mod line_search;
 pub mod pair;
 
 pub use kdop::DopKind;
@@ -65,7 +67,8 @@ pub use query::{
     AUTO_CLUSTER_TRIANGLES,
 };
 
-/// The README's examples, run as doctests.
+/// The crate's README (its page on the registry), run as doctests. The repository's README and
+/// the user guide are run by the workspace's test crate, `topoccd-tests`.
 #[cfg(doctest)]
-#[doc = include_str!("../../README.md")]
+#[doc = include_str!("../README.md")]
 struct ReadmeDoctests;

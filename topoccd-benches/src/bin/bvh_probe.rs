@@ -11,6 +11,9 @@
 //! share of a one-step command, page faults of its fresh memory included. `neighbours` counts
 //! the pairs whose triangles share a vertex (in an untimed second traversal of the first
 //! repetition's tree).
+//!
+//! Under a profiler, use the build with line tables: `cargo build --profile profiling -p
+//! topoccd-benches`, then `target/profiling/bvh_probe`.
 
 use std::path::Path;
 use std::time::Instant;

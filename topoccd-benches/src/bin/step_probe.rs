@@ -5,6 +5,9 @@
 //! Usage: `step_probe DIR|SCENE_DIR [bvh|cluster|brute|auto] [all|earliest] [REPS] [THREADS]`, where
 //! DIR is a frame sequence (its first step, parents included) or a scene folder with `frames/`.
 //! With `STEP_PROBE_FRESH` set, every repetition uses a new `Ccd` (as a one-step command does).
+//!
+//! Profilers need line tables, which the release profile no longer keeps: build with
+//! `cargo build --profile profiling -p topoccd-benches` and run `target/profiling/step_probe`.
 
 use std::time::Instant;
 

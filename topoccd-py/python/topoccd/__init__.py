@@ -19,6 +19,10 @@ Contents:
   (``mode="earliest"``), with parents for a topology change and groups for the pair filter.
 - :class:`Report`: the pairs, their times and certainty codes, optional contact geometry,
   the earliest pair, the work counters and the time of each phase.
+- :func:`point_triangle_ccd`, :func:`edge_edge_ccd`: one pair of features, or a batch of
+  pairs, in the IPC toolkit's shape.
+- :func:`collision_free_stepsize`, :func:`is_step_collision_free`: a line search's questions.
+- :func:`intersecting_triangles`: the triangles of one configuration that intersect.
 - :func:`read_mesh`, :func:`read_sequence`: PLY / OBJ frames as numpy arrays.
 - :mod:`topoccd.batch`: every step of a frame sequence over Ray tasks or a process pool.
 - Errors: :class:`InputError` and :class:`OptionsError` (both ``ValueError``),
@@ -35,9 +39,13 @@ from ._topoccd import (
     Report,
     Sequence,
     __version__,
+    edge_edge_ccd,
+    intersecting_triangles,
+    point_triangle_ccd,
     read_mesh,
     read_sequence,
 )
+from .line_search import collision_free_stepsize, is_step_collision_free
 from . import batch  # noqa: E402  (imports Ray only when used)
 
 __all__ = [
@@ -48,6 +56,11 @@ __all__ = [
     "query",
     "read_mesh",
     "read_sequence",
+    "point_triangle_ccd",
+    "edge_edge_ccd",
+    "collision_free_stepsize",
+    "is_step_collision_free",
+    "intersecting_triangles",
     "InputError",
     "OptionsError",
     "FormatError",

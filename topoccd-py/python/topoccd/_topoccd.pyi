@@ -12,6 +12,9 @@ __all__ = [
     "Sequence",
     "read_mesh",
     "read_sequence",
+    "point_triangle_ccd",
+    "edge_edge_ccd",
+    "intersecting_triangles",
     "InputError",
     "OptionsError",
     "FormatError",
@@ -123,3 +126,36 @@ def read_mesh(path: _Path) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int6
 
 def read_sequence(folder: _Path) -> Sequence:
     """Opens a folder of frames ``0000.ply``, ``0001.ply``, ... (and ``.parents`` files)."""
+
+_Points = npt.ArrayLike
+_Hit = Tuple[bool, float]
+_HitCertainty = Tuple[bool, float, int]
+_Hits = Tuple[npt.NDArray[np.bool_], npt.NDArray[np.float64]]
+_HitsCertainty = Tuple[npt.NDArray[np.bool_], npt.NDArray[np.float64], npt.NDArray[np.uint8]]
+
+def point_triangle_ccd(
+    *points: _Points,
+    min_distance: float = 0.0,
+    tmax: float = 1.0,
+    tolerance: float = 1e-6,
+    max_iterations: int = 1_000_000,
+    certainty: bool = False,
+) -> Union[_Hit, _HitCertainty, _Hits, _HitsCertainty]:
+    """One pair (eight ``(3,)`` points: ``p_t0, t0_t0, t1_t0, t2_t0, p_t1, t0_t1, t1_t1,
+    t2_t1``) gives ``(hit, toi)``; a batch (two ``(N, 4, 3)`` arrays, at t=0 and t=1) gives
+    arrays of N. ``certainty=True`` adds the certainty code(s)."""
+
+def edge_edge_ccd(
+    *points: _Points,
+    min_distance: float = 0.0,
+    tmax: float = 1.0,
+    tolerance: float = 1e-6,
+    max_iterations: int = 1_000_000,
+    certainty: bool = False,
+) -> Union[_Hit, _HitCertainty, _Hits, _HitsCertainty]:
+    """As :func:`point_triangle_ccd`, for edges ``ea0, ea1, eb0, eb1``."""
+
+def intersecting_triangles(
+    x: npt.ArrayLike, triangles: npt.ArrayLike, *, parents: Optional[npt.ArrayLike] = None
+) -> npt.NDArray[np.int64]:
+    """``(K, 2)`` pairs of triangles (sharing no vertex) that intersect or touch."""

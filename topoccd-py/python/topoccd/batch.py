@@ -1,13 +1,16 @@
 """Every step of a long frame sequence, spread over Ray tasks (or a local process pool).
 
-The steps of a sequence are independent once the frames are on disk, so each step is one task:
-:func:`process_step` reads the step's two frames (and the parents file of the second), runs the
-query, writes the step's pairs file ``OUT_DIR/NNNN.csv`` (the format of
-``topoccd run --pairs-dir``) and returns the step's JSON line (the keys of
-``topoccd run --json``). It is a plain function of plain arguments, so any engine can call it:
-:func:`run_sequence` maps it over Ray tasks (``engine="ray"``) or a
+The steps of a sequence are independent once the frames are on disk, so a run of consecutive
+steps is one task: :func:`process_steps` reads each step's two frames (and the parents file of
+the second), runs the query with one :class:`topoccd.Ccd` kept across the run (so each step
+benefits from the last, as in ``topoccd run``: the tree refitted while the triangles stay the
+same, the last step's clusters offered again), writes each step's pairs file
+``OUT_DIR/NNNN.csv`` (the format of ``topoccd run --pairs-dir``) and returns the steps' JSON
+lines (the keys of ``topoccd run --json``). It is a plain function of plain arguments, so any
+engine can call it: :func:`run_sequence` maps it over Ray tasks (``engine="ray"``) or a
 ``concurrent.futures`` process pool (``engine="process"``), gathers the lines in step order
-with a progress bar, and writes ``OUT_DIR/steps.jsonl``.
+with a progress bar, and writes ``OUT_DIR/steps.jsonl``. The answers are those of
+``topoccd run``, whatever the runs' length.
 
 On a cluster (``address="ray://head:10001"`` or ``"auto"``) every node needs ``topoccd``
 installed, and the frame folder and ``out_dir`` must be on a file system all nodes see under
@@ -21,6 +24,10 @@ Example::
     print(result.summary)          # steps, contacts, earliest toi, seconds
     for line in result.failed:     # steps that could not be processed, with their frames
         print(line["step"], line["frames"], line["error"])
+
+Tasks of ``steps_per_task`` consecutive steps (default: the steps spread evenly over the
+workers, at most 16 a task) keep the everyday step's gains; shorter runs balance the load
+better, and a crashed worker loses only its run.
 """
 
 import json
@@ -33,7 +40,10 @@ from typing import Any, Callable, Dict, Iterable, List, Optional
 
 from ._topoccd import Ccd, read_sequence
 
-__all__ = ["process_step", "run_sequence", "BatchResult", "QUERY_OPTIONS"]
+__all__ = ["process_step", "process_steps", "run_sequence", "BatchResult", "QUERY_OPTIONS"]
+
+#: The longest run of steps that :func:`run_sequence` gives one task by default.
+MAX_STEPS_PER_TASK = 16
 
 #: The keyword options of :meth:`topoccd.Ccd.query` that :func:`run_sequence` passes on.
 QUERY_OPTIONS = (
@@ -55,27 +65,13 @@ def pairs_path(out_dir: str, k: int) -> str:
     return os.path.join(out_dir, f"{k:04d}.csv")
 
 
-def process_step(folder: str, k: int, out_dir: str, options: Optional[Dict[str, Any]] = None) -> dict:
-    """Processes step ``k`` of the sequence in ``folder``: one task of :func:`run_sequence`.
-
-    Reads frames ``k`` and ``k + 1`` (and frame ``k + 1``'s parents file), runs
-    :meth:`topoccd.Ccd.query` with ``options``, writes the pairs to ``OUT_DIR/NNNN.csv`` in the
-    format of ``topoccd run --pairs-dir`` and returns the step's JSON line, with the keys of
-    ``topoccd run --json``: ``step``, ``vertices``, ``triangles``, ``method``, ``mode``, ``vf``,
-    ``ee``, ``unresolved``, ``earliest_toi``, ``earliest`` (``["vf", vertex, face, toi]`` or
-    ``["ee", a0, a1, b0, b1, toi]``), ``seconds``, ``stats`` (and ``clusters`` with
-    ``method="cluster"``), plus ``pairs`` (the file written) and ``read_seconds``.
-
-    Engine-agnostic: plain arguments, a plain ``dict`` back, no global state; call it from Ray,
-    Dask, a process pool or a loop. Raises what :func:`topoccd.read_sequence` and
-    :meth:`topoccd.Ccd.query` raise.
-    """
-    options = dict(options or {})
+def _step_line(ccd: Ccd, folder: str, k: int, out_dir: str, options: Dict[str, Any]) -> dict:
+    """Step ``k`` with ``ccd``: reads its frames, queries, writes its pairs, returns its line."""
     started = time.perf_counter()
     sequence = read_sequence(folder)
     x0, x1, triangles, parents = sequence[k]
     read_seconds = time.perf_counter() - started
-    report = Ccd().query(x0, x1, triangles, parents=parents, **options)
+    report = ccd.query(x0, x1, triangles, parents=parents, **options)
     path = pairs_path(out_dir, k)
     report.write_pairs(path)
     line = {
@@ -99,12 +95,45 @@ def process_step(folder: str, k: int, out_dir: str, options: Optional[Dict[str, 
     return line
 
 
-def _guarded(folder: str, k: int, out_dir: str, options: Dict[str, Any]) -> dict:
-    """:func:`process_step`, with a failure returned as a line naming the step's frames."""
-    try:
-        return process_step(folder, k, out_dir, options)
-    except Exception as err:  # noqa: BLE001 - any failure of one step is reported, not raised
-        return _failure(folder, k, err, traceback.format_exc(limit=3))
+def process_steps(
+    folder: str, first: int, count: int, out_dir: str, options: Optional[Dict[str, Any]] = None
+) -> List[dict]:
+    """Processes steps ``first`` to ``first + count - 1`` of the sequence in ``folder`` with
+    one :class:`topoccd.Ccd` kept across them: one task of :func:`run_sequence`.
+
+    For each step ``k``: reads frames ``k`` and ``k + 1`` (and frame ``k + 1``'s parents file),
+    runs :meth:`topoccd.Ccd.query` with ``options``, writes the pairs to ``OUT_DIR/NNNN.csv``
+    in the format of ``topoccd run --pairs-dir``, and makes the step's JSON line, with the keys
+    of ``topoccd run --json``: ``step``, ``vertices``, ``triangles``, ``method``, ``mode``,
+    ``vf``, ``ee``, ``unresolved``, ``earliest_toi``, ``earliest`` (``["vf", vertex, face,
+    toi]`` or ``["ee", a0, a1, b0, b1, toi]``), ``seconds``, ``stats`` (and ``clusters`` with
+    ``method="cluster"``), plus ``pairs`` (the file written) and ``read_seconds``.
+
+    A step that fails (an unreadable frame, an invalid step) gives a line with ``error``,
+    ``frames`` and ``traceback`` instead, and the run goes on with the next step.
+
+    Engine-agnostic: plain arguments, a list of plain ``dict`` back, no global state; call it
+    from Ray, Dask, a process pool or a loop.
+
+    Returns:
+        list of dict: the steps' lines, in step order.
+    """
+    options = dict(options or {})
+    ccd = Ccd()
+    lines = []
+    for k in range(first, first + count):
+        try:
+            lines.append(_step_line(ccd, folder, k, out_dir, options))
+        except Exception as err:  # noqa: BLE001 - any failure of one step is reported, not raised
+            lines.append(_failure(folder, k, err, traceback.format_exc(limit=3)))
+    return lines
+
+
+def process_step(folder: str, k: int, out_dir: str, options: Optional[Dict[str, Any]] = None) -> dict:
+    """Processes step ``k`` alone with a fresh :class:`topoccd.Ccd`: :func:`process_steps`
+    with a run of one step, except that a failure raises (what :func:`topoccd.read_sequence`
+    and :meth:`topoccd.Ccd.query` raise) instead of returning an error line."""
+    return _step_line(Ccd(), folder, k, out_dir, dict(options or {}))
 
 
 def _failure(folder: str, k: int, err: BaseException, trace: str = "") -> dict:
@@ -130,7 +159,7 @@ class BatchResult:
         failed: the failed steps' dicts.
         summary: ``steps``, ``steps_with_contacts``, ``vf``, ``ee``, ``earliest_toi``,
             ``query_seconds`` (sum over the steps), ``wall_seconds``, ``failed``, ``engine``,
-            ``workers``.
+            ``workers``, ``steps_per_task``.
         jsonl: the path of ``steps.jsonl``.
     """
 
@@ -177,15 +206,20 @@ def _check_options(options: Dict[str, Any]) -> None:
     Ccd().query(empty, empty, np.zeros((0, 3), dtype=np.int64), **options)
 
 
+def _runs(steps: int, per_task: int) -> List[range]:
+    """The steps cut into runs of ``per_task`` consecutive steps (the last may be shorter)."""
+    return [range(k, min(k + per_task, steps)) for k in range(0, steps, per_task)]
+
+
 def _run_ray(
     folder: str,
     out_dir: str,
-    steps: int,
+    runs: List[range],
     options: Dict[str, Any],
     address: Optional[str],
     workers: Optional[int],
     cpus_per_task: float,
-    on_done: Callable[[int, dict], None],
+    on_done: Callable[[range, List[dict]], None],
 ) -> None:
     try:
         import ray
@@ -198,26 +232,28 @@ def _run_ray(
             ray.init(num_cpus=workers, include_dashboard=False, logging_level="warning")
         else:
             ray.init(address=address, logging_level="warning")
-    task = ray.remote(num_cpus=cpus_per_task, max_retries=0)(_guarded)
-    pending = {task.remote(folder, k, out_dir, options): k for k in range(steps)}
+    task = ray.remote(num_cpus=cpus_per_task, max_retries=0)(process_steps)
+    pending = {
+        task.remote(folder, run.start, len(run), out_dir, options): run for run in runs
+    }
     while pending:
         done, _ = ray.wait(list(pending), num_returns=1)
         for ref in done:
-            k = pending.pop(ref)
+            run = pending.pop(ref)
             try:
-                line = ray.get(ref)
-            except Exception as err:  # noqa: BLE001 - a crashed worker loses only its step
-                line = _failure(folder, k, err)
-            on_done(k, line)
+                lines = ray.get(ref)
+            except Exception as err:  # noqa: BLE001 - a crashed worker loses only its run
+                lines = [_failure(folder, k, err) for k in run]
+            on_done(run, lines)
 
 
 def _run_processes(
     folder: str,
     out_dir: str,
-    steps: int,
+    runs: List[range],
     options: Dict[str, Any],
     workers: Optional[int],
-    on_done: Callable[[int, dict], None],
+    on_done: Callable[[range, List[dict]], None],
 ) -> None:
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -225,14 +261,17 @@ def _run_processes(
     # spawn, not fork: a forked child would inherit a thread pool without its threads.
     context = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-        futures = {pool.submit(_guarded, folder, k, out_dir, options): k for k in range(steps)}
+        futures = {
+            pool.submit(process_steps, folder, run.start, len(run), out_dir, options): run
+            for run in runs
+        }
         for future in as_completed(futures):
-            k = futures[future]
+            run = futures[future]
             try:
-                line = future.result()
-            except Exception as err:  # noqa: BLE001 - a crashed worker loses only its step
-                line = _failure(folder, k, err)
-            on_done(k, line)
+                lines = future.result()
+            except Exception as err:  # noqa: BLE001 - a crashed worker loses only its run
+                lines = [_failure(folder, k, err) for k in run]
+            on_done(run, lines)
 
 
 def run_sequence(
@@ -243,6 +282,7 @@ def run_sequence(
     address: Optional[str] = None,
     workers: Optional[int] = None,
     cpus_per_task: int = 1,
+    steps_per_task: Optional[int] = None,
     progress: bool = True,
     method: str = "auto",
     mode: str = "all",
@@ -269,6 +309,11 @@ def run_sequence(
         workers: parallel tasks: the CPUs of a local Ray instance, or the process pool's size
             (default: the core count). Ignored when joining a cluster (its size decides).
         cpus_per_task: CPUs reserved by each Ray task, and the threads each query uses.
+        steps_per_task: consecutive steps per task, each task keeping one
+            :class:`topoccd.Ccd` across its steps (so each step benefits from the last, as in
+            ``topoccd run``). Default: the steps spread evenly over ``workers`` (or the core
+            count), at most ``MAX_STEPS_PER_TASK`` (16) a task. The results do not depend
+            on it.
         progress: show a progress bar (tqdm if installed, else a counter on stderr).
         method, mode, tolerance, min_separation, t_max, max_iterations, k, growth,
             crack_filter: as in :meth:`topoccd.Ccd.query`.
@@ -298,6 +343,12 @@ def run_sequence(
     folder = os.path.abspath(os.fspath(folder))
     out_dir = os.path.abspath(os.fspath(out_dir))
     steps = len(read_sequence(folder))
+    if steps_per_task is None:
+        slots = workers or os.cpu_count() or 1
+        steps_per_task = max(1, min(MAX_STEPS_PER_TASK, -(-steps // slots)))
+    elif not (isinstance(steps_per_task, int) and steps_per_task >= 1):
+        raise ValueError(f"steps_per_task must be an integer >= 1, got {steps_per_task!r}")
+    runs = _runs(steps, steps_per_task)
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise NotADirectoryError(f"{out_dir}: exists and is not a folder")
     os.makedirs(out_dir, exist_ok=True)
@@ -306,21 +357,22 @@ def run_sequence(
     lines: List[Optional[dict]] = [None] * steps
     bar = _Progress(steps, progress)
 
-    def on_done(k: int, line: dict) -> None:
-        lines[k] = line
-        if "error" in line:
-            print(
-                f"topoccd.batch: step {k} failed ({' -> '.join(map(str, line['frames']))}): "
-                f"{line['error']}",
-                file=sys.stderr,
-            )
-        bar.update()
+    def on_done(run: range, run_lines: List[dict]) -> None:
+        for k, line in zip(run, run_lines):
+            lines[k] = line
+            if "error" in line:
+                print(
+                    f"topoccd.batch: step {k} failed ({' -> '.join(map(str, line['frames']))}): "
+                    f"{line['error']}",
+                    file=sys.stderr,
+                )
+            bar.update()
 
     try:
         if engine == "ray":
-            _run_ray(folder, out_dir, steps, options, address, workers, cpus_per_task, on_done)
+            _run_ray(folder, out_dir, runs, options, address, workers, cpus_per_task, on_done)
         elif engine == "process":
-            _run_processes(folder, out_dir, steps, options, workers, on_done)
+            _run_processes(folder, out_dir, runs, options, workers, on_done)
         else:
             raise ValueError(f"engine must be 'ray' or 'process', got {engine!r}")
     finally:
@@ -342,6 +394,7 @@ def run_sequence(
         "failed": len(failed),
         "engine": engine,
         "workers": workers,
+        "steps_per_task": steps_per_task,
     }
     jsonl = os.path.join(out_dir, "steps.jsonl")
     _write_jsonl(jsonl, done, summary)

@@ -327,7 +327,9 @@ mod tests {
     }
 
     fn certified(x0: &[DVec3], x1: &[DVec3], tris: &[[u32; 3]]) -> Vec<bool> {
-        let step = Step::new(x0, x1, tris).expect("a valid step");
+        // As arrays: `From<&[DVec3]>` needs the feature `glam`, off in the published crate.
+        let arrays = |x: &[DVec3]| x.iter().map(|p| p.to_array()).collect::<Vec<_>>();
+        let step = Step::new(arrays(x0), arrays(x1), tris).expect("a valid step");
         let topo = Topology::new(tris, x0.len());
         let mut stars = Stars::default();
         stars.reset(x0.len(), false);

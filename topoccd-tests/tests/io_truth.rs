@@ -2,6 +2,7 @@
 //! checked independently (incidence, libigl edge order, geometry), and malformed scene
 //! directories built in a temp dir.
 
+#[path = "../../topoccd/tests/io_util/mod.rs"]
 mod io_util;
 
 use io_util::{scene_dir, TempDir};

@@ -1,6 +1,7 @@
 //! PLY reading and writing: the real frames of the shared scenes (both byte orders and
 //! coordinate types), every other encoding and index type, and bit-exact round trips.
 
+#[path = "../../topoccd/tests/io_util/mod.rs"]
 mod io_util;
 
 use io_util::{

@@ -1,6 +1,7 @@
 //! OBJ reading: every corner form, relative indices, skipped statements, and errors that name
 //! the file and the line.
 
+#[path = "../../topoccd/tests/io_util/mod.rs"]
 mod io_util;
 
 use io_util::{same_bits, scene_dir, TempDir};

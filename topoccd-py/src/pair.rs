@@ -1,0 +1,257 @@
+//! The per-pair tests in the IPC toolkit's shape: `point_triangle_ccd` and `edge_edge_ccd`, on
+//! one pair (eight points) or on a batch of pairs (two `(N, 4, 3)` arrays), the GIL released.
+
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+use rayon::prelude::*;
+use topoccd::pair::{edge_edge, vertex_face, EdgeEdge, Outcome, VertexFace};
+use topoccd::{Certainty, NarrowOptions};
+
+use crate::errors::options_error;
+use crate::points::points;
+
+/// The two kinds of pair, with the names of their points (as the IPC toolkit names them).
+#[derive(Clone, Copy)]
+enum Kind {
+    PointTriangle,
+    EdgeEdge,
+}
+
+impl Kind {
+    fn function(self) -> &'static str {
+        match self {
+            Kind::PointTriangle => "point_triangle_ccd",
+            Kind::EdgeEdge => "edge_edge_ccd",
+        }
+    }
+
+    fn names(self) -> [&'static str; 8] {
+        match self {
+            Kind::PointTriangle => [
+                "p_t0", "t0_t0", "t1_t0", "t2_t0", "p_t1", "t0_t1", "t1_t1", "t2_t1",
+            ],
+            Kind::EdgeEdge => [
+                "ea0_t0", "ea1_t0", "eb0_t0", "eb1_t0", "ea0_t1", "ea1_t1", "eb0_t1", "eb1_t1",
+            ],
+        }
+    }
+
+    /// One test on the eight points, in the order of [`Kind::names`].
+    fn test(self, p: [[f64; 3]; 8], options: &NarrowOptions) -> Outcome {
+        let outcome = match self {
+            Kind::PointTriangle => vertex_face(&VertexFace::from_points(p), options),
+            Kind::EdgeEdge => edge_edge(&EdgeEdge::from_points(p), options),
+        };
+        // The options were validated once, before the first test.
+        outcome.unwrap_or(Outcome::Separated)
+    }
+}
+
+/// The certainty code of an outcome: 0 for a resolved contact or a separated pair (a proof),
+/// 1 for the iteration limit, 2 for invalid input.
+fn code(outcome: &Outcome) -> u8 {
+    match outcome {
+        Outcome::Separated => 0,
+        Outcome::Contact { certainty, .. } => match certainty {
+            Certainty::Resolved => 0,
+            Certainty::IterationLimit => 1,
+            Certainty::InvalidInput => 2,
+        },
+    }
+}
+
+/// The keyword options as the library's, validated.
+fn options(
+    min_distance: f64,
+    tmax: f64,
+    tolerance: f64,
+    max_iterations: i64,
+) -> PyResult<NarrowOptions> {
+    let max_iterations = u32::try_from(max_iterations).map_err(|_| {
+        options_error(format!(
+            "max_iterations must be in [1, {}], got {max_iterations}",
+            u32::MAX
+        ))
+    })?;
+    let options = NarrowOptions {
+        tolerance,
+        max_iterations,
+        min_separation: min_distance,
+        t_max: tmax,
+    };
+    // The library's messages name its fields; say the keywords' names instead.
+    options.validate().map_err(|e| {
+        let text = e
+            .to_string()
+            .replace("min_separation", "min_distance")
+            .replace("t_max", "tmax");
+        options_error(text)
+    })?;
+    Ok(options)
+}
+
+/// Runs one kind of test on the arguments: eight points, or two `(N, 4, 3)` arrays.
+fn run<'py>(
+    py: Python<'py>,
+    kind: Kind,
+    args: &Bound<'py, PyTuple>,
+    options: NarrowOptions,
+    certainty: bool,
+) -> PyResult<Bound<'py, PyTuple>> {
+    match args.len() {
+        8 => {
+            let mut p = [[0.0; 3]; 8];
+            for (k, name) in kind.names().into_iter().enumerate() {
+                let a = points(&args.get_item(k)?, name, "(3,)", |s| s == [3])?;
+                p[k].copy_from_slice(a.flat()?);
+            }
+            let outcome = py.detach(|| kind.test(p, &options));
+            let toi = outcome.toi().unwrap_or(f64::INFINITY);
+            if certainty {
+                (outcome.is_contact(), toi, code(&outcome)).into_pyobject(py)
+            } else {
+                (outcome.is_contact(), toi).into_pyobject(py)
+            }
+        }
+        2 => {
+            let shape = "(N, 4, 3)";
+            let is_batch = |s: &[usize]| s.len() == 3 && s[1] == 4 && s[2] == 3;
+            let x_t0 = points(&args.get_item(0)?, "x_t0", shape, is_batch)?;
+            let x_t1 = points(&args.get_item(1)?, "x_t1", shape, is_batch)?;
+            if x_t0.shape()[0] != x_t1.shape()[0] {
+                return Err(crate::errors::input_error(format!(
+                    "x_t0 and x_t1 must have the same shape, got ({}, 4, 3) and ({}, 4, 3)",
+                    x_t0.shape()[0],
+                    x_t1.shape()[0]
+                )));
+            }
+            let (a, b) = (x_t0.flat()?, x_t1.flat()?);
+            let outcomes: Vec<Outcome> = py.detach(|| {
+                a.par_chunks_exact(12)
+                    .zip(b.par_chunks_exact(12))
+                    .with_min_len(64)
+                    .map(|(a, b)| {
+                        let mut p = [[0.0; 3]; 8];
+                        for k in 0..4 {
+                            p[k].copy_from_slice(&a[3 * k..3 * k + 3]);
+                            p[k + 4].copy_from_slice(&b[3 * k..3 * k + 3]);
+                        }
+                        kind.test(p, &options)
+                    })
+                    .collect()
+            });
+            let hit: Vec<bool> = outcomes.iter().map(Outcome::is_contact).collect();
+            let toi: Vec<f64> = outcomes
+                .iter()
+                .map(|o| o.toi().unwrap_or(f64::INFINITY))
+                .collect();
+            let hit = PyArray1::from_vec(py, hit);
+            let toi = PyArray1::from_vec(py, toi);
+            hit.readwrite().make_nonwriteable();
+            toi.readwrite().make_nonwriteable();
+            if certainty {
+                let codes = PyArray1::from_vec(py, outcomes.iter().map(code).collect());
+                codes.readwrite().make_nonwriteable();
+                (hit, toi, codes).into_pyobject(py)
+            } else {
+                (hit, toi).into_pyobject(py)
+            }
+        }
+        n => Err(PyTypeError::new_err(format!(
+            "{}() takes eight points ({}) or two (N, 4, 3) arrays (x_t0, x_t1), got {n} \
+             positional arguments",
+            kind.function(),
+            kind.names().join(", ")
+        ))),
+    }
+}
+
+/// Continuous collision test of a point against a triangle, each corner moving linearly from
+/// its ``_t0`` to its ``_t1`` position, over ``[0, tmax]``; in the IPC toolkit's shape.
+///
+/// One pair: ``point_triangle_ccd(p_t0, t0_t0, t1_t0, t2_t0, p_t1, t0_t1, t1_t1, t2_t1)``,
+/// eight points of shape ``(3,)``, gives ``(hit, toi)``: ``hit`` a bool, ``toi`` the time of
+/// impact (``inf`` when there is no hit).
+///
+/// A batch: ``point_triangle_ccd(x_t0, x_t1)``, two ``(N, 4, 3)`` arrays holding each pair's
+/// four points (the point, then the triangle's corners) at t=0 and at t=1, gives ``(hit,
+/// toi)`` as arrays of N (bool and float64, read-only). The pairs are tested on every core,
+/// without the GIL; the result does not depend on the thread count.
+///
+/// The test is conservative: when the point touches the triangle (in exact arithmetic) at some
+/// time in ``[0, tmax]``, ``hit`` is true and ``toi`` is never later than the first contact,
+/// and at most ``tolerance`` earlier unless the features come close before they touch.
+///
+/// Args:
+///     min_distance: distance (coordinate units, >= 0) at or below which the point and the
+///         triangle count as touching. Default 0.
+///     tmax: end of the interval searched, in (0, 1]. Default 1.
+///     tolerance: time resolution, in (0, 1). Default 1e-6.
+///     max_iterations: most boxes examined per pair, >= 1; a pair still undecided then is a
+///         hit at the earliest time not ruled out (certainty code 1). Default 1,000,000.
+///     certainty: also return the certainty code (an int, or a uint8 array): 0 resolved (or
+///         no hit), 1 iteration limit, 2 invalid input (a non-finite coordinate: a hit at 0).
+///
+/// Raises:
+///     InputError: a point of the wrong shape or dtype.
+///     OptionsError: an option out of range.
+///     TypeError: neither eight points nor two arrays.
+///
+/// Example: a point falls through a triangle; it touches at t=0.5.
+///     >>> import topoccd
+///     >>> tri = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+///     >>> hit, toi = topoccd.point_triangle_ccd([0.2, 0.2, 1], *tri, [0.2, 0.2, -1], *tri)
+///     >>> hit, round(toi, 4)
+///     (True, 0.5)
+#[pyfunction]
+#[pyo3(signature = (
+    *points, min_distance=0.0, tmax=1.0, tolerance=1e-6, max_iterations=1_000_000,
+    certainty=false
+))]
+pub fn point_triangle_ccd<'py>(
+    py: Python<'py>,
+    points: &Bound<'py, PyTuple>,
+    min_distance: f64,
+    tmax: f64,
+    tolerance: f64,
+    max_iterations: i64,
+    certainty: bool,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let options = options(min_distance, tmax, tolerance, max_iterations)?;
+    run(py, Kind::PointTriangle, points, options, certainty)
+}
+
+/// Continuous collision test of two edges, each end moving linearly from its ``_t0`` to its
+/// ``_t1`` position, over ``[0, tmax]``; in the IPC toolkit's shape.
+///
+/// One pair: ``edge_edge_ccd(ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1,
+/// eb1_t1)`` gives ``(hit, toi)``. A batch: ``edge_edge_ccd(x_t0, x_t1)``, two ``(N, 4, 3)``
+/// arrays (edge a's ends, then edge b's), gives arrays of N. Keywords, result and errors as
+/// :func:`point_triangle_ccd`.
+///
+/// Example: two edges cross at t=0.5, in a batch of one.
+///     >>> import numpy as np, topoccd
+///     >>> x_t0 = np.array([[[-1, 0, 0], [1, 0, 0], [0, -1, 1], [0, 1, 1]]], dtype=float)
+///     >>> x_t1 = x_t0.copy(); x_t1[:, 2:, 2] = -1
+///     >>> hit, toi = topoccd.edge_edge_ccd(x_t0, x_t1)
+///     >>> hit.tolist(), toi.round(4).tolist()
+///     ([True], [0.5])
+#[pyfunction]
+#[pyo3(signature = (
+    *points, min_distance=0.0, tmax=1.0, tolerance=1e-6, max_iterations=1_000_000,
+    certainty=false
+))]
+pub fn edge_edge_ccd<'py>(
+    py: Python<'py>,
+    points: &Bound<'py, PyTuple>,
+    min_distance: f64,
+    tmax: f64,
+    tolerance: f64,
+    max_iterations: i64,
+    certainty: bool,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let options = options(min_distance, tmax, tolerance, max_iterations)?;
+    run(py, Kind::EdgeEdge, points, options, certainty)
+}

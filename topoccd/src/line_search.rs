@@ -1,0 +1,225 @@
+//! Line-search helpers for a simulator: how far along a step the mesh may move without a
+//! contact ([`collision_free_stepsize`]), and whether a whole step is free of contact
+//! ([`is_step_collision_free`]), as the IPC toolkit's `compute_collision_free_stepsize` and
+//! `is_step_collision_free` are used. Both run one [`Mode::Earliest`] query.
+//!
+//! ```
+//! use topoccd::line_search::{collision_free_stepsize, LineSearchOptions};
+//! // A triangle falls from z=1 to z=-1 through a fixed one: first contact at t=0.5.
+//! let x0 = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0],
+//!           [0.2, 0.2, 1.0], [0.3, 0.2, 1.0], [0.2, 0.3, 1.0]];
+//! let x1 = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0],
+//!           [0.2, 0.2, -1.0], [0.3, 0.2, -1.0], [0.2, 0.3, -1.0]];
+//! let triangles = [[0u32, 1, 2], [3, 4, 5]];
+//! let step = collision_free_stepsize(&x0, &x1, &triangles, &LineSearchOptions::default())?;
+//! assert!((step.alpha - 0.8 * 0.5).abs() < 1e-6); // 0.8 times the earliest time of impact
+//! assert!(step.earliest.is_some());
+//! # Ok::<(), topoccd::line_search::LineSearchError>(())
+//! ```
+//!
+//! In a simulation loop, keep a [`Ccd`] and call [`Ccd::collision_free_stepsize`] and
+//! [`Ccd::is_step_collision_free`] on each [`Step`]: its buffers are reused, and a step can
+//! carry parents (a cut) and groups.
+
+use thiserror::Error;
+
+use crate::mesh::{Positions, Step, StepError, Triangles};
+use crate::query::{Ccd, Contact, Method, Mode, OptionsError, QueryOptions};
+
+/// Options of the line-search helpers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineSearchOptions {
+    /// The query's options. `query.narrow.min_separation` is the minimum separation: features
+    /// closer than it count as touching. `query.mode` is ignored (the helpers run
+    /// [`Mode::Earliest`]).
+    pub query: QueryOptions,
+    /// The broad phase. Default [`Method::Auto`].
+    pub method: Method,
+    /// The fraction of the earliest time of impact that [`collision_free_stepsize`] returns,
+    /// in `(0, 1]`. Default `0.8`, the IPC toolkit's conservative rescaling: the step stops
+    /// short of the contact, so the next step does not start touching.
+    pub rescaling: f64,
+}
+
+impl Default for LineSearchOptions {
+    fn default() -> Self {
+        Self {
+            query: QueryOptions::default(),
+            method: Method::Auto,
+            rescaling: 0.8,
+        }
+    }
+}
+
+impl LineSearchOptions {
+    /// Checks every option against its documented range.
+    ///
+    /// ```
+    /// use topoccd::line_search::LineSearchOptions;
+    /// let bad = LineSearchOptions { rescaling: 1.5, ..LineSearchOptions::default() };
+    /// assert_eq!(bad.validate().unwrap_err().to_string(), "rescaling must be in (0, 1], got 1.5");
+    /// ```
+    pub fn validate(&self) -> Result<(), LineSearchError> {
+        self.query.validate()?;
+        if !(self.rescaling > 0.0 && self.rescaling <= 1.0) {
+            return Err(LineSearchError::Rescaling(self.rescaling));
+        }
+        Ok(())
+    }
+
+    fn earliest(&self) -> QueryOptions {
+        QueryOptions {
+            mode: Mode::Earliest,
+            ..self.query
+        }
+    }
+}
+
+/// Why a line-search helper refused its input.
+#[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum LineSearchError {
+    /// The positions or triangles do not describe a valid step.
+    #[error(transparent)]
+    Step(#[from] StepError),
+    /// A query option out of its range.
+    #[error(transparent)]
+    Options(#[from] OptionsError),
+    /// [`LineSearchOptions::rescaling`] not in `(0, 1]`.
+    #[error("rescaling must be in (0, 1], got {0}")]
+    Rescaling(f64),
+}
+
+/// What [`collision_free_stepsize`] returns.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepSize {
+    /// The fraction of the step the mesh may take: `rescaling` times the earliest time of
+    /// impact, or `t_max` when no features come within `min_separation` over `[0, t_max]`.
+    /// `0` when features already touch at the start: nothing can move (check the start with
+    /// [`check::step_intersections`](crate::check::step_intersections)).
+    pub alpha: f64,
+    /// The earliest contact, or `None`. Its [`certainty`](Contact::certainty) says whether the
+    /// search gave up on it: then its time is only a lower bound, and `alpha` stays safe.
+    pub earliest: Option<Contact>,
+}
+
+/// What [`is_step_collision_free`] returns.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StepStatus {
+    /// No two features come within `min_separation` over `[0, t_max]`.
+    CollisionFree,
+    /// The earliest contact of the step. Its [`certainty`](Contact::certainty) is
+    /// [`Certainty::Resolved`](crate::Certainty::Resolved), or says that the search gave up
+    /// and reported the pair to stay safe.
+    Collides(Contact),
+}
+
+impl StepStatus {
+    /// `true` for [`StepStatus::CollisionFree`].
+    pub fn is_collision_free(&self) -> bool {
+        matches!(self, StepStatus::CollisionFree)
+    }
+}
+
+/// The fraction of the step from `x0` to `x1` that the mesh may take without contact: the
+/// earliest time of impact scaled by [`LineSearchOptions::rescaling`]. A fresh [`Ccd`] runs
+/// the query; in a loop, use [`Ccd::collision_free_stepsize`].
+pub fn collision_free_stepsize<'a>(
+    x0: impl Into<Positions<'a>>,
+    x1: impl Into<Positions<'a>>,
+    triangles: impl Into<Triangles<'a>>,
+    options: &LineSearchOptions,
+) -> Result<StepSize, LineSearchError> {
+    let step = Step::new(x0, x1, triangles)?;
+    Ccd::new().collision_free_stepsize(&step, options)
+}
+
+/// Whether the whole step from `x0` to `x1` is free of contact, and if not, its earliest
+/// contact. A fresh [`Ccd`] runs the query; in a loop, use [`Ccd::is_step_collision_free`].
+///
+/// ```
+/// use topoccd::line_search::{is_step_collision_free, LineSearchOptions, StepStatus};
+/// // Vertex 3 falls through triangle 0 at t=0.5.
+/// let x0 = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0],
+///           [0.2, 0.2, 1.0], [0.3, 0.2, 1.0], [0.2, 0.3, 1.0]];
+/// let x1 = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0],
+///           [0.2, 0.2, -1.0], [0.3, 0.2, 1.0], [0.2, 0.3, 1.0]];
+/// let triangles = [[0u32, 1, 2], [3, 4, 5]];
+/// let status = is_step_collision_free(&x0, &x1, &triangles, &LineSearchOptions::default())?;
+/// match status {
+///     StepStatus::Collides(contact) => assert!((contact.toi() - 0.5).abs() < 1e-6),
+///     StepStatus::CollisionFree => unreachable!("vertex 3 crosses triangle 0"),
+/// }
+/// # Ok::<(), topoccd::line_search::LineSearchError>(())
+/// ```
+pub fn is_step_collision_free<'a>(
+    x0: impl Into<Positions<'a>>,
+    x1: impl Into<Positions<'a>>,
+    triangles: impl Into<Triangles<'a>>,
+    options: &LineSearchOptions,
+) -> Result<StepStatus, LineSearchError> {
+    let step = Step::new(x0, x1, triangles)?;
+    Ccd::new().is_step_collision_free(&step, options)
+}
+
+impl Ccd {
+    /// [`collision_free_stepsize`] on a step, with this query object's buffers.
+    ///
+    /// ```
+    /// use topoccd::line_search::LineSearchOptions;
+    /// use topoccd::{Ccd, Step};
+    /// // A vertex 1 above a triangle moves down by 2; with a minimum separation of 0.5 it
+    /// // comes that close at t=0.25.
+    /// let x0 = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0],
+    ///           [0.2, 0.2, 1.0], [0.3, 0.2, 1.0], [0.2, 0.3, 1.0]];
+    /// let x1 = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0],
+    ///           [0.2, 0.2, -1.0], [0.3, 0.2, 1.0], [0.2, 0.3, 1.0]];
+    /// let step = Step::new(&x0, &x1, &[[0u32, 1, 2], [3, 4, 5]])?;
+    /// let mut options = LineSearchOptions::default();
+    /// options.query.narrow.min_separation = 0.5;
+    /// let mut ccd = Ccd::new();
+    /// let size = ccd.collision_free_stepsize(&step, &options)?;
+    /// assert!(size.alpha <= 0.8 * 0.25 && size.alpha > 0.8 * 0.25 - 1e-6);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn collision_free_stepsize(
+        &mut self,
+        step: &Step<'_>,
+        options: &LineSearchOptions,
+    ) -> Result<StepSize, LineSearchError> {
+        options.validate()?;
+        let report = self.query(step, options.method, &options.earliest())?;
+        let alpha = match report.earliest {
+            Some(contact) => options.rescaling * contact.toi(),
+            None => options.query.narrow.t_max,
+        };
+        Ok(StepSize {
+            alpha,
+            earliest: report.earliest,
+        })
+    }
+
+    /// [`is_step_collision_free`] on a step, with this query object's buffers.
+    ///
+    /// ```
+    /// use topoccd::line_search::{LineSearchOptions, StepStatus};
+    /// use topoccd::{Ccd, Step};
+    /// let x = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    /// let step = Step::new(&x, &x, &[[0u32, 1, 2]])?;
+    /// let status = Ccd::new().is_step_collision_free(&step, &LineSearchOptions::default())?;
+    /// assert_eq!(status, StepStatus::CollisionFree);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn is_step_collision_free(
+        &mut self,
+        step: &Step<'_>,
+        options: &LineSearchOptions,
+    ) -> Result<StepStatus, LineSearchError> {
+        options.validate()?;
+        let report = self.query(step, options.method, &options.earliest())?;
+        Ok(match report.earliest {
+            Some(contact) => StepStatus::Collides(contact),
+            None => StepStatus::CollisionFree,
+        })
+    }
+}
