@@ -14,8 +14,9 @@ from conftest import REPO, shared_data
 
 RUN = {"python", "sh"}
 #: Blocks shown and not run (console: install, build, long runs), data (text, toml), Rust
-#: (doctests of topoccd-tests), and the C and C++ interface's blocks (checked by its own script).
-NOT_RUN_HERE = {"console", "text", "toml", "rust", "c", "cpp"}
+#: (doctests of topoccd-tests), and the C and C++ interface's blocks and CMake snippets (its
+#: own script, scripts/test-c.sh, compiles and runs those and builds CMake consumers).
+NOT_RUN_HERE = {"console", "text", "toml", "rust", "c", "cpp", "cmake"}
 
 PAGES = [
     REPO / "README.md",
