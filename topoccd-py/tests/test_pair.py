@@ -148,8 +148,6 @@ def test_the_gil_is_released_during_a_batch():
     from test_gil_and_copies import counting_rate
 
     rng = np.random.default_rng(3)
-    x_t0 = rng.normal(size=(200_000, 4, 3))
-    x_t1 = x_t0 + rng.normal(scale=0.5, size=x_t0.shape)
     rate = counting_rate()
     count, running = [0], [True]
 
@@ -161,15 +159,24 @@ def test_the_gil_is_released_during_a_batch():
     thread.start()
     try:
         time.sleep(0.05)
-        before = count[0]
-        started = time.perf_counter()
-        hit, _ = topoccd.point_triangle_ccd(x_t0, x_t1)
-        seconds = time.perf_counter() - started
-        during = count[0] - before
+        # A batch long enough to tell (its time depends on the machine and its load): twice
+        # as many pairs until the call takes 0.2 s.
+        n = 100_000
+        while True:
+            x_t0 = rng.normal(size=(n, 4, 3))
+            x_t1 = x_t0 + rng.normal(scale=0.5, size=x_t0.shape)
+            before = count[0]
+            started = time.perf_counter()
+            hit, _ = topoccd.point_triangle_ccd(x_t0, x_t1)
+            seconds = time.perf_counter() - started
+            during = count[0] - before
+            if seconds > 0.2 or n >= 6_400_000:
+                break
+            n *= 2
     finally:
         running[0] = False
         thread.join()
-    assert seconds > 0.05, f"the batch took only {seconds:.3f} s: too short to tell"
+    assert seconds > 0.05, f"{n} pairs took only {seconds:.3f} s: too short to tell"
     assert hit.any()
     # Held, the GIL would let the counter run only around the call (a few 5 ms intervals).
     share = during / (rate * seconds)
