@@ -11,7 +11,9 @@ use topoccd::io::{
     available_memory, coincident_vertices, read_mesh, read_ply_header, weld_frames, FaceOrigin,
     MemoryEstimate, MeshFormat, PlyCounts,
 };
-use topoccd::{Ccd, Contact, EeContact, Method, Mode, Report, Seconds, Stats, Step, VfContact};
+use topoccd::{
+    Ccd, Contact, EeContact, Method, Mode, Report, Seconds, Stats, Step, Truncation, VfContact,
+};
 
 use crate::cmd_run::with_spinner;
 use crate::query_args::{MethodArgs, QueryArgs};
@@ -170,6 +172,9 @@ pub struct StepOut<'r> {
     earliest_toi: Option<f64>,
     /// The earliest contact, with its pair, time and certainty.
     earliest: Option<&'r Contact>,
+    /// `null` when the query ran to its end; else why it stopped (`max_contacts`), where
+    /// and how far it got: the report holds only part of the step's contacts.
+    truncated: Option<&'r Truncation>,
     seconds: &'r Seconds,
     stats: &'r Stats,
     /// The contacts themselves: always in `--earliest` mode, else with `--with-pairs`.
@@ -204,6 +209,7 @@ impl<'r> StepOut<'r> {
             unresolved: report.unresolved,
             earliest_toi: report.earliest_toi(),
             earliest: report.earliest.as_ref(),
+            truncated: report.truncated.as_ref(),
             seconds: &report.stats.seconds,
             stats: &report.stats,
             pairs: (with_pairs || earliest_mode).then_some(PairsOut {
@@ -240,6 +246,13 @@ impl<'r> StepOut<'r> {
             }
             None => String::new(),
         };
+        let truncated = match self.truncated {
+            Some(t) => format!(
+                "; TRUNCATED ({}: the first contacts of {} traversal tasks; the step has more)",
+                t.reason, t.tasks
+            ),
+            None => String::new(),
+        };
         let unresolved = if self.unresolved > 0 {
             format!(
                 "; {} contacts UNRESOLVED (the search gave up; their times are only lower bounds)",
@@ -249,7 +262,7 @@ impl<'r> StepOut<'r> {
             String::new()
         };
         format!(
-            "{} vertices, {} triangles: {what}{earliest}{unresolved}; {:.4} s (build {:.4}, traverse {:.4}, narrow {:.4}); {} bv, {} vf, {} ee tests",
+            "{} vertices, {} triangles: {what}{earliest}{truncated}{unresolved}; {:.4} s (build {:.4}, traverse {:.4}, narrow {:.4}); {} bv, {} vf, {} ee tests",
             self.vertices,
             self.triangles,
             self.seconds.total,

@@ -102,6 +102,11 @@ pub struct QueryArgs {
     /// are then different vertices).
     #[arg(long)]
     pub keep_crack_contacts: bool,
+    /// Keep at most N contacts per step: once a step has more, its query stops and its output
+    /// says TRUNCATED (the first N of the query's fixed order, the same for any thread count;
+    /// with --earliest, once the earliest time is known to be 0).
+    #[arg(long, value_name = "N")]
+    pub max_contacts: Option<usize>,
 }
 
 impl Default for QueryArgs {
@@ -117,6 +122,7 @@ impl Default for QueryArgs {
             growth: GrowthArg::default_growth(),
             geometry: false,
             keep_crack_contacts: false,
+            max_contacts: None,
         }
     }
 }
@@ -147,6 +153,8 @@ impl QueryArgs {
             growth: self.growth.into(),
             geometry: self.geometry,
             crack_filter: !self.keep_crack_contacts,
+            max_contacts: self.max_contacts,
+            deadline: None,
         };
         options.validate()?;
         Ok(options)

@@ -64,6 +64,7 @@ pub use query::{
     Mode, OptionsError, QueryOptions, Report, Seconds, Stats, VfContact, VfGeometry,
     AUTO_CLUSTER_TRIANGLES,
 };
+pub use query::{CancelToken, Phase, StopReason, Truncation};
 
 /// The README's examples, run as doctests.
 #[cfg(doctest)]

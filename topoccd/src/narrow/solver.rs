@@ -91,6 +91,15 @@
 //! # Iteration limit
 //! When `max_iterations` boxes have been examined, the answer is a contact at the start time of
 //! the next box in the queue, the earliest time not yet ruled out ([`Certainty::IterationLimit`]).
+//!
+//! # Features that share a point at t=0
+//! When the vertex sits exactly on a corner of the face at t=0, or an end of one edge exactly on
+//! an end of the other (equal coordinates), the features touch at 0, and no search can answer
+//! anything but 0: with at least [`SHARED_POINT_ITERATIONS`] iterations allowed, the answer is
+//! that contact, [`Certainty::Resolved`], without a search (the search finds it within its
+//! first boxes; with fewer iterations it runs as usual, and may report the contact at 0 as
+//! [`Certainty::IterationLimit`]). Positions cast to integers collapse onto a few points and
+//! give hundreds of millions of such pairs.
 
 use super::bernstein::{coplanarity_ends, coplanarity_inner};
 use super::extremes::{lower, lower3, raise, raise3, raise_abs};
@@ -123,32 +132,46 @@ pub struct Problem {
     b: [DVec3; 2],
     weight: Weight,
     finite: bool,
+    /// Whether the features share a point at t=0: the vertex sits exactly on a corner of the
+    /// face, or an end of one edge exactly on an end of the other (equal coordinates).
+    shared_at_start: bool,
 }
 
 impl Problem {
     /// The vertex-face problem `F = v - f0 + u (f0 - f1) + u v (f1 - f2)`.
     pub fn vertex_face(q: &VertexFace) -> Self {
+        let shared = [q.f0_t0, q.f1_t0, q.f2_t0].contains(&q.v_t0);
         Self::new(
             [q.v_t0 - q.f0_t0, q.v_t1 - q.f0_t1],
             [q.f0_t0 - q.f1_t0, q.f0_t1 - q.f1_t1],
             [q.f1_t0 - q.f2_t0, q.f1_t1 - q.f2_t1],
             Weight::Product,
             &q.points(),
+            shared,
         )
     }
 
     /// The edge-edge problem `F = ea0 - eb0 + u (ea1 - ea0) + v (eb0 - eb1)`.
     pub fn edge_edge(q: &EdgeEdge) -> Self {
+        let shared = [q.eb0_t0, q.eb1_t0].contains(&q.ea0_t0) || [q.eb0_t0, q.eb1_t0].contains(&q.ea1_t0);
         Self::new(
             [q.ea0_t0 - q.eb0_t0, q.ea0_t1 - q.eb0_t1],
             [q.ea1_t0 - q.ea0_t0, q.ea1_t1 - q.ea0_t1],
             [q.eb0_t0 - q.eb1_t0, q.eb0_t1 - q.eb1_t1],
             Weight::Plain,
             &q.points(),
+            shared,
         )
     }
 
-    fn new(p: [DVec3; 2], a: [DVec3; 2], b: [DVec3; 2], weight: Weight, pts: &[DVec3; 8]) -> Self {
+    fn new(
+        p: [DVec3; 2],
+        a: [DVec3; 2],
+        b: [DVec3; 2],
+        weight: Weight,
+        pts: &[DVec3; 8],
+        shared_at_start: bool,
+    ) -> Self {
         // Differences must stay far enough from overflow that every intermediate value (at most
         // a few times larger) and its error bound stay finite.
         let finite = pts.iter().all(|x| x.is_finite())
@@ -162,9 +185,14 @@ impl Problem {
             b,
             weight,
             finite,
+            shared_at_start,
         }
     }
 }
+
+/// With at least this many iterations allowed, a problem whose features share a point at t=0
+/// is answered at once ([`solve_counted_from`]).
+pub const SHARED_POINT_ITERATIONS: u32 = 4096;
 
 /// A box of the parameter domain. Intervals are `[lo, hi]`.
 #[derive(Clone, Copy, Debug)]
@@ -260,6 +288,18 @@ pub(crate) fn solve_counted_from(
     if t_start > 0.0 && t_start >= t_max {
         // Apart during the whole interval.
         return (Outcome::Separated, 0);
+    }
+    if problem.shared_at_start && t_start <= 0.0 && options.max_iterations >= SHARED_POINT_ITERATIONS
+    {
+        // The features touch at t=0 (a shared point, exactly): the search would find that
+        // contact, which it never rules out, in its first boxes (each starting at 0, the
+        // earliest first), and answer 0. Collapsed input (positions cast to integers) has
+        // hundreds of millions of such pairs.
+        let outcome = Outcome::Contact {
+            toi: 0.0,
+            certainty: Certainty::Resolved,
+        };
+        return (outcome, 0);
     }
     let max_iterations = options.max_iterations.max(1);
     // Depth-first branch and bound: `best` is the earliest start of a contact box found so far;

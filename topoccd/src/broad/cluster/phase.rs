@@ -110,6 +110,11 @@ impl ClusterPhase {
         (stats, figures)
     }
 
+    /// Makes the leaf growth of the next queries obey `stop` (`None`: never stop).
+    pub fn set_stop(&mut self, stop: Option<crate::broad::Stopper>) {
+        self.ws.leaf.stop = stop;
+    }
+
     /// Validates the hierarchy of `kind` built by the last query (see
     /// [`ClusterTree::validate`]).
     pub fn validate(&self, kind: DopKind) -> Result<(), BvhError> {
