@@ -11,7 +11,7 @@ use topoccd::io::read_mesh;
 use topoccd::io::sequence::Sequence;
 use topoccd::Ccd;
 
-use crate::cmd_step::{coincidence_warning, write_pairs, StepOut};
+use crate::cmd_step::{input_warning_lines, write_pairs, StepOut};
 use crate::query_args::{MethodArgs, QueryArgs};
 
 /// Arguments of `topoccd run`.
@@ -117,7 +117,7 @@ fn warn_first_frame(sequence: &Sequence) -> Result<()> {
         eprintln!("note: {}: {note}", first.display());
     }
     let remedy = "Merge them in the frames (`topoccd step --weld` does it for one step)";
-    if let Some(w) = coincidence_warning(first, &mesh.positions, &mesh.triangles, remedy) {
+    for w in input_warning_lines(first, &mesh.positions, &mesh.triangles, remedy) {
         eprintln!("{w}");
     }
     Ok(())

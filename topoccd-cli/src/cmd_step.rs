@@ -8,8 +8,8 @@ use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use topoccd::io::sequence::StepFrames;
 use topoccd::io::{
-    available_memory, coincident_vertices, read_mesh, read_ply_header, weld_frames, FaceOrigin,
-    MemoryEstimate, MeshFormat, PlyCounts,
+    available_memory, input_warnings, read_mesh, read_ply_header, weld_frames, FaceOrigin,
+    InputWarning, MemoryEstimate, MeshFormat, PlyCounts,
 };
 use topoccd::{
     Ccd, Contact, EeContact, Method, Mode, Report, Seconds, Stats, Step, Truncation, VfContact,
@@ -426,9 +426,12 @@ pub fn read_step_input(
         });
     }
     let remedy = "--weld merges vertices that coincide at t=0 and t=1";
-    if let Some(warning) = coincidence_warning(t0, &m0.positions, &m1.triangles, remedy) {
-        messages.push(warning);
-    }
+    messages.extend(input_warning_lines(
+        t0,
+        &m0.positions,
+        &m1.triangles,
+        remedy,
+    ));
     let step = Step::new(m0.positions, m1.positions, m1.triangles).with_context(context)?;
     Ok(StepInput {
         step,
@@ -439,32 +442,24 @@ pub fn read_step_input(
     })
 }
 
-/// A warning if vertices used by `triangles` coincide in `positions` (read from `path`);
-/// `remedy` ends it.
-pub fn coincidence_warning(
+/// The warnings on the input read from `path` ([`input_warnings`], the library's check that the
+/// Python package shares), one line each; `remedy` ends the warning of coincident vertices.
+pub fn input_warning_lines(
     path: &Path,
     positions: &[[f64; 3]],
     triangles: &[[u32; 3]],
     remedy: &str,
-) -> Option<String> {
-    let groups = coincident_vertices(positions, triangles);
-    let largest = groups.iter().rev().max_by_key(|g| g.len())?; // the first of the largest
-    let duplicates: usize = groups.iter().map(|g| g.len() - 1).sum();
-    let example: Vec<String> = largest.iter().take(6).map(u32::to_string).collect();
-    Some(format!(
-        "warning: {}: {duplicates} vertices sit exactly on another vertex ({} groups; the largest \
-         has {} vertices: {}{}); duplicates touch from the start and give spurious contacts at \
-         t=0. {remedy}",
-        path.display(),
-        groups.len(),
-        largest.len(),
-        example.join(", "),
-        if largest.len() > example.len() {
-            ", ..."
-        } else {
-            ""
-        }
-    ))
+) -> Vec<String> {
+    input_warnings(positions, triangles)
+        .iter()
+        .map(|w| {
+            let remedy = match w {
+                InputWarning::CoincidentVertices { .. } => format!(". {remedy}"),
+                _ => String::new(),
+            };
+            format!("warning: {}: {w}{remedy}", path.display())
+        })
+        .collect()
 }
 
 /// Renames the contacts of a report from the step's ids to the input files' ids.

@@ -153,9 +153,10 @@ impl<const H: usize> TaskPairs for PerStepBvh<H> {
         pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
         consume: impl FnMut(T) -> ControlFlow<()>,
+        skip: &(dyn Fn() -> bool + Sync),
     ) -> u64 {
         self.bvh
-            .par_self_pairs_until(ws, par, make, pair, finish, consume)
+            .par_self_pairs_until(ws, par, make, pair, finish, consume, skip)
     }
 }
 

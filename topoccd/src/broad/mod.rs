@@ -143,10 +143,12 @@ impl<'f> Sink<'f> {
 /// for every triangle pair to test, each once, with one accumulator per task (made by
 /// `make`, finished by `finish` on the task's thread), handed to `consume` in a fixed task
 /// order, batch by batch ([`ParOptions::batch`]); once `consume` returns
-/// [`ControlFlow::Break`], no batch after the one under way runs. The tasks, and what each
+/// [`ControlFlow::Break`], no batch after the one under way runs; `skip`, asked once as each
+/// task starts, leaves that task untraversed (a query that stopped). The tasks, and what each
 /// receives, depend on the input alone, never on the thread count. Returns the
 /// bounding-volume tests.
 pub(crate) trait TaskPairs {
+    #[allow(clippy::too_many_arguments)]
     fn pairs<T: Send>(
         &self,
         ws: &mut BvhWorkspace,
@@ -155,6 +157,7 @@ pub(crate) trait TaskPairs {
         pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
         consume: impl FnMut(T) -> ControlFlow<()>,
+        skip: &(dyn Fn() -> bool + Sync),
     ) -> u64;
 }
 

@@ -173,12 +173,15 @@ impl<V: BoundingVolume> Bvh<V> {
             consume(r);
             ControlFlow::Continue(())
         };
-        self.par_self_pairs_until(ws, options, make, leaf_pair, finish, consume)
+        self.par_self_pairs_until(ws, options, make, leaf_pair, finish, consume, &|| false)
     }
 
     /// [`Bvh::par_self_pairs_finished`] whose `consume` may stop the traversal: once it returns
     /// [`ControlFlow::Break`], the results of the batch under way are still handed over, and
-    /// no further batch runs. Returns the bounding-volume tests made.
+    /// no further batch runs. `skip` is asked once as each task starts: a task it says to skip
+    /// is not traversed (its accumulator, made and finished, receives no pair). Returns the
+    /// bounding-volume tests made.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn par_self_pairs_until<T: Send>(
         &self,
         ws: &mut BvhWorkspace,
@@ -187,6 +190,7 @@ impl<V: BoundingVolume> Bvh<V> {
         leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
         consume: impl FnMut(T) -> ControlFlow<()>,
+        skip: &(dyn Fn() -> bool + Sync),
     ) -> u64 {
         let t = &mut ws.tasks;
         t.entries.clear();
@@ -196,7 +200,8 @@ impl<V: BoundingVolume> Bvh<V> {
         }
         let small = self.nodes.len() < options.min_nodes;
         let nodes = &self.nodes[..];
-        par_run(nodes, nodes, t, 0, small, options, make, leaf_pair, finish, consume)
+        let f = (make, leaf_pair, finish, consume, skip);
+        par_run(nodes, nodes, t, 0, small, options, f)
     }
 
     /// [`Bvh::tree_pairs`] on the current rayon thread pool, with per-task accumulators
@@ -262,7 +267,9 @@ impl<V: BoundingVolume> Bvh<V> {
             consume(r);
             ControlFlow::Continue(())
         };
-        par_run(na, nb, t, 1, small, options, make, leaf_pair, |_| {}, consume)
+        let never: &(dyn Fn() -> bool + Sync) = &|| false;
+        let f = (make, leaf_pair, |_: &mut T| {}, consume, never);
+        par_run(na, nb, t, 1, small, options, f)
     }
 }
 
@@ -270,7 +277,7 @@ impl<V: BoundingVolume> Bvh<V> {
 /// until there are at least `options.min_tasks` or none left (unless `small`), then runs them
 /// on the rayon pool, batch by batch, handing the results to `consume` in task order. The
 /// first result holds the leaf pairs found while splitting. Returns the overlap tests.
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::type_complexity)]
 fn par_run<V: BoundingVolume, T: Send>(
     na: &[Node<V>],
     nb: &[Node<V>],
@@ -278,10 +285,13 @@ fn par_run<V: BoundingVolume, T: Send>(
     mut bv_tests: u64,
     small: bool,
     options: &ParOptions,
-    make: impl Fn() -> T + Sync + Send,
-    leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
-    finish: impl Fn(&mut T) + Sync + Send,
-    mut consume: impl FnMut(T) -> ControlFlow<()>,
+    (make, leaf_pair, finish, mut consume, skip): (
+        impl Fn() -> T + Sync + Send,
+        impl Fn(&mut T, u32, u32) + Sync + Send,
+        impl Fn(&mut T) + Sync + Send,
+        impl FnMut(T) -> ControlFlow<()>,
+        &(dyn Fn() -> bool + Sync),
+    ),
 ) -> u64 {
     while !small && !t.entries.is_empty() && t.entries.len() < options.min_tasks {
         t.next.clear();
@@ -307,7 +317,8 @@ fn par_run<V: BoundingVolume, T: Send>(
         stack.push((a, b));
         run(na, nb, stack, &mut |x, y| leaf_pair(acc, x, y))
     };
-    bv_tests + run_batches(&t.entries, options, Vec::new, body, make, finish, &mut consume)
+    let f = (make, finish, skip);
+    bv_tests + run_batches(&t.entries, options, Vec::new, body, f, &mut consume)
 }
 
 /// Runs `tasks` on the rayon pool, a batch at a time ([`ParOptions::batch`], doubled after
@@ -316,14 +327,20 @@ fn par_run<V: BoundingVolume, T: Send>(
 /// finished by `finish` on the task's thread; the accumulators go to `consume` in task order,
 /// so what `consume` sees does not depend on the thread count. Once `consume` returns
 /// [`ControlFlow::Break`], the batch under way is handed over in full and no other batch runs.
-/// `scratch` makes per-thread scratch memory. Returns the bounding-volume tests made.
+/// `skip` is asked once as each task starts: when it says so, `body` does not run (a query
+/// that stopped leaves the rest of the traversal at once). `scratch` makes per-thread scratch
+/// memory. Returns the bounding-volume tests made.
+#[allow(clippy::type_complexity)]
 pub(crate) fn run_batches<W: Sync, S: Send, T: Send>(
     tasks: &[W],
     options: &ParOptions,
     scratch: impl Fn() -> S + Sync + Send,
     body: impl Fn(&mut S, &W, &mut T) -> u64 + Sync + Send,
-    make: impl Fn() -> T + Sync + Send,
-    finish: impl Fn(&mut T) + Sync + Send,
+    (make, finish, skip): (
+        impl Fn() -> T + Sync + Send,
+        impl Fn(&mut T) + Sync + Send,
+        &(dyn Fn() -> bool + Sync),
+    ),
     consume: &mut impl FnMut(T) -> ControlFlow<()>,
 ) -> u64 {
     let mut bv_tests = 0;
@@ -343,7 +360,7 @@ pub(crate) fn run_batches<W: Sync, S: Send, T: Send>(
             .with_max_len(1)
             .map_init(&scratch, |s, task| {
                 let mut acc = make();
-                let tests = body(s, task, &mut acc);
+                let tests = if skip() { 0 } else { body(s, task, &mut acc) };
                 finish(&mut acc);
                 (acc, tests)
             })

@@ -256,6 +256,7 @@ fn a_traversal_stops_after_the_batch_where_consume_asks() {
                             ControlFlow::Continue(())
                         }
                     },
+                    &|| false,
                 );
                 got
             });

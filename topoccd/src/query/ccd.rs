@@ -803,7 +803,7 @@ fn traverse_pass(
     // Under a cap, batches small enough that the contacts of a batch's tasks stay bounded
     // (the result does not depend on the batches: see `Keeper`).
     let par = ParOptions {
-        batch: ctx.limits.batch(batch),
+        batch: ctx.limits.batch(batch, TASK_BATCH),
         grow: !ctx.limits.capped(),
         ..ParOptions::default()
     };
@@ -857,5 +857,7 @@ fn traverse_pass(
             ControlFlow::Continue(())
         }
     };
-    tree.pairs(ws, &par, make, pair, finish, consume)
+    // One check as each task starts: once the query stops, the tasks left are not traversed.
+    let skip = || ctx.limits.poll(true);
+    tree.pairs(ws, &par, make, pair, finish, consume, &skip)
 }

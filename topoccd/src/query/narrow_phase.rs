@@ -725,24 +725,49 @@ impl Context<'_, '_> {
     /// [`Mode::Earliest`] with a cap, once the earliest time is known to be 0, contacts after
     /// the tolerance are not kept (no report keeps them).
     pub fn solve(&self, candidates: &Candidates, limit: &mut f64, found: &mut Found) {
-        let (step, edges, options, coord) = (self.step, self.edges, self.options, self.coord);
+        // An Earliest query with a cap settles ([`Found::settle`]) as soon as its earliest
+        // time is known to be 0, so that a task holds few contacts beyond its room.
+        let part = if self.limits.capped() && self.options.mode == Mode::Earliest {
+            SETTLE_PAIRS
+        } else {
+            usize::MAX
+        };
+        for pairs in candidates.vf.chunks(part) {
+            self.solve_vf(pairs, limit, found);
+            found.settle(self, *limit);
+        }
+        for pairs in candidates.ee.chunks(part) {
+            self.solve_ee(pairs, limit, found);
+            found.settle(self, *limit);
+        }
+        found.mark();
+    }
+
+    /// The new limit after a contact at `toi` ([`Context::limit`]; unchanged in [`Mode::All`]).
+    fn lowered(&self, limit: f64, toi: f64) -> f64 {
+        if self.options.mode == Mode::Earliest {
+            limit.min(self.limit(Some(toi)))
+        } else {
+            limit
+        }
+    }
+
+    /// Whether a contact at `toi`, found with `limit`, may be kept: not after the tolerance
+    /// once the earliest time of an Earliest query with a cap is known to be 0.
+    fn keeps(&self, limit: f64, toi: f64) -> bool {
+        let tol = self.options.narrow.tolerance;
+        !(self.limits.capped() && toi > tol && self.known_zero(limit))
+    }
+
+    /// [`Context::solve`] for vertex-face candidates.
+    fn solve_vf(&self, pairs: &[[u32; 2]], limit: &mut f64, found: &mut Found) {
+        let (step, options, coord) = (self.step, self.options, self.coord);
         let (sep, t_max) = (options.narrow.min_separation, options.narrow.t_max);
         let (x, tris) = ((step.pos0(), step.pos1()), step.triangles());
-        let earliest = options.mode == Mode::Earliest;
-        let lowered = |limit: f64, toi: f64| {
-            if earliest {
-                limit.min(self.limit(Some(toi)))
-            } else {
-                limit
-            }
-        };
-        let (capped, tol) = (self.limits.capped(), options.narrow.tolerance);
-        let keep = |limit: f64, toi: f64| !(capped && toi > tol && self.known_zero(limit));
-        let room = &mut found.room;
         solve_in_fours(
-            &candidates.vf,
+            pairs,
             t_max,
-            (&mut *limit, &mut *room, self.limits),
+            (limit, &mut found.room, self.limits),
             &mut found.vf,
             |[v, f]| {
                 let [f0, f1, f2] = tris[f as usize];
@@ -753,12 +778,22 @@ impl Context<'_, '_> {
             |q, t_end, r| vf_rest_unresolved(q, sep, t_end, coord, r),
             |q, pair, limit, from| vf_solved(self, q, pair, (limit, from)),
             |pair, limit| vf_contact(self, pair, limit),
-            (|limit, c: &VfContact| lowered(limit, c.toi), |limit, c: &VfContact| keep(limit, c.toi)),
+            (
+                |limit, c: &VfContact| self.lowered(limit, c.toi),
+                |limit, c: &VfContact| self.keeps(limit, c.toi),
+            ),
         );
+    }
+
+    /// [`Context::solve`] for edge-edge candidates.
+    fn solve_ee(&self, pairs: &[[u32; 2]], limit: &mut f64, found: &mut Found) {
+        let (step, edges, options, coord) = (self.step, self.edges, self.options, self.coord);
+        let (sep, t_max) = (options.narrow.min_separation, options.narrow.t_max);
+        let x = (step.pos0(), step.pos1());
         solve_in_fours(
-            &candidates.ee,
+            pairs,
             t_max,
-            (&mut *limit, &mut *room, self.limits),
+            (limit, &mut found.room, self.limits),
             &mut found.ee,
             |[e, f]| {
                 let ([a0, a1], [b0, b1]) = (edges[e as usize], edges[f as usize]);
@@ -769,9 +804,11 @@ impl Context<'_, '_> {
             |q, t_end, r| ee_rest_unresolved(q, sep, t_end, coord, r),
             |q, pair, limit, from| ee_solved(self, q, pair, (limit, from)),
             |pair, limit| ee_contact(self, pair, limit),
-            (|limit, c: &EeContact| lowered(limit, c.toi), |limit, c: &EeContact| keep(limit, c.toi)),
+            (
+                |limit, c: &EeContact| self.lowered(limit, c.toi),
+                |limit, c: &EeContact| self.keeps(limit, c.toi),
+            ),
         );
-        found.mark();
     }
 
     /// Solves a buffer of candidates on the current rayon pool, appending the contacts to
@@ -836,6 +873,10 @@ impl Context<'_, '_> {
 /// Candidates of a buffer of [`Context::solve_parallel`] solved between two polls of the
 /// query's limits in [`Mode::All`]: some milliseconds of work.
 const ALL_CHUNK: usize = 1 << 14;
+
+/// Pairs [`Context::solve`] solves between two settlements of an Earliest query with a cap
+/// (a multiple of four).
+const SETTLE_PAIRS: usize = 256;
 
 /// Lowers `best` to the smallest of `tois`.
 pub(crate) fn lower(best: &mut Option<f64>, tois: impl Iterator<Item = f64>) {

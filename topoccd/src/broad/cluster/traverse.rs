@@ -435,6 +435,7 @@ impl<const H: usize> TaskPairs for TrianglePairs<'_, H> {
         pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
         mut consume: impl FnMut(T) -> std::ops::ControlFlow<()>,
+        skip: &(dyn Fn() -> bool + Sync),
     ) -> u64 {
         let work = &self.scratch.work[..];
         let mut start = 0;
@@ -452,7 +453,8 @@ impl<const H: usize> TaskPairs for TrianglePairs<'_, H> {
             }
             tests
         };
-        run_batches(&tasks, par, Default::default, body, make, finish, &mut consume)
+        let f = (make, finish, skip);
+        run_batches(&tasks, par, Default::default, body, f, &mut consume)
     }
 }
 
