@@ -109,6 +109,35 @@ pub fn prepare_dir(dir: &Path) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))
 }
 
+/// A warning naming the files of the sequence's folder that are not its frames (at most 12),
+/// `None` when there are none: a folder holding two frames among other files is then not taken
+/// as a sequence silently.
+pub fn left_out_warning(sequence: &Sequence) -> Option<String> {
+    const SHOWN: usize = 12;
+    let ignored = &sequence.ignored;
+    if ignored.is_empty() {
+        return None;
+    }
+    let name = |p: &PathBuf| {
+        p.file_name()
+            .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
+    };
+    let more = if ignored.len() > SHOWN {
+        format!(" and {} more", ignored.len() - SHOWN)
+    } else {
+        String::new()
+    };
+    Some(format!(
+        "warning: {}: the sequence is the {} frames {} ... {} ({} steps); left out: {}{more}",
+        sequence.dir.display(),
+        sequence.frames.len(),
+        name(&sequence.frames[0]),
+        name(&sequence.frames[sequence.frames.len() - 1]),
+        sequence.steps(),
+        ignored[..ignored.len().min(SHOWN)].join(", "),
+    ))
+}
+
 /// Prints the reader's notes on the first frame, and a warning if vertices of it coincide.
 fn warn_first_frame(sequence: &Sequence) -> Result<()> {
     let first = &sequence.frames[0];
@@ -127,6 +156,9 @@ fn warn_first_frame(sequence: &Sequence) -> Result<()> {
 pub fn run(args: &Args) -> Result<()> {
     let options = args.query.options()?;
     let sequence = Sequence::open(&args.seq_dir)?;
+    if let Some(w) = left_out_warning(&sequence) {
+        eprintln!("{w}");
+    }
     if let Some(dir) = &args.pairs_dir {
         prepare_dir(dir)?;
     }

@@ -302,6 +302,12 @@ pub fn read_step(t0: &Path, t1: &Path) -> Result<Step<'static>> {
 
 /// The counts a PLY file's header declares; `None` for other formats (counted once read).
 fn header_counts(path: &Path) -> Result<Option<PlyCounts>> {
+    if path.is_dir() {
+        return Err(topoccd::io::IoError::Folder {
+            path: path.to_path_buf(),
+        }
+        .into());
+    }
     match MeshFormat::of_path(path)? {
         MeshFormat::Ply => Ok(Some(read_ply_header(path)?)),
         MeshFormat::Obj | MeshFormat::Stl => Ok(None),
@@ -553,6 +559,7 @@ pub fn run(args: &Args) -> Result<()> {
     if let Some(p) = &args.pairs {
         if !to_stdout {
             refuse_overwrite(p, &[&args.t0, &args.t1])?;
+            crate::cmd_render::writable(p)?;
         }
     }
     let limit = match args.max_memory {
