@@ -32,7 +32,7 @@ VENV=target/test-venv
 rm -rf "$VENV"
 "$PYTHON_BIN" -m venv "$VENV"
 "$VENV/bin/python" -m pip install --quiet --upgrade pip
-"$VENV/bin/python" -m pip install --quiet maturin pytest numpy ray tqdm
+"$VENV/bin/python" -m pip install --quiet maturin pytest hypothesis numpy ray tqdm
 "$VENV/bin/python" -m pip install --quiet "./topoccd-py[ray,test]"
 "$VENV/bin/python" -c "import topoccd; print('topoccd', topoccd.__version__, 'imported')"
 set +e

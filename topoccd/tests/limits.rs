@@ -226,6 +226,13 @@ fn a_deadline_ends_a_long_query() {
             let t = r.truncated.expect("truncated");
             assert_eq!(t.reason, StopReason::Deadline, "{method} {mode:?}");
             assert!(took < Duration::from_secs(5), "{method} {mode:?}: {took:?}");
+            // Stopped by time: only the earliest contact found by then (all touch at 0).
+            assert_eq!(r.contact_count(), 0);
+            assert!(
+                r.earliest.is_none_or(|c| c.toi() == 0.0),
+                "{:?}",
+                r.earliest
+            );
         }
     }
 }

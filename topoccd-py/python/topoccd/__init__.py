@@ -22,7 +22,11 @@ Contents:
 - :func:`read_mesh`, :func:`read_sequence`: PLY / OBJ frames as numpy arrays.
 - :mod:`topoccd.batch`: every step of a frame sequence over Ray tasks or a process pool.
 - Errors: :class:`InputError` and :class:`OptionsError` (both ``ValueError``),
-  :class:`FormatError` (an ``OSError``) for malformed files.
+  :class:`FormatError` (an ``OSError``) for malformed files; ``TimeoutError`` after
+  ``timeout=``; :class:`InputWarning` (a ``UserWarning``) for input that is valid but likely a
+  mistake (coincident vertices, zero-area triangles, positions cast to integers).
+- Limits: ``max_contacts=`` bounds the report (``report.truncated`` says so), ``timeout=``
+  bounds the time, and Ctrl-C stops a running query.
 """
 
 from typing import Optional
@@ -31,6 +35,7 @@ from ._topoccd import (
     Ccd,
     FormatError,
     InputError,
+    InputWarning,
     OptionsError,
     Report,
     Sequence,
@@ -49,6 +54,7 @@ __all__ = [
     "read_mesh",
     "read_sequence",
     "InputError",
+    "InputWarning",
     "OptionsError",
     "FormatError",
     "RESOLVED",
@@ -86,6 +92,8 @@ def query(
     threads: Optional[int] = None,
     geometry: bool = False,
     crack_filter: bool = True,
+    max_contacts: Optional[int] = None,
+    timeout: Optional[float] = None,
 ) -> Report:
     """One query with a fresh :class:`Ccd`: every contact of one step, or the earliest.
 
@@ -118,4 +126,6 @@ def query(
         threads=threads,
         geometry=geometry,
         crack_filter=crack_filter,
+        max_contacts=max_contacts,
+        timeout=timeout,
     )

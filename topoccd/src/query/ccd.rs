@@ -8,7 +8,7 @@ use std::time::Instant;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::Arc;
 
-use super::limits::{CancelToken, Limits, Phase, Truncation};
+use super::limits::{CancelToken, Limits, Phase, StopReason, Truncation};
 use super::narrow_phase::{
     self, first_pass_tau, lower, Context, FirstPass, Found, Keeper, Stream, WholeStep, EARLY,
 };
@@ -474,10 +474,18 @@ impl Ccd {
             traverse,
         } = broad;
         let t = Instant::now();
-        let mut earliest = narrow_phase::finish(&mut found, options);
-        if stream.is_some() {
-            earliest = found.streamed;
-        }
+        let by_time = matches!(
+            limits.stopped(),
+            Some(StopReason::Deadline | StopReason::Cancelled)
+        );
+        let earliest = if by_time {
+            // What was found by then depends on timing: the report keeps the earliest.
+            found.earliest_only()
+        } else if stream.is_some() {
+            found.streamed
+        } else {
+            narrow_phase::finish(&mut found, options)
+        };
         narrow += t.elapsed().as_secs_f64();
         let truncated = limits.stopped().map(|reason| Truncation {
             reason,

@@ -98,10 +98,16 @@ pub enum Phase {
 ///
 /// With [`StopReason::MaxContacts`] the report is the same for any thread count: its contacts
 /// are the first `max_contacts` the query finds in its fixed order of work (the traversal's
-/// tasks in their order, and within a task its candidate pairs in order; for
-/// [`Method::Brute`](super::Method::Brute), the sweep's candidates in order), and `tasks` and
-/// the statistics count only the work those contacts came from. After a deadline or a
-/// cancellation the report holds what was found by then, which depends on timing.
+/// tasks in their order, and within a task its candidate pairs in order, a buffer's
+/// vertex-face pairs before its edge-edge pairs; for [`Method::Brute`](super::Method::Brute),
+/// the sweep's candidates in order), sorted as usual, and `tasks` and the statistics count
+/// only the work those contacts came from. In [`Mode::Earliest`](super::Mode::Earliest) they
+/// are the first `max_contacts` of that order within the tolerance of the earliest time, which
+/// is then 0 (the query truncates only once it knows that).
+///
+/// After a deadline or a cancellation, what was found depends on timing: the report holds no
+/// contacts, only the earliest found by then (`earliest`, an upper bound of the step's earliest
+/// time of impact), so that the query ends at once, whatever it had found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Truncation {

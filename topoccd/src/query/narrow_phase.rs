@@ -204,6 +204,32 @@ impl Found {
         }
     }
 
+    /// Forgets `task`'s contacts, but for the earliest of them (kept in `streamed`, as a
+    /// stream's).
+    fn keep_earliest(&mut self, task: &mut Found) {
+        let contacts = (task.vf.iter().map(|&c| Contact::Vf(c)))
+            .chain(task.ee.iter().map(|&c| Contact::Ee(c)));
+        if let Some(c) = contacts.min_by(Contact::earliest_order) {
+            let earlier = |s: &Contact| c.earliest_order(s) == std::cmp::Ordering::Less;
+            if self.streamed.as_ref().is_none_or(earlier) {
+                self.streamed = Some(c);
+            }
+        }
+        *task = Found::default();
+    }
+
+    /// After a deadline or a cancellation: the contacts held are forgotten but for the
+    /// earliest, returned (with any kept by [`Found::keep_earliest`] or streamed).
+    pub fn earliest_only(&mut self) -> Option<Contact> {
+        let mut all = std::mem::take(self);
+        let streamed = all.streamed.take();
+        self.keep_earliest(&mut all);
+        match (self.streamed.take(), streamed) {
+            (Some(a), Some(b)) => Some(std::cmp::min_by(a, b, Contact::earliest_order)),
+            (a, b) => a.or(b),
+        }
+    }
+
     /// Hands what is held to the stream, if there is one, and forgets it.
     pub fn deliver(&mut self, ctx: &Context) {
         let Some(stream) = ctx.stream else { return };
@@ -280,6 +306,14 @@ impl Keeper {
         }
         self.tasks += 1;
         let limits = ctx.limits;
+        if matches!(
+            limits.stopped(),
+            Some(StopReason::Deadline | StopReason::Cancelled)
+        ) {
+            // The report of a query stopped by time keeps only its earliest contact.
+            found.keep_earliest(task);
+            return ControlFlow::Break(());
+        }
         if limits.capped() && ctx.options.mode == Mode::Earliest {
             lower(&mut self.best, task.vf.iter().map(|c| c.toi));
             lower(&mut self.best, task.ee.iter().map(|c| c.toi));
@@ -878,6 +912,27 @@ const ALL_CHUNK: usize = 1 << 14;
 /// (a multiple of four).
 const SETTLE_PAIRS: usize = 256;
 
+/// Sorts `v` by `key` (unique per element), on the rayon pool for long vectors: their keys
+/// and positions are sorted, then the elements gathered in that order (contacts are over a
+/// hundred bytes each: moving them once beats moving them at every level of a sort; a
+/// collapsed step's millions of contacts sorted in place took most of a second).
+fn sort_by_key<T, K>(v: &mut Vec<T>, key: impl Fn(&T) -> K + Sync)
+where
+    T: Copy + Send + Sync,
+    K: Ord + Send + Sync,
+{
+    if v.len() < 1 << 14 {
+        v.sort_unstable_by_key(key);
+        return;
+    }
+    let mut keys: Vec<(K, u32)> = (v.par_iter().enumerate())
+        .map(|(i, c)| (key(c), i as u32))
+        .collect();
+    keys.par_sort_unstable_by(|a, b| a.0.cmp(&b.0));
+    let sorted: Vec<T> = keys.par_iter().map(|&(_, i)| v[i as usize]).collect();
+    *v = sorted;
+}
+
 /// Lowers `best` to the smallest of `tois`.
 pub(crate) fn lower(best: &mut Option<f64>, tois: impl Iterator<Item = f64>) {
     for t in tois {
@@ -890,8 +945,8 @@ pub(crate) fn lower(best: &mut Option<f64>, tois: impl Iterator<Item = f64>) {
 /// Sorts what was found, keeps in [`Mode::Earliest`] only the contacts within the tolerance of
 /// the earliest, and returns the earliest contact.
 pub(crate) fn finish(found: &mut Found, options: &QueryOptions) -> Option<Contact> {
-    found.vf.sort_unstable_by_key(|c| (c.vertex, c.face));
-    found.ee.sort_unstable_by_key(|c| (c.a, c.b));
+    sort_by_key(&mut found.vf, |c| (c.vertex, c.face));
+    sort_by_key(&mut found.ee, |c| (c.a, c.b));
     let earliest = found
         .vf
         .iter()

@@ -183,7 +183,8 @@ pub struct QueryOptions {
     /// When the query gives up: past this instant it stops within about a millisecond of
     /// work per thread (the checks run in the traversal tasks, between a few dozen elementary
     /// tests, in the brute-force sweep and in the cluster growth), and the report, holding
-    /// what was found by then, says so ([`Report::truncated`](crate::Report::truncated),
+    /// only the earliest contact found by then, says so
+    /// ([`Report::truncated`](crate::Report::truncated),
     /// [`StopReason::Deadline`](crate::StopReason::Deadline)). `None` (the default): no
     /// deadline. Not serialised. To stop a query from another thread, see
     /// [`Ccd::cancel_token`](crate::Ccd::cancel_token).

@@ -190,6 +190,7 @@ fn run<const H: usize, R: PairRunner>(
     let traversal = Inputs {
         clustering,
         trust,
+        stop: cluster_ws.leaf.stop.as_ref(),
     };
     let mut counts = traverse::prepare(tree, &traversal, pairs, ws);
     let source = TrianglePairs {
