@@ -132,7 +132,7 @@ impl<'f> Sink<'f> {
     #[inline]
     pub fn stopped(&mut self) -> bool {
         self.polls += 1;
-        if !self.stopped && self.polls % 4096 == 0 {
+        if !self.stopped && self.polls.is_multiple_of(4096) {
             self.stopped = (self.stop)();
         }
         self.stopped

@@ -443,7 +443,7 @@ impl Elements<'_> {
                 Encoding::BinaryLittleEndian => parser.read_little_endian_element(input, def),
             };
             let element = element.map_err(|e| {
-                let line = ascii.then(|| (self.text.as_str(), def));
+                let line = ascii.then_some((self.text.as_str(), def));
                 self.element_error(&e, location(), line)
             })?;
             each(&location, element)?;

@@ -133,7 +133,7 @@ impl Task {
     #[inline]
     fn takes(&mut self, ctx: &Context<'_, '_>) -> bool {
         self.pairs += 1;
-        if self.pairs % TASK_POLL == 0 && !self.done {
+        if self.pairs.is_multiple_of(TASK_POLL) && !self.done {
             self.done = ctx.limits.poll(false);
         }
         !self.done

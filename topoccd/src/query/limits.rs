@@ -201,7 +201,8 @@ impl Limits {
             return true;
         }
         if let Some(deadline) = self.deadline {
-            let due = now || self.polls.fetch_add(1, Ordering::Relaxed) % POLLS_PER_CLOCK == 0;
+            let due = now
+                || (self.polls.fetch_add(1, Ordering::Relaxed)).is_multiple_of(POLLS_PER_CLOCK);
             if due && Instant::now() >= deadline {
                 self.stop(StopReason::Deadline);
                 return true;

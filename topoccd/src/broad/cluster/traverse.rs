@@ -207,7 +207,7 @@ pub(crate) fn prepare<const H: usize>(
     let mut halted = false;
     let mut go_on = || {
         listed += 1;
-        if !halted && listed % (1 << 16) == 0 {
+        if !halted && listed.is_multiple_of(1 << 16) {
             halted = input.stop.is_some_and(|s| s.stopped());
         }
         !halted
