@@ -105,3 +105,21 @@ fn main() -> ExitCode {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn threads_take_the_python_range() {
+        assert_eq!(parse_threads("1"), Ok(1));
+        assert_eq!(parse_threads("4096"), Ok(4096));
+        assert_eq!(
+            parse_threads("0"),
+            Err("threads must be in [1, 4096], got 0".to_string())
+        );
+        assert!(parse_threads("4097").is_err());
+        assert!(parse_threads("-1").is_err());
+        assert!(parse_threads("two").is_err());
+    }
+}

@@ -149,11 +149,11 @@ impl<const H: usize> TaskPairs for PerStepBvh<H> {
         &self,
         ws: &mut BvhWorkspace,
         par: &ParOptions,
-        make: impl Fn() -> T + Sync + Send,
+        make: impl Fn(usize) -> T + Sync + Send,
         pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
         consume: impl FnMut(T) -> ControlFlow<()>,
-        skip: &(dyn Fn() -> bool + Sync),
+        skip: &(dyn Fn(&T) -> bool + Sync),
     ) -> u64 {
         self.bvh
             .par_self_pairs_until(ws, par, make, pair, finish, consume, skip)

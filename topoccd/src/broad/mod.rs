@@ -141,10 +141,11 @@ impl<'f> Sink<'f> {
 
 /// A broad phase whose overlapping triangle pairs come from parallel tasks: `pair(acc, a, b)`
 /// for every triangle pair to test, each once, with one accumulator per task (made by
-/// `make`, finished by `finish` on the task's thread), handed to `consume` in a fixed task
+/// `make(i)`, `i` the task's index in the fixed order, finished by `finish` on the task's
+/// thread), handed to `consume` in a fixed task
 /// order, batch by batch ([`ParOptions::batch`]); once `consume` returns
-/// [`ControlFlow::Break`], no batch after the one under way runs; `skip`, asked once as each
-/// task starts, leaves that task untraversed (a query that stopped). The tasks, and what each
+/// [`ControlFlow::Break`], no batch after the one under way runs; `skip(acc)`, asked once as
+/// each task starts, leaves that task untraversed (a query that stopped, a task not needed). The tasks, and what each
 /// receives, depend on the input alone, never on the thread count. Returns the
 /// bounding-volume tests.
 pub(crate) trait TaskPairs {
@@ -153,11 +154,11 @@ pub(crate) trait TaskPairs {
         &self,
         ws: &mut BvhWorkspace,
         par: &ParOptions,
-        make: impl Fn() -> T + Sync + Send,
+        make: impl Fn(usize) -> T + Sync + Send,
         pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
         consume: impl FnMut(T) -> ControlFlow<()>,
-        skip: &(dyn Fn() -> bool + Sync),
+        skip: &(dyn Fn(&T) -> bool + Sync),
     ) -> u64;
 }
 

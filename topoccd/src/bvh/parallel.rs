@@ -173,24 +173,26 @@ impl<V: BoundingVolume> Bvh<V> {
             consume(r);
             ControlFlow::Continue(())
         };
-        self.par_self_pairs_until(ws, options, make, leaf_pair, finish, consume, &|| false)
+        let make = |_| make();
+        self.par_self_pairs_until(ws, options, make, leaf_pair, finish, consume, &|_| false)
     }
 
     /// [`Bvh::par_self_pairs_finished`] whose `consume` may stop the traversal: once it returns
     /// [`ControlFlow::Break`], the results of the batch under way are still handed over, and
-    /// no further batch runs. `skip` is asked once as each task starts: a task it says to skip
-    /// is not traversed (its accumulator, made and finished, receives no pair). Returns the
-    /// bounding-volume tests made.
+    /// no further batch runs. `make(i)` makes the accumulator of the `i`-th task in the fixed
+    /// order (0: the pairs found while splitting), and `skip(acc)` is asked once as each task
+    /// starts: a task it says to skip is not traversed (its accumulator, made and finished,
+    /// receives no pair). Returns the bounding-volume tests made.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn par_self_pairs_until<T: Send>(
         &self,
         ws: &mut BvhWorkspace,
         options: &ParOptions,
-        make: impl Fn() -> T + Sync + Send,
+        make: impl Fn(usize) -> T + Sync + Send,
         leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
         consume: impl FnMut(T) -> ControlFlow<()>,
-        skip: &(dyn Fn() -> bool + Sync),
+        skip: &(dyn Fn(&T) -> bool + Sync),
     ) -> u64 {
         let t = &mut ws.tasks;
         t.entries.clear();
@@ -267,8 +269,8 @@ impl<V: BoundingVolume> Bvh<V> {
             consume(r);
             ControlFlow::Continue(())
         };
-        let never: &(dyn Fn() -> bool + Sync) = &|| false;
-        let f = (make, leaf_pair, |_: &mut T| {}, consume, never);
+        let never: &(dyn Fn(&T) -> bool + Sync) = &|_| false;
+        let f = (|_| make(), leaf_pair, |_: &mut T| {}, consume, never);
         par_run(na, nb, t, 1, small, options, f)
     }
 }
@@ -286,11 +288,11 @@ fn par_run<V: BoundingVolume, T: Send>(
     small: bool,
     options: &ParOptions,
     (make, leaf_pair, finish, mut consume, skip): (
-        impl Fn() -> T + Sync + Send,
+        impl Fn(usize) -> T + Sync + Send,
         impl Fn(&mut T, u32, u32) + Sync + Send,
         impl Fn(&mut T) + Sync + Send,
         impl FnMut(T) -> ControlFlow<()>,
-        &(dyn Fn() -> bool + Sync),
+        &(dyn Fn(&T) -> bool + Sync),
     ),
 ) -> u64 {
     while !small && !t.entries.is_empty() && t.entries.len() < options.min_tasks {
@@ -304,7 +306,7 @@ fn par_run<V: BoundingVolume, T: Send>(
         }
         std::mem::swap(&mut t.entries, &mut t.next);
     }
-    let mut first = make();
+    let mut first = make(0);
     for &(x, y) in &t.found {
         leaf_pair(&mut first, x, y);
     }
@@ -317,17 +319,18 @@ fn par_run<V: BoundingVolume, T: Send>(
         stack.push((a, b));
         run(na, nb, stack, &mut |x, y| leaf_pair(acc, x, y))
     };
-    let f = (make, finish, skip);
+    let f = (|i| make(i + 1), finish, skip);
     bv_tests + run_batches(&t.entries, options, Vec::new, body, f, &mut consume)
 }
 
 /// Runs `tasks` on the rayon pool, a batch at a time ([`ParOptions::batch`], doubled after
-/// each batch with [`ParOptions::grow`]): each task's accumulator (made by `make`)
+/// each batch with [`ParOptions::grow`]): each task's accumulator (made by `make(i)`, `i` the
+/// task's index in `tasks`)
 /// is filled by `body(scratch, task, acc)`, which returns its bounding-volume tests, and
 /// finished by `finish` on the task's thread; the accumulators go to `consume` in task order,
 /// so what `consume` sees does not depend on the thread count. Once `consume` returns
 /// [`ControlFlow::Break`], the batch under way is handed over in full and no other batch runs.
-/// `skip` is asked once as each task starts: when it says so, `body` does not run (a query
+/// `skip(acc)` is asked once as each task starts: when it says so, `body` does not run (a query
 /// that stopped leaves the rest of the traversal at once). `scratch` makes per-thread scratch
 /// memory. Returns the bounding-volume tests made.
 #[allow(clippy::type_complexity)]
@@ -337,15 +340,16 @@ pub(crate) fn run_batches<W: Sync, S: Send, T: Send>(
     scratch: impl Fn() -> S + Sync + Send,
     body: impl Fn(&mut S, &W, &mut T) -> u64 + Sync + Send,
     (make, finish, skip): (
-        impl Fn() -> T + Sync + Send,
+        impl Fn(usize) -> T + Sync + Send,
         impl Fn(&mut T) + Sync + Send,
-        &(dyn Fn() -> bool + Sync),
+        &(dyn Fn(&T) -> bool + Sync),
     ),
     consume: &mut impl FnMut(T) -> ControlFlow<()>,
 ) -> u64 {
     let mut bv_tests = 0;
     let (mut size, mut rest) = (options.batch.max(1), tasks);
     while !rest.is_empty() {
+        let offset = tasks.len() - rest.len();
         let (batch, later) = rest.split_at(size.min(rest.len()));
         rest = later;
         if options.grow {
@@ -357,10 +361,11 @@ pub(crate) fn run_batches<W: Sync, S: Send, T: Send>(
         // end while the other worked through a run of heavy tasks.
         let done: Vec<(T, u64)> = batch
             .par_iter()
+            .enumerate()
             .with_max_len(1)
-            .map_init(&scratch, |s, task| {
-                let mut acc = make();
-                let tests = if skip() { 0 } else { body(s, task, &mut acc) };
+            .map_init(&scratch, |s, (i, task)| {
+                let mut acc = make(offset + i);
+                let tests = if skip(&acc) { 0 } else { body(s, task, &mut acc) };
                 finish(&mut acc);
                 (acc, tests)
             })

@@ -245,7 +245,7 @@ fn a_traversal_stops_after_the_batch_where_consume_asks() {
                 x.par_self_pairs_until(
                     &mut BvhWorkspace::default(),
                     &options,
-                    Vec::new,
+                    |_| Vec::new(),
                     |v, p, q| v.push((p, q)),
                     |_| {},
                     |r| {
@@ -256,7 +256,7 @@ fn a_traversal_stops_after_the_batch_where_consume_asks() {
                             ControlFlow::Continue(())
                         }
                     },
-                    &|| false,
+                    &|_| false,
                 );
                 got
             });

@@ -10,7 +10,8 @@ use std::sync::Arc;
 
 use super::limits::{CancelToken, Limits, Phase, StopReason, Truncation};
 use super::narrow_phase::{
-    self, first_pass_tau, lower, Context, FirstPass, Found, Keeper, Stream, WholeStep, EARLY,
+    self, first_pass_tau, lower, Context, FirstPass, Found, Keeper, Progress, Stream, WholeStep,
+    EARLY,
 };
 use super::report::{Contact, Report, Seconds, Stats};
 use super::{ClusterGrowth, Method, OptionsError, QueryOptions};
@@ -89,12 +90,16 @@ struct Task {
     pairs: u64,
     /// Whether the task is full or the query stopped: it takes no more pairs.
     done: bool,
+    /// Its index in the traversal's fixed order, and the room at its batch's start, for
+    /// [`Progress`].
+    index: usize,
+    budget: usize,
 }
 
 impl Task {
     /// A task that keeps at most `budget` contacts ([`Found::with_budget`]); it does nothing
     /// if the query has stopped.
-    fn new(ctx: &Context<'_, '_>, limit: f64, budget: usize, record: bool) -> Self {
+    fn new(ctx: &Context<'_, '_>, (limit, budget): (f64, usize), index: usize, record: bool) -> Self {
         Self {
             buf: Candidates::default(),
             found: Found::with_budget(ctx, budget, limit),
@@ -105,12 +110,25 @@ impl Task {
             recorded: record.then(Candidates::default),
             pairs: 0,
             done: ctx.limits.poll(true),
+            index,
+            budget,
         }
     }
 
+    /// Whether the task holds all it may: its room, less what the tasks before it hold
+    /// (`progress`, under a cap). Before its contacts count (an Earliest query whose earliest
+    /// time it does not know to be 0), only when the tasks before it leave no room at all.
+    fn full(&self, ctx: &Context<'_, '_>, progress: Option<&Progress>) -> bool {
+        progress.is_some_and(|p| {
+            let room = p.room(self.index, self.budget);
+            room == 0 || (self.found.counting(ctx) && self.found.len() >= room)
+        })
+    }
+
     /// Solves what is buffered, on this thread.
-    fn flush(&mut self, ctx: &Context<'_, '_>) {
-        if self.done {
+    fn flush(&mut self, ctx: &Context<'_, '_>, progress: Option<&Progress>) {
+        if self.done || self.full(ctx, progress) {
+            self.done = true;
             self.buf.clear();
             return;
         }
@@ -125,16 +143,19 @@ impl Task {
             r.ee.extend_from_slice(&self.buf.ee);
         }
         self.buf.clear();
-        self.done = self.found.room == 0 || ctx.limits.poll(false);
+        if let Some(p) = progress.filter(|_| self.found.counting(ctx)) {
+            p.set(self.index, self.found.len());
+        }
+        self.done = self.found.room == 0 || self.full(ctx, progress) || ctx.limits.poll(false);
     }
 
     /// Whether the task should take the triangle pair it is given: not once it is full or
     /// the query stopped (checked every [`TASK_POLL`] pairs).
     #[inline]
-    fn takes(&mut self, ctx: &Context<'_, '_>) -> bool {
+    fn takes(&mut self, ctx: &Context<'_, '_>, progress: Option<&Progress>) -> bool {
         self.pairs += 1;
         if self.pairs.is_multiple_of(TASK_POLL) && !self.done {
-            self.done = ctx.limits.poll(false);
+            self.done = ctx.limits.poll(false) || self.full(ctx, progress);
         }
         !self.done
     }
@@ -142,6 +163,9 @@ impl Task {
 
 /// Triangle pairs a traversal task takes between two polls of the query's limits.
 const TASK_POLL: u64 = 4096;
+/// Traversal tasks whose contacts [`Progress`] follows (the per-step hierarchy splits a step
+/// into about 512; later tasks keep their whole room).
+const PROGRESS_TASKS: usize = 1 << 13;
 
 /// Runs the tasks of the cluster method's traversal ([`traverse_pass`], over the whole step).
 struct Runner<'r, 'a, 's> {
@@ -808,31 +832,36 @@ fn traverse_pass(
     } else {
         usize::MAX
     };
-    // Under a cap, batches small enough that the contacts of a batch's tasks stay bounded
-    // (the result does not depend on the batches: see `Keeper`).
+    // Under a cap, a task keeps only what the tasks before it leave room for (`Progress`):
+    // memory stays bounded with the usual batches (the result does not depend on them: see
+    // `Keeper`).
+    let capped = ctx.limits.capped() && ctx.stream.is_none();
+    let progress = capped.then(|| Progress::new(PROGRESS_TASKS));
+    let progress = progress.as_ref();
     let par = ParOptions {
-        batch: ctx.limits.batch(batch, TASK_BATCH),
-        grow: !ctx.limits.capped(),
+        batch,
+        grow: true,
         ..ParOptions::default()
     };
     // The contacts a task may keep: the room under the cap when its batch starts.
     let mut keeper = Keeper::default();
     let budget = AtomicUsize::new(keeper.budget(ctx, found));
-    let make = || {
+    let make = |index| {
         let limit = f64::from_bits(limit.load(Ordering::Acquire));
-        Task::new(ctx, limit, budget.load(Ordering::Acquire), record)
+        let budget = budget.load(Ordering::Acquire);
+        Task::new(ctx, (limit, budget), index, record)
     };
     let pair = |task: &mut Task, a: u32, b: u32| {
-        if !task.takes(ctx) {
+        if !task.takes(ctx, progress) {
             return;
         }
         features.triangle_pair(boxes, [a, b], filter, &mut task.buf.vf, &mut task.buf.ee);
         if task.buf.len() >= task_chunk {
-            task.flush(ctx);
+            task.flush(ctx, progress);
         }
     };
     let finish = |task: &mut Task| {
-        task.flush(ctx);
+        task.flush(ctx, progress);
         task.buf = Candidates::default();
     };
     let (mut consumed, mut early) = (0, false);
@@ -849,6 +878,9 @@ fn traverse_pass(
         early |= ctx.limit(best) <= start;
         let kept = keeper.take(ctx, found, &mut task.found);
         budget.store(keeper.budget(ctx, found), Ordering::Release);
+        if let Some(p) = progress {
+            p.handed_until(task.index + 1);
+        }
         totals.tasks += 1;
         totals.vf_tests += task.vf_tests;
         totals.ee_tests += task.ee_tests;
@@ -866,6 +898,7 @@ fn traverse_pass(
         }
     };
     // One check as each task starts: once the query stops, the tasks left are not traversed.
-    let skip = || ctx.limits.poll(true);
+    // (and a task the tasks before it leave no room is not needed).
+    let skip = |task: &Task| ctx.limits.poll(true) || task.full(ctx, progress);
     tree.pairs(ws, &par, make, pair, finish, consume, &skip)
 }

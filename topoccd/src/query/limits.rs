@@ -210,18 +210,4 @@ impl Limits {
         }
         false
     }
-
-    /// The batch size of a traversal whose tasks each keep at most `max_contacts + 1`
-    /// contacts: with a cap, at most about `max(4 max_contacts, 2^20)` contacts are held by the
-    /// tasks of a batch, whatever the thread count (the tasks run a batch at a time, and a
-    /// batch is handed over, in order, before the next starts), and at most `tasks` tasks run
-    /// past the one that fills the report. `usual` without a cap.
-    pub fn batch(&self, usual: usize, tasks: usize) -> usize {
-        if !self.capped() {
-            return usual;
-        }
-        let in_flight = self.max_contacts.saturating_mul(4).max(1 << 20);
-        let by_memory = (in_flight / self.max_contacts.saturating_add(1)).max(1);
-        usual.min(tasks).min(by_memory)
-    }
 }

@@ -85,6 +85,12 @@ impl Found {
         self.vf.len() + self.ee.len()
     }
 
+    /// Whether the contacts held count against a cap: always in [`Mode::All`]; in
+    /// [`Mode::Earliest`] once the earliest time is known to be 0 ([`Found::settle`]).
+    pub fn counting(&self, ctx: &Context) -> bool {
+        ctx.options.mode == Mode::All || self.settled
+    }
+
     /// Closes a batch of the order.
     fn mark(&mut self) {
         let now = [self.vf.len(), self.ee.len()];
@@ -280,6 +286,54 @@ impl<'f> Stream<'f> {
             return false;
         }
         true
+    }
+}
+
+/// How many contacts each task of a traversal under a cap holds so far (that count against it:
+/// [`Found::counting`]), so that a task keeps only what the tasks before it leave room for: the
+/// report takes the first contacts in task order, and the counts only grow, so a task never
+/// needs more than the room at its batch's start less what the tasks before it, not yet
+/// handed over, hold already. Once earlier tasks fill the room, the later ones stop at once:
+/// memory stays near the cap per thread, however many tasks a batch runs.
+pub(crate) struct Progress {
+    counts: Vec<std::sync::atomic::AtomicUsize>,
+    /// Tasks handed over (their contacts are in the report, and in the room already).
+    handed: std::sync::atomic::AtomicUsize,
+}
+
+impl Progress {
+    /// Counts for the first `tasks` tasks (later ones keep their whole room).
+    pub fn new(tasks: usize) -> Self {
+        Self {
+            counts: (0..tasks).map(|_| Default::default()).collect(),
+            handed: Default::default(),
+        }
+    }
+
+    /// Records that task `index` holds `count` contacts.
+    pub fn set(&self, index: usize, count: usize) {
+        if let Some(c) = self.counts.get(index) {
+            c.store(count, std::sync::atomic::Ordering::Relaxed);
+        }
+    }
+
+    /// Records that the tasks before `index` were handed over.
+    pub fn handed_until(&self, index: usize) {
+        self.handed.store(index, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// The room task `index` has, out of `room` at its batch's start: less what the tasks
+    /// before it, not handed over, hold.
+    pub fn room(&self, index: usize, room: usize) -> usize {
+        if index >= self.counts.len() {
+            return room;
+        }
+        let from = self.handed.load(std::sync::atomic::Ordering::Relaxed).min(index);
+        let ahead: usize = self.counts[from..index]
+            .iter()
+            .map(|c| c.load(std::sync::atomic::Ordering::Relaxed))
+            .sum();
+        room.saturating_sub(ahead)
     }
 }
 

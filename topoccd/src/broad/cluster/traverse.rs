@@ -449,11 +449,11 @@ impl<const H: usize> TaskPairs for TrianglePairs<'_, H> {
         &self,
         _ws: &mut BvhWorkspace,
         par: &ParOptions,
-        make: impl Fn() -> T + Sync + Send,
+        make: impl Fn(usize) -> T + Sync + Send,
         pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
         mut consume: impl FnMut(T) -> std::ops::ControlFlow<()>,
-        skip: &(dyn Fn() -> bool + Sync),
+        skip: &(dyn Fn(&T) -> bool + Sync),
     ) -> u64 {
         let work = &self.scratch.work[..];
         let mut start = 0;
