@@ -248,7 +248,8 @@ impl<'r> StepOut<'r> {
         };
         let truncated = match self.truncated {
             Some(t) => format!(
-                "; TRUNCATED ({}: the first contacts of {} traversal tasks; the step has more)",
+                "; TRUNCATED ({}: the first contacts of {} traversal tasks; the step has more: \
+                 --max-contacts N or off raises the cap)",
                 t.reason, t.tasks
             ),
             None => String::new(),
@@ -551,7 +552,11 @@ pub fn refuse_overwrite(output: &Path, inputs: &[&Path]) -> Result<()> {
 
 /// Runs the command.
 pub fn run(args: &Args) -> Result<()> {
-    let options = args.query.options()?;
+    let limit = match args.max_memory {
+        Some(limit) => limit,
+        None => MemoryLimit::from_env()?,
+    };
+    let options = args.query.options_within(limit)?;
     let to_stdout = args.pairs.as_deref() == Some(Path::new("-"));
     if to_stdout && args.json {
         bail!("--pairs - and --json would both write to stdout; use --json --with-pairs to have the pairs in the JSON");
@@ -562,10 +567,6 @@ pub fn run(args: &Args) -> Result<()> {
             crate::cmd_render::writable(p)?;
         }
     }
-    let limit = match args.max_memory {
-        Some(limit) => limit,
-        None => MemoryLimit::from_env()?,
-    };
     let input = read_step_input(
         &args.t0,
         &args.t1,

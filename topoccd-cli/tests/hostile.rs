@@ -155,6 +155,41 @@ fn a_collapsed_step_is_warned_about_and_ends_with_a_cap() {
     assert_eq!(out["truncated"]["reason"], "max_contacts");
 }
 
+/// Without `--max-contacts` the cap is what the memory limit allows: a collapsed step never
+/// grows past it. `--max-contacts off` lifts it.
+#[test]
+fn the_default_cap_follows_the_memory_limit() {
+    let tmp = TempDir::new("default-cap");
+    tmp.file("c.obj", &collapsed_obj(24));
+    let json = |limit: &str, cap: &[&str]| {
+        let mut args = vec!["--threads", "1", "step", "c.obj", "c.obj", "--json"];
+        args.extend(["--max-memory", limit]);
+        args.extend(cap);
+        let run = topoccd(&args, &tmp.0);
+        assert_eq!(run.output.status.code(), Some(0), "{}", run.stderr);
+        serde_json::from_str::<serde_json::Value>(&run.stdout).unwrap()
+    };
+    let count = |v: &serde_json::Value| v["vf"].as_u64().unwrap() + v["ee"].as_u64().unwrap();
+    let whole = json("off", &[]);
+    assert!(whole["truncated"].is_null());
+    assert!(count(&whole) > 500_000, "{}", count(&whole));
+    // 32 MiB over (1 thread + 2) contacts of 112 bytes.
+    let capped = json("32M", &[]);
+    assert_eq!(capped["truncated"]["reason"], "max_contacts");
+    assert_eq!(count(&capped), (32 << 20) / (3 * 112));
+    assert!(json("32M", &["--max-contacts", "off"])["truncated"].is_null());
+    assert_eq!(count(&json("32M", &["--max-contacts", "7"])), 7);
+    // From the environment too.
+    let output = Command::new(env!("CARGO_BIN_EXE_topoccd"))
+        .current_dir(&tmp.0)
+        .env("TOPOCCD_MAX_MEMORY", "32M")
+        .args(["--threads", "1", "step", "c.obj", "c.obj", "--json"])
+        .output()
+        .expect("run topoccd");
+    let v: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(count(&v), (32 << 20) / (3 * 112));
+}
+
 #[test]
 fn threads_has_the_python_range() {
     let tmp = TempDir::new("threads");
