@@ -104,60 +104,82 @@ fn run(
 /// How often the calling thread looks for a pending signal (Ctrl-C) while a query runs.
 const SIGNAL_POLL: Duration = Duration::from_millis(20);
 
-/// Runs `query` on a thread of its own while this thread, the caller's (the main thread, where
-/// Python runs signal handlers), waits without the GIL and checks for signals every
-/// [`SIGNAL_POLL`]: a `KeyboardInterrupt` (or any exception a handler raises) cancels the query
-/// through `token`, which stops within about a millisecond of work per thread; the exception is
-/// returned once the query has stopped.
+/// Runs `query` as a job of the thread pool (`pool`, else rayon's global pool) while this
+/// thread, the caller's (the main thread, where Python runs signal handlers), waits without the
+/// GIL and checks for signals every [`SIGNAL_POLL`]: a `KeyboardInterrupt` (or any exception a
+/// handler raises) cancels the query through `token`, which stops within about a millisecond
+/// of work per thread; the exception is returned once the query has stopped. (A job of the
+/// pool, not a thread of its own: nothing is started per query.)
 fn watched<T: Send>(
     py: Python<'_>,
+    pool: Option<&rayon::ThreadPool>,
     token: &topoccd::CancelToken,
     query: impl FnOnce() -> T + Send,
 ) -> PyResult<T> {
-    // Set by the worker when it is done (also when it panics: the guard's drop).
-    struct Done<'a>(&'a (Mutex<bool>, Condvar));
-    impl Drop for Done<'_> {
-        fn drop(&mut self) {
-            let (flag, wake) = self.0;
-            *flag.lock().unwrap_or_else(|e| e.into_inner()) = true;
-            wake.notify_all();
+    let signal = (Mutex::new(false), Condvar::new());
+    let slot = Mutex::new(None);
+    let mut interrupted = None;
+    let state = (&signal, &slot, token);
+    // (A panic of the job resumes here, once the scope is over.)
+    match pool {
+        Some(pool) => pool.in_place_scope(|s| watch(py, s, state, query, &mut interrupted)),
+        None => rayon::in_place_scope(|s| watch(py, s, state, query, &mut interrupted)),
+    }
+    if let Some(e) = interrupted {
+        return Err(e);
+    }
+    let out = slot.into_inner().unwrap_or_else(|e| e.into_inner());
+    out.ok_or_else(|| pyo3::exceptions::PyRuntimeError::new_err("the query did not run"))
+}
+
+/// Set by the job of [`watched`] when it is done (also when it panics: the guard's drop).
+struct Done<'a>(&'a (Mutex<bool>, Condvar));
+
+impl Drop for Done<'_> {
+    fn drop(&mut self) {
+        let (flag, wake) = self.0;
+        *flag.lock().unwrap_or_else(|e| e.into_inner()) = true;
+        wake.notify_all();
+    }
+}
+
+/// The body of [`watched`]'s scope: spawns the job, then waits and watches.
+#[allow(clippy::type_complexity)]
+fn watch<'scope, T: Send + 'scope>(
+    py: Python<'_>,
+    scope: &rayon::Scope<'scope>,
+    (signal, slot, token): (
+        &'scope (Mutex<bool>, Condvar),
+        &'scope Mutex<Option<T>>,
+        &topoccd::CancelToken,
+    ),
+    query: impl FnOnce() -> T + Send + 'scope,
+    interrupted: &mut Option<PyErr>,
+) {
+    scope.spawn(move |_| {
+        let _done = Done(signal);
+        let out = query();
+        *slot.lock().unwrap_or_else(|e| e.into_inner()) = Some(out);
+    });
+    loop {
+        let over = py.detach(|| {
+            let (flag, wake) = signal;
+            let guard = flag.lock().unwrap_or_else(|e| e.into_inner());
+            let (guard, _) = wake
+                .wait_timeout_while(guard, SIGNAL_POLL, |done| !*done)
+                .unwrap_or_else(|e| e.into_inner());
+            *guard
+        });
+        if over {
+            break;
+        }
+        if interrupted.is_none() {
+            if let Err(e) = py.check_signals() {
+                token.cancel();
+                *interrupted = Some(e);
+            }
         }
     }
-    let signal = (Mutex::new(false), Condvar::new());
-    std::thread::scope(|scope| {
-        let worker = scope.spawn(|| {
-            let _done = Done(&signal);
-            query()
-        });
-        let mut interrupted = None;
-        loop {
-            let over = py.detach(|| {
-                let (flag, wake) = &signal;
-                let guard = flag.lock().unwrap_or_else(|e| e.into_inner());
-                let (guard, _) = wake
-                    .wait_timeout_while(guard, SIGNAL_POLL, |done| !*done)
-                    .unwrap_or_else(|e| e.into_inner());
-                *guard
-            });
-            if over {
-                break;
-            }
-            if interrupted.is_none() {
-                if let Err(e) = py.check_signals() {
-                    token.cancel();
-                    interrupted = Some(e);
-                }
-            }
-        }
-        let out = match worker.join() {
-            Ok(out) => out,
-            Err(panic) => std::panic::resume_unwind(panic),
-        };
-        match interrupted {
-            Some(e) => Err(e),
-            None => Ok(out),
-        }
-    })
 }
 
 /// Why a query failed, carried out of the GIL-free section.
@@ -362,7 +384,9 @@ impl Ccd {
         token.reset();
         // The deadline counts from the call, input conversion included.
         options.deadline = timeout.map(|t| started + Duration::from_secs_f64(t));
-        let outcome = watched(py, &token, || run(inner, pool, &step, method, &options))?;
+        let outcome = watched(py, pool, &token, || {
+            run(inner, pool, &step, method, &options)
+        })?;
         let (report, x0_address, x1_address) = outcome.map_err(Failure::into_py)?;
         if let Some(t) = report
             .truncated
