@@ -269,9 +269,9 @@ impl Ccd {
     ///     timeout: ``None``, or seconds (> 0) after which the query stops and raises
     ///         ``TimeoutError`` (within about a millisecond of work per thread).
     ///
-    /// Ctrl-C (``KeyboardInterrupt``) stops a running query within a few tens of
-    /// milliseconds: the query runs on a thread of its own while the calling thread waits
-    /// without the GIL and checks for signals.
+    /// Ctrl-C (``KeyboardInterrupt``) stops a running query, typically within a tenth of a
+    /// second: the query runs as a job of the thread pool while the calling thread waits
+    /// without the GIL and checks for signals every 20 ms.
     ///
     /// Before the query runs, input that is valid but likely a mistake is warned about
     /// (:class:`InputWarning`, with ``warnings.warn``): vertices of ``x0`` that sit exactly on
