@@ -482,6 +482,12 @@ impl Elements<'_> {
 /// a number of its property's type, or a count of values that does not match; `None` if the
 /// line looks right.
 fn ascii_diagnosis(text: &str, def: &ElementDef) -> Option<String> {
+    let why = ascii_fault(text, def)?;
+    Some(format!("{why}, in '{}'", text.trim()))
+}
+
+/// [`ascii_diagnosis`] without the line.
+fn ascii_fault(text: &str, def: &ElementDef) -> Option<String> {
     let mut tokens = text.split_whitespace().enumerate();
     let check = |(k, token): (usize, &str), name: &str, t: &ScalarType| -> Option<String> {
         let what = format!("value {} ('{token}', property '{name}')", k + 1);
