@@ -26,7 +26,10 @@ static std::size_t shortened_contacts(topoccd::Ccd& ccd, const topoccd_step& s, 
         if (child >= s.x0_count) start.row(child) = x0.row(parent);  // starts at its parent
     }
     RowMatrix end = start + alpha * (x1 - start);
-    topoccd::Step shortened(start, end, topoccd::Indices(s.triangles, s.triangle_count));
+    // The new vertices start at their parents: x0 holds the old ones only, as the library
+    // requires with parents (it places each child at its parent).
+    RowMatrix old = start.topRows(x0.rows());
+    topoccd::Step shortened(old, end, topoccd::Indices(s.triangles, s.triangle_count));
     if (s.parents != nullptr) shortened.parents(topoccd::ParentRows(s.parents, s.parent_count));
     return ccd.query(shortened).contact_count();
 }

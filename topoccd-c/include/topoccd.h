@@ -107,6 +107,29 @@ typedef uint32_t topoccd_contact_kind;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// Why a query stopped before the end ([`topoccd_report::truncated`]).
+enum topoccd_stop_reason
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // The report is complete.
+  TOPOCCD_STOP_REASON_NONE = 0,
+  // The report holds `max_contacts` contacts and the step has more.
+  TOPOCCD_STOP_REASON_MAX_CONTACTS = 1,
+  // `timeout_seconds` passed.
+  TOPOCCD_STOP_REASON_DEADLINE = 2,
+  // The query was cancelled.
+  TOPOCCD_STOP_REASON_CANCELLED = 3,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum topoccd_stop_reason topoccd_stop_reason;
+#else
+typedef uint32_t topoccd_stop_reason;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // The broad phase of a query: every method reports the same pairs (see the Rust `Method`).
 enum topoccd_method
 #if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
@@ -318,6 +341,14 @@ typedef struct topoccd_query_options {
   // Padding, ignored: it keeps the struct free of implicit padding, so that a field
   // appended later starts after the `size` of every older caller.
   uint8_t _padding[6];
+  // Most contacts the report keeps; 0 for no cap. A query that has more stops, and its
+  // report's `truncated` says so; the contacts kept are the first of a fixed order, the same
+  // for any thread count. In `TOPOCCD_MODE_EARLIEST` the earliest time stays exact. Default 0.
+  uint64_t max_contacts;
+  // Seconds a query may run; 0 for no limit. A query past it stops within a millisecond of
+  // work per thread; its report holds the earliest contact found by then and `truncated` is
+  // `TOPOCCD_STOP_REASON_DEADLINE`. Finite, >= 0. Default 0.
+  double timeout_seconds;
 } topoccd_query_options;
 
 // Where a vertex-face contact is, at its time of impact.
@@ -468,6 +499,10 @@ typedef struct topoccd_report {
   size_t unresolved;
   // Work counters and timings.
   struct topoccd_stats stats;
+  // A `topoccd_stop_reason`: `TOPOCCD_STOP_REASON_NONE` for a complete report, else why the
+  // query stopped early (`max_contacts`, `timeout_seconds`), and the report holds only part
+  // of the step's contacts.
+  topoccd_stop_reason truncated;
 } topoccd_report;
 
 // The arrays of a `topoccd_mesh`, borrowed from it: valid until `topoccd_mesh_free`.

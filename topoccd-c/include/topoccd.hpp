@@ -209,6 +209,10 @@ class QueryOptions {
   QueryOptions& geometry(bool on) noexcept { return set(c_.geometry, on); }
   /// Keep the two sides of a fresh crack apart (default true).
   QueryOptions& crack_filter(bool on) noexcept { return set(c_.crack_filter, on); }
+  /// Most contacts the report keeps, 0 for no cap (the default): see `Report::truncated`.
+  QueryOptions& max_contacts(std::uint64_t n) noexcept { return set(c_.max_contacts, n); }
+  /// Seconds a query may run, 0 for no limit (the default): see `Report::truncated`.
+  QueryOptions& timeout_seconds(double s) noexcept { return set(c_.timeout_seconds, s); }
 
   Method method() const noexcept { return static_cast<Method>(c_.method); }
   Mode mode() const noexcept { return static_cast<Mode>(c_.mode); }
@@ -221,6 +225,8 @@ class QueryOptions {
   std::uint32_t threads() const noexcept { return c_.threads; }
   bool geometry() const noexcept { return c_.geometry; }
   bool crack_filter() const noexcept { return c_.crack_filter; }
+  std::uint64_t max_contacts() const noexcept { return c_.max_contacts; }
+  double timeout_seconds() const noexcept { return c_.timeout_seconds; }
 
   /// The C struct, for the C API or for a field this wrapper does not name.
   const topoccd_query_options& c() const noexcept { return c_; }
@@ -392,6 +398,9 @@ class Report {
   }
   /// Contacts where the search gave up (their times are only lower bounds).
   std::size_t unresolved() const noexcept { return r_->unresolved; }
+  /// Why the query stopped early (`max_contacts`, `timeout_seconds`), or
+  /// `TOPOCCD_STOP_REASON_NONE` for a complete report.
+  topoccd_stop_reason truncated() const noexcept { return r_->truncated; }
   /// Work counters and seconds per phase.
   const topoccd_stats& stats() const noexcept { return r_->stats; }
   /// The method that ran (what Method::Auto chose).

@@ -105,6 +105,14 @@ pub struct topoccd_query_options {
     /// Padding, ignored: it keeps the struct free of implicit padding, so that a field
     /// appended later starts after the `size` of every older caller.
     pub _padding: [u8; 6],
+    /// Most contacts the report keeps; 0 for no cap. A query that has more stops, and its
+    /// report's `truncated` says so; the contacts kept are the first of a fixed order, the same
+    /// for any thread count. In `TOPOCCD_MODE_EARLIEST` the earliest time stays exact. Default 0.
+    pub max_contacts: u64,
+    /// Seconds a query may run; 0 for no limit. A query past it stops within a millisecond of
+    /// work per thread; its report holds the earliest contact found by then and `truncated` is
+    /// `TOPOCCD_STOP_REASON_DEADLINE`. Finite, >= 0. Default 0.
+    pub timeout_seconds: f64,
 }
 
 /// The size of the first version of the struct (it ends with `_padding`): the smallest `size`
@@ -123,8 +131,9 @@ const BOOL_FIELDS: [usize; 2] = [
 // implicit (a field appended later must start at or after every older `size`, or an older
 // caller's padding would be read as its value). This check names the last field: move it to
 // the new one (`size_of == offset_of!(.., new_field) + size of its type`).
-const _: () =
-    assert!(size_of::<topoccd_query_options>() == offset_of!(topoccd_query_options, _padding) + 6);
+const _: () = assert!(
+    size_of::<topoccd_query_options>() == offset_of!(topoccd_query_options, timeout_seconds) + 8
+);
 
 impl Default for topoccd_query_options {
     fn default() -> Self {
@@ -146,6 +155,8 @@ impl Default for topoccd_query_options {
             geometry: query.geometry,
             crack_filter: query.crack_filter,
             _padding: [0; 6],
+            max_contacts: 0,
+            timeout_seconds: 0.0,
         }
     }
 }
@@ -283,6 +294,12 @@ impl Options {
         };
         let kdop = DopKind::from_k(o.k as usize)
             .ok_or_else(|| invalid(format!("k must be 6, 14, 18 or 26, got {}", o.k)))?;
+        if !(o.timeout_seconds >= 0.0 && o.timeout_seconds.is_finite()) {
+            return Err(invalid(format!(
+                "timeout_seconds must be finite and >= 0 (0: no limit), got {}",
+                o.timeout_seconds
+            )));
+        }
         if o.threads > 4096 {
             return Err(invalid(format!(
                 "threads must be 0 (one per core) or in [1, 4096], got {}",
@@ -301,6 +318,12 @@ impl Options {
             growth,
             geometry: o.geometry,
             crack_filter: o.crack_filter,
+            max_contacts: (o.max_contacts > 0)
+                .then(|| o.max_contacts.min(usize::MAX as u64) as usize),
+            // The clock starts when the options are read, at the start of the query.
+            deadline: (o.timeout_seconds > 0.0).then(|| {
+                std::time::Instant::now() + std::time::Duration::from_secs_f64(o.timeout_seconds)
+            }),
         };
         query.validate().map_err(|e| invalid(e.to_string()))?;
         Ok(Self {

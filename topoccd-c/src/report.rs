@@ -1,7 +1,9 @@
 //! The report of a query as C reads it: contacts in arrays of C structs that the `topoccd_ccd`
 //! owns and reuses from query to query, read in place.
 
-use topoccd::{Certainty, ClusterFigures, Contact, EeContact, Report, Seconds, Stats, VfContact};
+use topoccd::{
+    Certainty, ClusterFigures, Contact, EeContact, Report, Seconds, Stats, StopReason, VfContact,
+};
 
 use crate::options::method_code;
 
@@ -206,6 +208,24 @@ pub struct topoccd_report {
     pub unresolved: usize,
     /// Work counters and timings.
     pub stats: topoccd_stats,
+    /// A `topoccd_stop_reason`: `TOPOCCD_STOP_REASON_NONE` for a complete report, else why the
+    /// query stopped early (`max_contacts`, `timeout_seconds`), and the report holds only part
+    /// of the step's contacts.
+    pub truncated: topoccd_stop_reason,
+}
+
+/// Why a query stopped before the end ([`topoccd_report::truncated`]).
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum topoccd_stop_reason {
+    /// The report is complete.
+    None = 0,
+    /// The report holds `max_contacts` contacts and the step has more.
+    MaxContacts = 1,
+    /// `timeout_seconds` passed.
+    Deadline = 2,
+    /// The query was cancelled.
+    Cancelled = 3,
 }
 
 /// The report's arrays, kept by a `topoccd_ccd` and refilled by each query, and the C view of
@@ -245,6 +265,7 @@ fn empty_view() -> topoccd_report {
         earliest_toi: f64::NAN,
         unresolved: 0,
         stats: topoccd_stats::default(),
+        truncated: topoccd_stop_reason::None,
     }
 }
 
@@ -366,6 +387,12 @@ impl ReportBuffers {
             earliest_toi: report.earliest_toi().unwrap_or(f64::NAN),
             unresolved: report.unresolved,
             stats: stats(&report.stats),
+            truncated: match report.truncated.map(|t| t.reason) {
+                None => topoccd_stop_reason::None,
+                Some(StopReason::MaxContacts) => topoccd_stop_reason::MaxContacts,
+                Some(StopReason::Deadline) => topoccd_stop_reason::Deadline,
+                Some(StopReason::Cancelled) => topoccd_stop_reason::Cancelled,
+            },
         };
     }
 

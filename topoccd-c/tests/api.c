@@ -167,6 +167,29 @@ static void test_falling_triangle(void) {
     CHECK(r->vf_count == 1 && r->vf[0].vertex == 3 && r->earliest_toi == oracle[0].toi, "earliest pairs %zu",
           r->vf_count);
 
+    /* A cap of two contacts: the report keeps the first two of its fixed order and says it
+     * stopped; without the cap (or a cap the step does not reach) it is complete. */
+    CHECK(report_of(ccd)->truncated == TOPOCCD_STOP_REASON_NONE, "a complete report");
+    topoccd_query_options_default(&o);
+    CHECK(o.max_contacts == 0 && o.timeout_seconds == 0, "no cap, no timeout by default");
+    o.max_contacts = 2;
+    CHECK_STATUS(topoccd_ccd_query(ccd, &s, &o), TOPOCCD_STATUS_OK, "max_contacts");
+    r = report_of(ccd);
+    CHECK(r->vf_count == 2 && r->truncated == TOPOCCD_STOP_REASON_MAX_CONTACTS, "%zu vf, truncated %u",
+          r->vf_count, r->truncated);
+    for (size_t i = 0; i < r->vf_count; i++) {
+        int known = 0;
+        for (size_t j = 0; j < 3; j++)
+            known |= same_vf(&r->vf[i], &oracle[j], 1);
+        CHECK(known, "kept contact %zu is one of the step's", i);
+    }
+    o.max_contacts = 3;
+    o.timeout_seconds = 60;
+    CHECK_STATUS(topoccd_ccd_query(ccd, &s, &o), TOPOCCD_STATUS_OK, "a cap the step does not pass");
+    r = report_of(ccd);
+    CHECK(r->vf_count == 3 && r->truncated == TOPOCCD_STOP_REASON_NONE && same_vf(r->vf, oracle, 3),
+          "%zu vf, truncated %u", r->vf_count, r->truncated);
+
     /* t_max = 0.6 leaves out the contacts at 0.75. */
     topoccd_query_options_default(&o);
     o.t_max = 0.6;
@@ -350,6 +373,8 @@ static void test_query_errors(void) {
     OPTION_CASE(o.mode = 9, "mode 9 is not a topoccd_mode");
     OPTION_CASE(o.growth = 5, "growth 5 is not a topoccd_growth");
     OPTION_CASE(o.threads = 5000, "threads must be 0 (one per core) or in [1, 4096], got 5000");
+    OPTION_CASE(o.timeout_seconds = -1, "timeout_seconds must be finite and >= 0 (0: no limit), got -1");
+    OPTION_CASE(o.timeout_seconds = NAN, "timeout_seconds must be finite and >= 0");
     OPTION_CASE(memset(&o, 0, sizeof o), "initialise the options with topoccd_query_options_default");
     OPTION_CASE(o.size = sizeof o + 64, "not the size of a topoccd_query_options");
     topoccd_ccd_free(&ccd);

@@ -490,6 +490,7 @@ pub fn run(args: &Args) -> Result<std::process::ExitCode> {
     if let Some(plot) = &args.plot {
         let inputs: Vec<&Path> = args.inputs.iter().map(PathBuf::as_path).collect();
         crate::cmd_step::refuse_overwrite(plot, &inputs)?;
+        crate::cmd_render::writable(plot)?;
     }
     let started = Instant::now();
     let mut ccds = vec![Ccd::new(); args.methods.len()];

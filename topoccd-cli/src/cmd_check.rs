@@ -8,10 +8,9 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
-use topoccd::check::step_intersections;
+use topoccd::check::frame_intersections;
 use topoccd::io::read_mesh;
 use topoccd::io::sequence::parents_path;
-use topoccd::{Frame, Step};
 
 /// Arguments of `topoccd check`.
 #[derive(clap::Args, Debug)]
@@ -48,8 +47,9 @@ struct CheckOut<'a> {
 }
 
 /// Reads `NEW_ID PARENT_ID` lines (`#` starts a comment) naming vertices below `vertices`.
-/// Errors name the file and line; [`Step::with_parents`] checks the rest (a vertex is its own
-/// parent, a child given twice).
+/// Errors name the file and line; [`frame_intersections`] checks the rest as
+/// [`Step::with_parents`](topoccd::Step::with_parents) does (a child that is not new, a
+/// vertex its own parent, a child given twice).
 pub fn read_joins(path: &Path, vertices: usize) -> Result<Vec<[u32; 2]>> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("{}: cannot read", path.display()))?;
@@ -102,12 +102,11 @@ pub fn run(args: &Args) -> Result<ExitCode> {
         None => Vec::new(),
     };
     let x = &mesh.positions;
-    let step =
-        Step::with_parents(x, x, &mesh.triangles, &joins).with_context(|| match &parents_file {
+    let pairs =
+        frame_intersections(x, &mesh.triangles, &joins).with_context(|| match &parents_file {
             Some(p) => format!("{} with {}", args.frame.display(), p.display()),
             None => args.frame.display().to_string(),
         })?;
-    let pairs = step_intersections(&step, Frame::Start);
     let seconds = started.elapsed().as_secs_f64();
     if let Some(target) = &args.pairs {
         let mut text = String::with_capacity(pairs.len() * 12);

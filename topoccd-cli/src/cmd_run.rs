@@ -12,7 +12,7 @@ use topoccd::io::read_mesh;
 use topoccd::io::sequence::Sequence;
 use topoccd::{Ccd, Frame, Step};
 
-use crate::cmd_step::{coincidence_warning, write_pairs, StepOut};
+use crate::cmd_step::{input_warning_lines, write_pairs, StepOut};
 use crate::query_args::{MethodArgs, QueryArgs};
 
 /// Arguments of `topoccd run`.
@@ -114,6 +114,35 @@ pub fn prepare_dir(dir: &Path) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))
 }
 
+/// A warning naming the files of the sequence's folder that are not its frames (at most 12),
+/// `None` when there are none: a folder holding two frames among other files is then not taken
+/// as a sequence silently.
+pub fn left_out_warning(sequence: &Sequence) -> Option<String> {
+    const SHOWN: usize = 12;
+    let ignored = &sequence.ignored;
+    if ignored.is_empty() {
+        return None;
+    }
+    let name = |p: &PathBuf| {
+        p.file_name()
+            .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
+    };
+    let more = if ignored.len() > SHOWN {
+        format!(" and {} more", ignored.len() - SHOWN)
+    } else {
+        String::new()
+    };
+    Some(format!(
+        "warning: {}: the sequence is the {} frames {} ... {} ({} steps); left out: {}{more}",
+        sequence.dir.display(),
+        sequence.frames.len(),
+        name(&sequence.frames[0]),
+        name(&sequence.frames[sequence.frames.len() - 1]),
+        sequence.steps(),
+        ignored[..ignored.len().min(SHOWN)].join(", "),
+    ))
+}
+
 /// Prints the reader's notes on the first frame, and a warning if vertices of it coincide.
 fn warn_first_frame(sequence: &Sequence) -> Result<()> {
     let first = &sequence.frames[0];
@@ -122,7 +151,7 @@ fn warn_first_frame(sequence: &Sequence) -> Result<()> {
         eprintln!("note: {}: {note}", first.display());
     }
     let remedy = "Merge them in the frames (`topoccd step --weld` does it for one step)";
-    if let Some(w) = coincidence_warning(first, &mesh.positions, &mesh.triangles, remedy) {
+    for w in input_warning_lines(first, &mesh.positions, &mesh.triangles, remedy) {
         eprintln!("{w}");
     }
     Ok(())
@@ -171,6 +200,9 @@ impl IntersectionWatch {
 pub fn run(args: &Args) -> Result<()> {
     let options = args.query.options()?;
     let sequence = Sequence::open(&args.seq_dir)?;
+    if let Some(w) = left_out_warning(&sequence) {
+        eprintln!("{w}");
+    }
     if let Some(dir) = &args.pairs_dir {
         prepare_dir(dir)?;
     }

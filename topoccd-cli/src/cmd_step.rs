@@ -8,10 +8,12 @@ use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use topoccd::io::sequence::StepFrames;
 use topoccd::io::{
-    available_memory, coincident_vertices, read_mesh, read_ply_header, weld_frames, FaceOrigin,
-    MemoryEstimate, MeshFormat, PlyCounts,
+    available_memory, input_warnings, read_mesh, read_ply_header, weld_frames, FaceOrigin,
+    InputWarning, MemoryEstimate, MeshFormat, PlyCounts,
 };
-use topoccd::{Ccd, Contact, EeContact, Method, Mode, Report, Seconds, Stats, Step, VfContact};
+use topoccd::{
+    Ccd, Contact, EeContact, Method, Mode, Report, Seconds, Stats, Step, Truncation, VfContact,
+};
 
 use crate::cmd_run::with_spinner;
 use crate::query_args::{MethodArgs, QueryArgs};
@@ -170,6 +172,9 @@ pub struct StepOut<'r> {
     earliest_toi: Option<f64>,
     /// The earliest contact, with its pair, time and certainty.
     earliest: Option<&'r Contact>,
+    /// `null` when the query ran to its end; else why it stopped (`max_contacts`), where
+    /// and how far it got: the report holds only part of the step's contacts.
+    truncated: Option<&'r Truncation>,
     seconds: &'r Seconds,
     stats: &'r Stats,
     /// The contacts themselves: always in `--earliest` mode, else with `--with-pairs`.
@@ -204,6 +209,7 @@ impl<'r> StepOut<'r> {
             unresolved: report.unresolved,
             earliest_toi: report.earliest_toi(),
             earliest: report.earliest.as_ref(),
+            truncated: report.truncated.as_ref(),
             seconds: &report.stats.seconds,
             stats: &report.stats,
             pairs: (with_pairs || earliest_mode).then_some(PairsOut {
@@ -240,6 +246,14 @@ impl<'r> StepOut<'r> {
             }
             None => String::new(),
         };
+        let truncated = match self.truncated {
+            Some(t) => format!(
+                "; TRUNCATED ({}: the first contacts of {} traversal tasks; the step has more: \
+                 --max-contacts N or off raises the cap)",
+                t.reason, t.tasks
+            ),
+            None => String::new(),
+        };
         let unresolved = if self.unresolved > 0 {
             format!(
                 "; {} contacts UNRESOLVED (the search gave up; their times are only lower bounds)",
@@ -249,7 +263,7 @@ impl<'r> StepOut<'r> {
             String::new()
         };
         format!(
-            "{} vertices, {} triangles: {what}{earliest}{unresolved}; {:.4} s (build {:.4}, traverse {:.4}, narrow {:.4}); {} bv, {} vf, {} ee tests",
+            "{} vertices, {} triangles: {what}{earliest}{truncated}{unresolved}; {:.4} s (build {:.4}, traverse {:.4}, narrow {:.4}); {} bv, {} vf, {} ee tests",
             self.vertices,
             self.triangles,
             self.seconds.total,
@@ -289,6 +303,12 @@ pub fn read_step(t0: &Path, t1: &Path) -> Result<Step<'static>> {
 
 /// The counts a PLY file's header declares; `None` for other formats (counted once read).
 fn header_counts(path: &Path) -> Result<Option<PlyCounts>> {
+    if path.is_dir() {
+        return Err(topoccd::io::IoError::Folder {
+            path: path.to_path_buf(),
+        }
+        .into());
+    }
     match MeshFormat::of_path(path)? {
         MeshFormat::Ply => Ok(Some(read_ply_header(path)?)),
         MeshFormat::Obj | MeshFormat::Stl => Ok(None),
@@ -413,9 +433,12 @@ pub fn read_step_input(
         });
     }
     let remedy = "--weld merges vertices that coincide at t=0 and t=1";
-    if let Some(warning) = coincidence_warning(t0, &m0.positions, &m1.triangles, remedy) {
-        messages.push(warning);
-    }
+    messages.extend(input_warning_lines(
+        t0,
+        &m0.positions,
+        &m1.triangles,
+        remedy,
+    ));
     let step = Step::new(m0.positions, m1.positions, m1.triangles).with_context(context)?;
     Ok(StepInput {
         step,
@@ -426,32 +449,24 @@ pub fn read_step_input(
     })
 }
 
-/// A warning if vertices used by `triangles` coincide in `positions` (read from `path`);
-/// `remedy` ends it.
-pub fn coincidence_warning(
+/// The warnings on the input read from `path` ([`input_warnings`], the library's check that the
+/// Python package shares), one line each; `remedy` ends the warning of coincident vertices.
+pub fn input_warning_lines(
     path: &Path,
     positions: &[[f64; 3]],
     triangles: &[[u32; 3]],
     remedy: &str,
-) -> Option<String> {
-    let groups = coincident_vertices(positions, triangles);
-    let largest = groups.iter().rev().max_by_key(|g| g.len())?; // the first of the largest
-    let duplicates: usize = groups.iter().map(|g| g.len() - 1).sum();
-    let example: Vec<String> = largest.iter().take(6).map(u32::to_string).collect();
-    Some(format!(
-        "warning: {}: {duplicates} vertices sit exactly on another vertex ({} groups; the largest \
-         has {} vertices: {}{}); duplicates touch from the start and give spurious contacts at \
-         t=0. {remedy}",
-        path.display(),
-        groups.len(),
-        largest.len(),
-        example.join(", "),
-        if largest.len() > example.len() {
-            ", ..."
-        } else {
-            ""
-        }
-    ))
+) -> Vec<String> {
+    input_warnings(positions, triangles)
+        .iter()
+        .map(|w| {
+            let remedy = match w {
+                InputWarning::CoincidentVertices { .. } => format!(". {remedy}"),
+                _ => String::new(),
+            };
+            format!("warning: {}: {w}{remedy}", path.display())
+        })
+        .collect()
 }
 
 /// Renames the contacts of a report from the step's ids to the input files' ids.
@@ -537,7 +552,11 @@ pub fn refuse_overwrite(output: &Path, inputs: &[&Path]) -> Result<()> {
 
 /// Runs the command.
 pub fn run(args: &Args) -> Result<()> {
-    let options = args.query.options()?;
+    let limit = match args.max_memory {
+        Some(limit) => limit,
+        None => MemoryLimit::from_env()?,
+    };
+    let options = args.query.options_within(limit)?;
     let to_stdout = args.pairs.as_deref() == Some(Path::new("-"));
     if to_stdout && args.json {
         bail!("--pairs - and --json would both write to stdout; use --json --with-pairs to have the pairs in the JSON");
@@ -545,12 +564,9 @@ pub fn run(args: &Args) -> Result<()> {
     if let Some(p) = &args.pairs {
         if !to_stdout {
             refuse_overwrite(p, &[&args.t0, &args.t1])?;
+            crate::cmd_render::writable(p)?;
         }
     }
-    let limit = match args.max_memory {
-        Some(limit) => limit,
-        None => MemoryLimit::from_env()?,
-    };
     let input = read_step_input(
         &args.t0,
         &args.t1,

@@ -20,9 +20,10 @@ use clap::{Parser, Subcommand};
 #[derive(Parser, Debug)]
 #[command(name = "topoccd", version, about)]
 struct Cli {
-    /// Threads for the elementary tests (default: one per core). Results are identical for any
-    /// count; use 1 for single-core timings.
-    #[arg(long, global = true, value_name = "N")]
+    /// Threads for the elementary tests (default: one per core), 1 to 4096 (as the Python
+    /// package's `threads=`). Results are identical for any count; use 1 for single-core
+    /// timings.
+    #[arg(long, global = true, value_name = "N", value_parser = parse_threads)]
     threads: Option<usize>,
     #[command(subcommand)]
     command: Command,
@@ -56,6 +57,18 @@ enum Command {
     Check(cmd_check::Args),
 }
 
+/// The most threads `--threads` takes (the Python package's `threads=` has the same range).
+const MAX_THREADS: usize = 4096;
+
+fn parse_threads(s: &str) -> Result<usize, String> {
+    let n: usize = s.parse().map_err(|_| format!("{s:?} is not a number"))?;
+    if (1..=MAX_THREADS).contains(&n) {
+        Ok(n)
+    } else {
+        Err(format!("threads must be in [1, {MAX_THREADS}], got {n}"))
+    }
+}
+
 fn main() -> ExitCode {
     // Rust ignores SIGPIPE, so a write to a closed pipe would panic in `println!`; restore the
     // default, so that `topoccd run --json | head` ends quietly like any Unix tool.
@@ -67,7 +80,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     if let Some(n) = cli.threads {
         if let Err(err) = rayon::ThreadPoolBuilder::new()
-            .num_threads(n.max(1))
+            .num_threads(n)
             .build_global()
         {
             eprintln!("error: cannot set up {n} threads: {err}");
@@ -95,5 +108,23 @@ fn main() -> ExitCode {
             }
             ExitCode::from(2)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn threads_take_the_python_range() {
+        assert_eq!(parse_threads("1"), Ok(1));
+        assert_eq!(parse_threads("4096"), Ok(4096));
+        assert_eq!(
+            parse_threads("0"),
+            Err("threads must be in [1, 4096], got 0".to_string())
+        );
+        assert!(parse_threads("4097").is_err());
+        assert!(parse_threads("-1").is_err());
+        assert!(parse_threads("two").is_err());
     }
 }

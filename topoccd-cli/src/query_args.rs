@@ -3,6 +3,8 @@
 //! message.
 
 use anyhow::Result;
+
+use crate::cmd_step::MemoryLimit;
 use topoccd::{ClusterGrowth, DopKind, Method, Mode, NarrowOptions, QueryOptions};
 
 /// The whole-step query's method, as named on the command line.
@@ -102,6 +104,51 @@ pub struct QueryArgs {
     /// are then different vertices).
     #[arg(long)]
     pub keep_crack_contacts: bool,
+    /// Keep at most N contacts per step: once a step has more, its query stops and its output
+    /// says TRUNCATED (the first N of the query's fixed order, the same for any thread count;
+    /// with --earliest, once the earliest time is known to be 0). Default: as many as the
+    /// memory allows (`step --max-memory`, else $TOPOCCD_MAX_MEMORY, else the memory
+    /// available: a collapsed step has hundreds of millions of contacts at t=0); `off` for no
+    /// cap.
+    #[arg(long, value_name = "N", value_parser = parse_cap)]
+    pub max_contacts: Option<Cap>,
+}
+
+/// `--max-contacts`: a number, or no cap.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cap {
+    /// At most this many contacts.
+    At(usize),
+    /// No cap.
+    Off,
+}
+
+fn parse_cap(s: &str) -> Result<Cap, String> {
+    if s.trim().eq_ignore_ascii_case("off") {
+        return Ok(Cap::Off);
+    }
+    s.trim()
+        .parse()
+        .map(Cap::At)
+        .map_err(|_| format!("{s:?} is not a number of contacts (or 'off')"))
+}
+
+/// Bytes a contact may take while a query runs: the report's, and those the traversal's
+/// tasks hold before they hand them over (a few per thread, see `QueryOptions::max_contacts`).
+fn bytes_per_contact() -> u64 {
+    let contact = std::mem::size_of::<topoccd::VfContact>()
+        .max(std::mem::size_of::<topoccd::EeContact>()) as u64;
+    contact * (rayon::current_num_threads() as u64 + 2)
+}
+
+/// The default cap: what the memory limit allows, `None` without one.
+fn default_cap(limit: MemoryLimit) -> Option<usize> {
+    match limit {
+        MemoryLimit::Bytes(bytes, _) => {
+            Some(usize::try_from(bytes / bytes_per_contact()).unwrap_or(usize::MAX))
+        }
+        MemoryLimit::Off => None,
+    }
 }
 
 impl Default for QueryArgs {
@@ -117,6 +164,7 @@ impl Default for QueryArgs {
             growth: GrowthArg::default_growth(),
             geometry: false,
             keep_crack_contacts: false,
+            max_contacts: None,
         }
     }
 }
@@ -129,8 +177,14 @@ fn parse_k(s: &str) -> Result<usize, String> {
 }
 
 impl QueryArgs {
-    /// The library's options, after checking the ranges.
+    /// The library's options, after checking the ranges; the default cap of `--max-contacts`
+    /// follows the default memory limit ([`MemoryLimit::from_env`]).
     pub fn options(&self) -> Result<QueryOptions> {
+        self.options_within(MemoryLimit::from_env()?)
+    }
+
+    /// [`QueryArgs::options`] with the default cap of `--max-contacts` following `limit`.
+    pub fn options_within(&self, limit: MemoryLimit) -> Result<QueryOptions> {
         let options = QueryOptions {
             narrow: NarrowOptions {
                 tolerance: self.tolerance,
@@ -147,6 +201,12 @@ impl QueryArgs {
             growth: self.growth.into(),
             geometry: self.geometry,
             crack_filter: !self.keep_crack_contacts,
+            max_contacts: match self.max_contacts {
+                Some(Cap::At(n)) => Some(n),
+                Some(Cap::Off) => None,
+                None => default_cap(limit),
+            },
+            deadline: None,
         };
         options.validate()?;
         Ok(options)

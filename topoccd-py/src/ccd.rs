@@ -1,10 +1,14 @@
 //! The `Ccd` class: one query per simulation step, buffers kept across steps, the GIL released
 //! while the library works.
 
-use pyo3::prelude::*;
-use topoccd::{Ccd as LibCcd, Report as LibReport, Step, StepError};
+use std::sync::{Condvar, Mutex};
+use std::time::{Duration, Instant};
 
-use crate::errors::{input_error, options_error};
+use pyo3::prelude::*;
+use topoccd::io::{input_warnings, InputWarning};
+use topoccd::{Ccd as LibCcd, Report as LibReport, Step, StepError, StopReason};
+
+use crate::errors::{input_error, options_error, warn_input};
 use crate::input::{indices, positions, rows};
 use crate::options::Keywords;
 use crate::report::{Report, StepFacts};
@@ -60,14 +64,8 @@ struct Arrays<'a> {
     groups: Option<&'a [u32]>,
 }
 
-/// Builds the step and queries it; runs without the GIL.
-fn run(
-    ccd: &mut LibCcd,
-    pool: Option<&rayon::ThreadPool>,
-    a: &Arrays<'_>,
-    method: topoccd::Method,
-    options: &topoccd::QueryOptions,
-) -> Result<(LibReport, usize, usize), Failure> {
+/// Builds the step: the input checked, and its warnings found (the GIL released).
+fn build<'a>(a: &Arrays<'a>) -> Result<(Step<'a>, Vec<InputWarning>), Failure> {
     let step = match a.parents {
         Some(parents) => Step::with_parents(a.x0, a.x1, a.triangles, parents),
         None => Step::new(a.x0, a.x1, a.triangles),
@@ -77,9 +75,24 @@ fn run(
         Some(g) => step.with_groups(g).map_err(Failure::Step)?,
         None => step,
     };
+    // The input as given: the positions at t=0 of the vertices that exist then (the new
+    // vertices of a topology change start on their parents by design).
+    let (old, _) = a.x0.as_chunks::<3>();
+    let warnings = input_warnings(old, step.triangles());
+    Ok((step, warnings))
+}
+
+/// Queries the step (without the GIL).
+fn run(
+    ccd: &mut LibCcd,
+    pool: Option<&rayon::ThreadPool>,
+    step: &Step<'_>,
+    method: topoccd::Method,
+    options: &topoccd::QueryOptions,
+) -> Result<(LibReport, usize, usize), Failure> {
     let x0_address = step.x0().as_ptr() as usize;
     let x1_address = step.x1().as_ptr() as usize;
-    let mut go = || ccd.query(&step, method, options);
+    let mut go = || ccd.query(step, method, options);
     let report = match pool {
         Some(pool) => pool.install(go),
         None => go(),
@@ -88,10 +101,106 @@ fn run(
     Ok((report, x0_address, x1_address))
 }
 
+/// How often the calling thread looks for a pending signal (Ctrl-C) while a query runs.
+const SIGNAL_POLL: Duration = Duration::from_millis(20);
+
+/// Runs `query` as a job of the thread pool (`pool`, else rayon's global pool) while this
+/// thread, the caller's (the main thread, where Python runs signal handlers), waits without the
+/// GIL and checks for signals every [`SIGNAL_POLL`]: a `KeyboardInterrupt` (or any exception a
+/// handler raises) cancels the query through `token`, which stops within about a millisecond
+/// of work per thread; the exception is returned once the query has stopped. (A job of the
+/// pool, not a thread of its own: nothing is started per query.)
+fn watched<T: Send>(
+    py: Python<'_>,
+    pool: Option<&rayon::ThreadPool>,
+    token: &topoccd::CancelToken,
+    query: impl FnOnce() -> T + Send,
+) -> PyResult<T> {
+    let signal = (Mutex::new(false), Condvar::new());
+    let slot = Mutex::new(None);
+    let mut interrupted = None;
+    let state = (&signal, &slot, token);
+    // (A panic of the job resumes here, once the scope is over.)
+    match pool {
+        Some(pool) => pool.in_place_scope(|s| watch(py, s, state, query, &mut interrupted)),
+        None => rayon::in_place_scope(|s| watch(py, s, state, query, &mut interrupted)),
+    }
+    if let Some(e) = interrupted {
+        return Err(e);
+    }
+    let out = slot.into_inner().unwrap_or_else(|e| e.into_inner());
+    out.ok_or_else(|| pyo3::exceptions::PyRuntimeError::new_err("the query did not run"))
+}
+
+/// Set by the job of [`watched`] when it is done (also when it panics: the guard's drop).
+struct Done<'a>(&'a (Mutex<bool>, Condvar));
+
+impl Drop for Done<'_> {
+    fn drop(&mut self) {
+        let (flag, wake) = self.0;
+        *flag.lock().unwrap_or_else(|e| e.into_inner()) = true;
+        wake.notify_all();
+    }
+}
+
+/// The body of [`watched`]'s scope: spawns the job, then waits and watches.
+#[allow(clippy::type_complexity)]
+fn watch<'scope, T: Send + 'scope>(
+    py: Python<'_>,
+    scope: &rayon::Scope<'scope>,
+    (signal, slot, token): (
+        &'scope (Mutex<bool>, Condvar),
+        &'scope Mutex<Option<T>>,
+        &topoccd::CancelToken,
+    ),
+    query: impl FnOnce() -> T + Send + 'scope,
+    interrupted: &mut Option<PyErr>,
+) {
+    scope.spawn(move |_| {
+        let _done = Done(signal);
+        let out = query();
+        *slot.lock().unwrap_or_else(|e| e.into_inner()) = Some(out);
+    });
+    loop {
+        let over = py.detach(|| {
+            let (flag, wake) = signal;
+            let guard = flag.lock().unwrap_or_else(|e| e.into_inner());
+            let (guard, _) = wake
+                .wait_timeout_while(guard, SIGNAL_POLL, |done| !*done)
+                .unwrap_or_else(|e| e.into_inner());
+            *guard
+        });
+        if over {
+            break;
+        }
+        if interrupted.is_none() {
+            if let Err(e) = py.check_signals() {
+                token.cancel();
+                *interrupted = Some(e);
+            }
+        }
+    }
+}
+
 /// Why a query failed, carried out of the GIL-free section.
 enum Failure {
     Step(StepError),
     Options(String),
+}
+
+impl Failure {
+    fn into_py(self) -> PyErr {
+        match self {
+            Failure::Step(StepError::LengthMismatch { start, end }) => input_error(format!(
+                "x0 has {start} rows but x1 has {end}: a step needs the same vertices at \
+                     t=0 and t=1 (for a topology change that appends vertices, give their \
+                     parents: parents=[[child, parent], ...], or an empty (0, 2) array for new \
+                     vertices that do not move)"
+            )),
+            Failure::Step(e) => input_error(e.to_string()),
+            Failure::Options(m) => options_error(m),
+        }
+    }
 }
 
 #[pymethods]
@@ -150,19 +259,44 @@ impl Ccd {
     ///     geometry: also compute the contact points, normals and barycentric coordinates.
     ///     crack_filter: skip pairs of features that share a vertex or a vertex's crack twin
     ///         (``parents``); on by default.
+    ///     max_contacts: ``None`` (no limit), or the most contacts the report keeps (an int
+    ///         ``>= 0``). Once the step is known to have more, the query stops and
+    ///         ``report.truncated`` says so; the report then holds the first ``max_contacts``
+    ///         contacts of the query's fixed order of work, the same for any ``threads``. With
+    ///         ``mode="earliest"`` the earliest time stays exact (the query truncates only
+    ///         once it knows that time is 0) and the pairs are the first ``max_contacts``
+    ///         within ``tolerance`` of it. Memory stays within a few times ``max_contacts``
+    ///         contacts: a collapsed mesh (positions cast to integers) can have hundreds of
+    ///         millions at t=0.
+    ///     timeout: ``None``, or seconds (> 0) after which the query stops and raises
+    ///         ``TimeoutError`` (within about a millisecond of work per thread).
+    ///
+    /// Ctrl-C (``KeyboardInterrupt``) stops a running query, typically within a tenth of a
+    /// second: the query runs as a job of the thread pool while the calling thread waits
+    /// without the GIL and checks for signals every 20 ms.
+    ///
+    /// Before the query runs, input that is valid but likely a mistake is warned about
+    /// (:class:`InputWarning`, with ``warnings.warn``): vertices of ``x0`` that sit exactly on
+    /// one another, triangles of zero area, and every coordinate a whole number on such a
+    /// degenerate mesh (positions cast to integers); each warning names how many, the first
+    /// few and the likely cause, as the command line's do.
     ///
     /// Returns:
     ///     Report: numpy arrays of the pairs and their times; see :class:`Report`.
     ///
     /// Raises:
     ///     InputError: an array of the wrong shape or dtype, a non-finite coordinate, an
-    ///         index out of range, a bad parent row or groups array (the message names the
-    ///         element).
+    ///         index out of range, ``x0`` shorter than ``x1`` without ``parents``, a bad
+    ///         parent row (a child that is not new, a parent that is not old, a child twice)
+    ///         or groups array (the message names the element).
     ///     OptionsError: an option out of range.
+    ///     TimeoutError: ``timeout`` passed before the query finished.
+    ///     KeyboardInterrupt: Ctrl-C while the query ran.
     #[pyo3(signature = (
         x0, x1, triangles, *, parents=None, groups=None, method="auto", mode="all",
         tolerance=1e-6, min_separation=0.0, t_max=1.0, max_iterations=1_000_000, k=18,
-        growth=None, threads=None, geometry=false, crack_filter=true
+        growth=None, threads=None, geometry=false, crack_filter=true, max_contacts=None,
+        timeout=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn query(
@@ -184,7 +318,10 @@ impl Ccd {
         threads: Option<i64>,
         geometry: bool,
         crack_filter: bool,
+        max_contacts: Option<i64>,
+        timeout: Option<f64>,
     ) -> PyResult<Report> {
+        let started = Instant::now();
         let keywords = Keywords {
             method,
             mode,
@@ -196,8 +333,10 @@ impl Ccd {
             growth,
             geometry,
             crack_filter,
+            max_contacts,
+            timeout,
         };
-        let (method, options) = keywords.resolve()?;
+        let (method, mut options) = keywords.resolve()?;
         let threads = match threads {
             None => None,
             Some(n) if (1..=4096).contains(&n) => Some(n as usize),
@@ -212,7 +351,6 @@ impl Ccd {
         let tris = indices(triangles, "triangles", Some(3))?;
         let parent_rows = match parents {
             Some(p) => Some(rows::<2>(&indices(p, "parents", Some(2))?)),
-            None if p0.rows() != p1.rows() => Some(Vec::new()),
             None => None,
         };
         let group_ids = match groups {
@@ -240,11 +378,35 @@ impl Ccd {
             Some(_) => pool.as_ref().map(|(_, p)| p),
             None => None,
         };
-        let outcome = py.detach(|| run(inner, pool, &arrays, method, &options));
-        let (report, x0_address, x1_address) = outcome.map_err(|f| match f {
-            Failure::Step(e) => input_error(e.to_string()),
-            Failure::Options(m) => options_error(m),
+        let (step, warnings) = py.detach(|| build(&arrays)).map_err(Failure::into_py)?;
+        for w in &warnings {
+            warn_input(py, &w.to_string())?;
+        }
+        let token = inner.cancel_token();
+        token.reset();
+        // The deadline counts from the call, input conversion included.
+        options.deadline = timeout.map(|t| started + Duration::from_secs_f64(t));
+        let outcome = watched(py, pool, &token, || {
+            run(inner, pool, &step, method, &options)
         })?;
+        let (report, x0_address, x1_address) = outcome.map_err(Failure::into_py)?;
+        if let Some(t) = report
+            .truncated
+            .filter(|t| t.reason != StopReason::MaxContacts)
+        {
+            let seconds = timeout.unwrap_or_default();
+            return Err(pyo3::exceptions::PyTimeoutError::new_err(format!(
+                "the query did not finish within timeout={seconds} s: it stopped after {:.3} s \
+                 ({}), having found {} contacts; a collapsed or huge step (see the warnings) \
+                 can take long: max_contacts=N ends it early with the first N contacts",
+                started.elapsed().as_secs_f64(),
+                match t.reason {
+                    StopReason::Deadline => "deadline",
+                    _ => "cancelled",
+                },
+                report.contact_count(),
+            )));
+        }
         let facts = StepFacts {
             vertices: p1.rows(),
             triangles: tris.len() / 3,

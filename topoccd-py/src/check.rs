@@ -3,8 +3,7 @@
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
-use topoccd::check::step_intersections;
-use topoccd::{Frame, Step};
+use topoccd::check::frame_intersections;
 
 use crate::errors::input_error;
 use crate::input::{indices, positions, rows};
@@ -51,10 +50,7 @@ pub fn intersecting_triangles<'py>(
     };
     let flat = x.as_flat()?;
     let pairs = py
-        .detach(|| {
-            Step::with_parents(flat, flat, &tris[..], &parent_rows)
-                .map(|step| step_intersections(&step, Frame::Start))
-        })
+        .detach(|| frame_intersections(flat, &tris[..], &parent_rows))
         .map_err(|e| input_error(e.to_string()))?;
     let mut out = Array2::<i64>::zeros((pairs.len(), 2));
     for (row, [a, b]) in out.rows_mut().into_iter().zip(&pairs) {

@@ -12,8 +12,9 @@ use std::io::ErrorKind;
 use pyo3::create_exception;
 use pyo3::exceptions::{
     PyFileExistsError, PyFileNotFoundError, PyIsADirectoryError, PyNotADirectoryError, PyOSError,
-    PyPermissionError, PyValueError,
+    PyPermissionError, PyUserWarning, PyValueError,
 };
+use pyo3::prelude::*;
 use pyo3::PyErr;
 use topoccd::io::sequence::SequenceError;
 use topoccd::io::IoError;
@@ -39,6 +40,25 @@ create_exception!(
      a face that is not a triangle, a frame missing from a sequence...). The message names the \
      file and the line or element."
 );
+
+create_exception!(
+    topoccd,
+    InputWarning,
+    PyUserWarning,
+    "Input that is valid but likely a mistake, warned about before a query runs: vertices that \
+     sit exactly on one another, triangles of zero area, positions cast to integers. The \
+     message names how many, the first few and the likely cause. Filter it with the warnings \
+     module (warnings.simplefilter('ignore', topoccd.InputWarning))."
+);
+
+/// Warns with an [`InputWarning`] (through Python's `warnings`, so filters apply); the warning
+/// points at the caller's line.
+pub fn warn_input(py: Python<'_>, message: &str) -> PyResult<()> {
+    let category = py.get_type::<InputWarning>();
+    let message = std::ffi::CString::new(message.replace('\0', " "))
+        .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+    PyErr::warn(py, &category, &message, 1)
+}
 
 /// An [`InputError`] with this message.
 pub fn input_error(message: impl Into<String>) -> PyErr {
@@ -85,6 +105,10 @@ pub fn io_error(err: &IoError) -> PyErr {
     match err {
         IoError::Io { path, source, .. } => {
             os_error(source, chain(err), path.display().to_string())
+        }
+        IoError::Folder { path } => {
+            let args = (21, chain(err), path.display().to_string());
+            PyIsADirectoryError::new_err(args)
         }
         _ => FormatError::new_err(chain(err)),
     }

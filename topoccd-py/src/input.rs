@@ -80,11 +80,12 @@ fn contiguous<'py>(
         .map_err(|e| input_error(format!("{name}: cannot be converted to {dtype}: {e}")))
 }
 
-/// Reads positions: an `(n, 3)` array of any real dtype, in any memory order. A float64
-/// C-contiguous array is borrowed as it is; anything else is converted once.
+/// Reads positions: an `(n, 3)` array of any real dtype, in any memory order (or an empty
+/// array of shape `(0,)`, as an empty list reads, for no vertices). A float64 C-contiguous
+/// array is borrowed as it is; anything else is converted once.
 pub fn positions<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<Positions<'py>> {
     let check_shape = |shape: &[usize]| {
-        if shape.len() == 2 && shape[1] == 3 {
+        if (shape.len() == 2 && shape[1] == 3) || shape == [0] {
             Ok(())
         } else {
             Err(input_error(format!(
@@ -112,6 +113,11 @@ pub fn positions<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<Positions
         )));
     }
     let converted = contiguous(&array, "float64", name)?;
+    let converted = if array.shape() == [0] {
+        converted.call_method1("reshape", ((0, 3),))?
+    } else {
+        converted
+    };
     let converted = converted
         .cast_into::<PyArray2<f64>>()
         .map_err(|_| input_error(format!("{name}: conversion to float64 failed")))?;

@@ -40,6 +40,7 @@ fn _topoccd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("InputError", py.get_type::<errors::InputError>())?;
     m.add("OptionsError", py.get_type::<errors::OptionsError>())?;
     m.add("FormatError", py.get_type::<errors::FormatError>())?;
+    m.add("InputWarning", py.get_type::<errors::InputWarning>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

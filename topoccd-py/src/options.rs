@@ -17,6 +17,8 @@ pub struct Keywords<'a> {
     pub growth: Option<&'a str>,
     pub geometry: bool,
     pub crack_filter: bool,
+    pub max_contacts: Option<i64>,
+    pub timeout: Option<f64>,
 }
 
 /// The method by name: `brute`, `bvh`, `cluster` or `auto`.
@@ -77,6 +79,20 @@ impl Keywords<'_> {
         }
         options.geometry = self.geometry;
         options.crack_filter = self.crack_filter;
+        options.max_contacts = match self.max_contacts {
+            None => None,
+            Some(n) => Some(usize::try_from(n).map_err(|_| {
+                options_error(format!("max_contacts must be None or >= 0, got {n}"))
+            })?),
+        };
+        if let Some(t) = self.timeout {
+            // (The deadline itself is set when the query starts.)
+            if !(t > 0.0 && t < 1e9) {
+                return Err(options_error(format!(
+                    "timeout must be None or seconds in (0, 1e9), got {t}"
+                )));
+            }
+        }
         options
             .validate()
             .map_err(|e| options_error(e.to_string()))?;

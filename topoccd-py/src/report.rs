@@ -41,6 +41,11 @@ use crate::errors::input_error;
 ///     earliest (tuple or None): the pair attaining it, ``("vf", vertex, face, toi)`` or
 ///         ``("ee", a0, a1, b0, b1, toi)``.
 ///     unresolved (int): contacts whose certainty is not 0.
+///     truncated (dict or None): ``None`` when the query ran to its end; with
+///         ``max_contacts``, once the step had more contacts: ``{"reason": "max_contacts",
+///         "phase": "candidates", "tasks": K}``, the report holding the first
+///         ``max_contacts`` contacts, found in the first ``K`` units of the query's fixed order
+///         of work (its traversal tasks), the same for any thread count.
 ///     stats (dict): ``method`` (the method that ran: what ``"auto"`` chose), and work
 ///         counters: ``bv_tests``, ``vf_tests``, ``ee_tests``,
 ///         ``peak_candidates`` (the most candidate pairs buffered at once), ``vertices``,
@@ -79,6 +84,8 @@ pub struct Report {
     earliest: Option<Py<PyTuple>>,
     #[pyo3(get)]
     unresolved: usize,
+    #[pyo3(get)]
+    truncated: Option<Py<PyDict>>,
     #[pyo3(get)]
     stats: Py<PyDict>,
     #[pyo3(get)]
@@ -169,6 +176,7 @@ impl Report {
             earliest_toi: r.earliest_toi(),
             earliest: earliest(py, r.earliest.as_ref())?,
             unresolved: r.unresolved,
+            truncated: truncated(py, r)?,
             stats: stats(py, r, facts)?,
             seconds: seconds(py, r)?,
             vf_rows,
@@ -243,6 +251,22 @@ fn earliest(py: Python<'_>, c: Option<&Contact>) -> PyResult<Option<Py<PyTuple>>
         Contact::Ee(e) => ("ee", e.a[0], e.a[1], e.b[0], e.b[1], e.toi).into_pyobject(py)?,
     };
     Ok(Some(t.unbind()))
+}
+
+/// `{"reason": ..., "phase": ..., "tasks": ...}`, or `None` for a complete report.
+fn truncated(py: Python<'_>, r: &LibReport) -> PyResult<Option<Py<PyDict>>> {
+    let Some(t) = &r.truncated else {
+        return Ok(None);
+    };
+    let d = PyDict::new(py);
+    d.set_item("reason", t.reason.to_string())?;
+    let phase = match t.phase {
+        topoccd::Phase::Build => "build",
+        topoccd::Phase::Candidates => "candidates",
+    };
+    d.set_item("phase", phase)?;
+    d.set_item("tasks", t.tasks)?;
+    Ok(Some(d.unbind()))
 }
 
 fn stats(py: Python<'_>, r: &LibReport, facts: &StepFacts) -> PyResult<Py<PyDict>> {
@@ -320,8 +344,13 @@ impl Report {
         let earliest = self
             .earliest_toi
             .map_or("None".to_string(), |t| format!("{t}"));
+        let truncated = if self.truncated.is_some() {
+            ", TRUNCATED"
+        } else {
+            ""
+        };
         format!(
-            "<topoccd.Report: {} vf and {} ee contacts, earliest_toi={earliest}, unresolved={}>",
+            "<topoccd.Report: {} vf and {} ee contacts, earliest_toi={earliest}, unresolved={}{truncated}>",
             self.vf_rows.len(),
             self.ee_rows.len(),
             self.unresolved

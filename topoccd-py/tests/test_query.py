@@ -130,7 +130,8 @@ def test_parents_start_new_vertices_at_their_parent():
     r = topoccd.query(x0, x1b, trisb, parents=[[6, 3]])
     assert (6, 0) in set(map(tuple, r.vf.tolist()))
     # Without a parent vertex 6 stays at its x1 position (below the plane): no contact of it.
-    r_still = topoccd.query(x0, x1b, trisb)
+    # (An empty parent list says so; without `parents` a shorter x0 is an error, issue 38.)
+    r_still = topoccd.query(x0, x1b, trisb, parents=np.zeros((0, 2), dtype=np.int64))
     assert (6, 0) not in set(map(tuple, r_still.vf.tolist()))
 
 

@@ -66,6 +66,7 @@ pub use query::{
     Mode, OptionsError, QueryOptions, Report, Seconds, Stats, VfContact, VfGeometry,
     AUTO_CLUSTER_TRIANGLES,
 };
+pub use query::{CancelToken, Phase, StopReason, Truncation};
 
 /// The crate's README (its page on the registry), run as doctests. The repository's README and
 /// the user guide are run by the workspace's test crate, `topoccd-tests`.

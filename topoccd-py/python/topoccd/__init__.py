@@ -26,7 +26,11 @@ Contents:
 - :func:`read_mesh`, :func:`read_sequence`: PLY / OBJ frames as numpy arrays.
 - :mod:`topoccd.batch`: every step of a frame sequence over Ray tasks or a process pool.
 - Errors: :class:`InputError` and :class:`OptionsError` (both ``ValueError``),
-  :class:`FormatError` (an ``OSError``) for malformed files.
+  :class:`FormatError` (an ``OSError``) for malformed files; ``TimeoutError`` after
+  ``timeout=``; :class:`InputWarning` (a ``UserWarning``) for input that is valid but likely a
+  mistake (coincident vertices, zero-area triangles, positions cast to integers).
+- Limits: ``max_contacts=`` bounds the report (``report.truncated`` says so), ``timeout=``
+  bounds the time, and Ctrl-C stops a running query.
 """
 
 from typing import Optional
@@ -35,6 +39,7 @@ from ._topoccd import (
     Ccd,
     FormatError,
     InputError,
+    InputWarning,
     OptionsError,
     Report,
     Sequence,
@@ -62,6 +67,7 @@ __all__ = [
     "is_step_collision_free",
     "intersecting_triangles",
     "InputError",
+    "InputWarning",
     "OptionsError",
     "FormatError",
     "RESOLVED",
@@ -99,6 +105,8 @@ def query(
     threads: Optional[int] = None,
     geometry: bool = False,
     crack_filter: bool = True,
+    max_contacts: Optional[int] = None,
+    timeout: Optional[float] = None,
 ) -> Report:
     """One query with a fresh :class:`Ccd`: every contact of one step, or the earliest.
 
@@ -131,4 +139,6 @@ def query(
         threads=threads,
         geometry=geometry,
         crack_filter=crack_filter,
+        max_contacts=max_contacts,
+        timeout=timeout,
     )

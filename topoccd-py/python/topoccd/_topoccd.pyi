@@ -16,6 +16,7 @@ __all__ = [
     "edge_edge_ccd",
     "intersecting_triangles",
     "InputError",
+    "InputWarning",
     "OptionsError",
     "FormatError",
     "__version__",
@@ -47,6 +48,10 @@ class OptionsError(ValueError):
 class FormatError(OSError):
     """A mesh or sequence file that could be opened but not understood."""
 
+class InputWarning(UserWarning):
+    """Valid input that is likely a mistake (coincident vertices, zero-area triangles,
+    positions cast to integers), warned about before a query runs."""
+
 @final
 class Report:
     """The result of one query, as numpy arrays (see ``help(topoccd.Report)``)."""
@@ -72,6 +77,9 @@ class Report:
     earliest_toi: Optional[float]
     earliest: Optional[_Earliest]
     unresolved: int
+    truncated: Optional[dict]
+    """``None``, or ``{"reason": "max_contacts", "phase": ..., "tasks": ...}`` when the report
+    holds only the first ``max_contacts`` contacts."""
     stats: dict
     """``bv_tests``, ``vf_tests``, ``ee_tests``, ``peak_candidates``, ``vertices``, ``triangles``
     (and ``cluster``)."""
@@ -108,6 +116,8 @@ class Ccd:
         threads: Optional[int] = None,
         geometry: bool = False,
         crack_filter: bool = True,
+        max_contacts: Optional[int] = None,
+        timeout: Optional[float] = None,
     ) -> Report:
         """Every contact of one step (or the earliest); see ``help(topoccd.Ccd.query)``."""
 

@@ -57,6 +57,8 @@ QUERY_OPTIONS = (
     "growth",
     "crack_filter",
     "threads",
+    "max_contacts",
+    "timeout",
 )
 
 
@@ -247,6 +249,81 @@ def _run_ray(
             on_done(run, lines)
 
 
+_MAIN_GUARD = (
+    "engine='process' starts its workers by importing the script that calls run_sequence, "
+    "which then runs again in every worker: put the call under "
+    "`if __name__ == \"__main__\":` (see the multiprocessing guide, 'Safe importing of main "
+    "module'), or use engine='ray'"
+)
+
+
+def _guards_main(test: "Any") -> bool:
+    """Whether an ``if`` test reads ``__name__ == "__main__"`` (either way round)."""
+    import ast
+
+    if not (isinstance(test, ast.Compare) and len(test.ops) == 1):
+        return False
+    if not isinstance(test.ops[0], ast.Eq):
+        return False
+    sides = [test.left, test.comparators[0]]
+    names = [s.id for s in sides if isinstance(s, ast.Name)]
+    texts = [s.value for s in sides if isinstance(s, ast.Constant)]
+    return names == ["__name__"] and texts == ["__main__"]
+
+
+def _unguarded_call() -> Optional[str]:
+    """Where the script run as ``__main__`` calls into this module at its top level outside an
+    ``if __name__ == "__main__":`` block (``"script.py:12"``), or ``None``: a spawned worker
+    would import the script and call again. Scripts only (an interactive session or ``-c`` is
+    not re-run)."""
+    import ast
+    import inspect
+
+    frame = inspect.currentframe()
+    top = None
+    while frame is not None:
+        if frame.f_code.co_name == "<module>" and frame.f_globals.get("__name__") in (
+            "__main__",
+            "__mp_main__",
+        ):
+            top = frame
+        frame = frame.f_back
+    if top is None:
+        return None
+    path = top.f_globals.get("__file__")
+    line = top.f_lineno
+    if not path or not os.path.isfile(path):
+        return None
+    try:
+        with open(path, encoding="utf-8") as source:
+            tree = ast.parse(source.read(), path)
+    except (OSError, SyntaxError, ValueError):
+        return None
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and _guards_main(node.test):
+            end = getattr(node, "end_lineno", None) or line
+            if node.lineno <= line <= end:
+                return None
+    return f"{path}:{line}"
+
+
+def _require_main_guard() -> None:
+    """Raises a clear error where ``engine="process"`` would re-run the calling script in
+    every worker: called from a script's top level outside ``if __name__ == "__main__":``, or
+    from a worker importing such a script."""
+    import multiprocessing
+
+    main = getattr(sys.modules.get("__main__"), "__name__", "")
+    if multiprocessing.parent_process() is not None and main == "__mp_main__":
+        # A worker importing the script: starting a pool here would recurse.
+        raise RuntimeError(f"run_sequence was called while a worker process started: {_MAIN_GUARD}")
+    where = _unguarded_call()
+    if where is not None:
+        raise RuntimeError(
+            f"{where}: run_sequence(engine='process') outside a main guard: {_MAIN_GUARD}"
+        )
+
+
 def _run_processes(
     folder: str,
     out_dir: str,
@@ -257,6 +334,7 @@ def _run_processes(
 ) -> None:
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures.process import BrokenProcessPool
 
     # spawn, not fork: a forked child would inherit a thread pool without its threads.
     context = multiprocessing.get_context("spawn")
@@ -269,6 +347,11 @@ def _run_processes(
             run = futures[future]
             try:
                 lines = future.result()
+            except BrokenProcessPool as err:
+                raise RuntimeError(
+                    f"the worker processes of engine='process' died ({err}); if the calling "
+                    f"script has no main guard: {_MAIN_GUARD}"
+                ) from err
             except Exception as err:  # noqa: BLE001 - a crashed worker loses only its run
                 lines = [_failure(folder, k, err) for k in run]
             on_done(run, lines)
@@ -293,6 +376,8 @@ def run_sequence(
     k: int = 18,
     growth: Optional[str] = None,
     crack_filter: bool = True,
+    max_contacts: Optional[int] = None,
+    timeout: Optional[float] = None,
 ) -> BatchResult:
     """Processes every step of a frame sequence in parallel; writes one pairs file per step
     and ``OUT_DIR/steps.jsonl``.
@@ -316,7 +401,8 @@ def run_sequence(
             on it.
         progress: show a progress bar (tqdm if installed, else a counter on stderr).
         method, mode, tolerance, min_separation, t_max, max_iterations, k, growth,
-            crack_filter: as in :meth:`topoccd.Ccd.query`.
+            crack_filter, max_contacts, timeout: as in :meth:`topoccd.Ccd.query` (a step that
+            times out is a failed step).
 
     Returns:
         BatchResult: the steps' lines in step order, the failed steps and a summary. A step
@@ -326,6 +412,9 @@ def run_sequence(
     Raises:
         OptionsError: an invalid option (checked once, before any task starts).
         OSError, FormatError: the folder cannot be listed or is not a sequence.
+        RuntimeError: ``engine="process"`` called from a script's top level without
+            ``if __name__ == "__main__":`` (every worker would run the script again), or its
+            workers could not start.
     """
     options: Dict[str, Any] = {
         "method": method,
@@ -338,8 +427,12 @@ def run_sequence(
         "growth": growth,
         "crack_filter": crack_filter,
         "threads": int(cpus_per_task),
+        "max_contacts": max_contacts,
+        "timeout": timeout,
     }
     _check_options(options)
+    if engine == "process":
+        _require_main_guard()
     folder = os.path.abspath(os.fspath(folder))
     out_dir = os.path.abspath(os.fspath(out_dir))
     steps = len(read_sequence(folder))

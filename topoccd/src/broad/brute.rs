@@ -90,10 +90,13 @@ pub(crate) fn candidates<const H: usize>(
         0 => &features.boxes.vertex[it.index as usize],
         _ => &boxes.face[it.index as usize],
     };
-    for (i, a) in items.iter().enumerate() {
+    'sweep: for (i, a) in items.iter().enumerate() {
         let a_box = bx(a);
         let reach = a_box.hi.x + sep;
         for b in items[i + 1..].iter().take_while(|b| b.lo_x <= reach) {
+            if out.stopped() {
+                break 'sweep;
+            }
             if a.kind == b.kind {
                 continue;
             }
@@ -126,11 +129,14 @@ pub(crate) fn candidates<const H: usize>(
             .map(|(e, b)| item(b, 0, e)),
     );
     sort(&mut items);
-    for (i, a) in items.iter().enumerate() {
+    'edges: for (i, a) in items.iter().enumerate() {
         let a_box = &edge_boxes[a.index as usize];
         let reach = a_box.hi.x + sep;
         let [a0, a1] = edges[a.index as usize];
         for b in items[i + 1..].iter().take_while(|b| b.lo_x <= reach) {
+            if out.stopped() {
+                break 'edges;
+            }
             let [b0, b1] = edges[b.index as usize];
             if a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1 {
                 continue;

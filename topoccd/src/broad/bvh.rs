@@ -336,20 +336,21 @@ impl<const H: usize> TaskPairs for PerStepBvh<H> {
         &self,
         ws: &mut BvhWorkspace,
         par: &ParOptions,
-        make: impl Fn() -> T + Sync + Send,
+        make: impl Fn(usize) -> T + Sync + Send,
         pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
         consume: impl FnMut(T) -> ControlFlow<()>,
+        skip: &(dyn Fn(&T) -> bool + Sync),
     ) -> u64 {
         if self.marked && self.front_valid {
-            self.front_pairs(par, make, pair, finish, consume)
+            self.front_pairs(par, make, pair, finish, consume, skip)
         } else if self.marked {
             let check = CertifiedNeighbours(&self.corners);
             self.bvh
-                .par_self_pairs_until(ws, par, &check, make, pair, finish, consume)
+                .par_self_pairs_until(ws, par, &check, make, pair, finish, consume, skip)
         } else {
             self.bvh
-                .par_self_pairs_until(ws, par, &TestAll, make, pair, finish, consume)
+                .par_self_pairs_until(ws, par, &TestAll, make, pair, finish, consume, skip)
         }
     }
 }
@@ -368,10 +369,11 @@ impl<const H: usize> PerStepBvh<H> {
     fn front_pairs<T: Send>(
         &self,
         par: &ParOptions,
-        make: impl Fn() -> T + Sync + Send,
+        make: impl Fn(usize) -> T + Sync + Send,
         pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
         mut consume: impl FnMut(T) -> ControlFlow<()>,
+        skip: &(dyn Fn(&T) -> bool + Sync),
     ) -> u64 {
         let tasks: Vec<FrontTask<'_>> = (self.neighbours.chunks(NEIGHBOUR_TASK))
             .map(FrontTask::Neighbours)
@@ -392,7 +394,7 @@ impl<const H: usize> PerStepBvh<H> {
                 self.bvh.front_pairs(front, stack, &mut |a, b| pair(acc, a, b))
             }
         };
-        run_batches(&tasks, par, Vec::new, body, make, finish, &mut consume)
+        run_batches(&tasks, par, Vec::new, body, (make, finish, skip), &mut consume)
     }
 }
 

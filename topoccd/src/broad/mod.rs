@@ -72,8 +72,15 @@ pub(crate) const CHUNK: usize = 1 << 19;
 
 /// A bounded buffer of candidates: a sequential broad phase pushes into `buf` and calls
 /// [`Sink::check`] after each triangle pair; a full buffer goes to `flush` (the narrow phase)
-/// and is emptied.
+/// and is emptied. `flush` returns `Break` when the query stops; the broad phase then asks
+/// [`Sink::stopped`] (which also calls `stop`, the query's own check, every few thousand
+/// calls) and ends early.
 pub(crate) struct Sink<'f> {
+    /// Whether the query stopped.
+    stopped: bool,
+    /// Calls of [`Sink::stopped`] so far.
+    polls: u64,
+    stop: &'f dyn Fn() -> bool,
     pub buf: Candidates,
     /// Candidates handed over so far.
     pub vf_total: u64,
@@ -81,12 +88,19 @@ pub(crate) struct Sink<'f> {
     /// The largest number of candidates held at once.
     pub peak: usize,
     limit: usize,
-    flush: &'f mut dyn FnMut(&Candidates),
+    flush: &'f mut dyn FnMut(&Candidates) -> ControlFlow<()>,
 }
 
 impl<'f> Sink<'f> {
-    pub fn new(limit: usize, flush: &'f mut dyn FnMut(&Candidates)) -> Self {
+    pub fn new(
+        limit: usize,
+        flush: &'f mut dyn FnMut(&Candidates) -> ControlFlow<()>,
+        stop: &'f dyn Fn() -> bool,
+    ) -> Self {
         Self {
+            stopped: false,
+            polls: 0,
+            stop,
             buf: Candidates::default(),
             vf_total: 0,
             ee_total: 0,
@@ -109,29 +123,43 @@ impl<'f> Sink<'f> {
         self.peak = self.peak.max(self.buf.len());
         self.vf_total += self.buf.vf.len() as u64;
         self.ee_total += self.buf.ee.len() as u64;
-        if self.buf.len() > 0 {
-            (self.flush)(&self.buf);
+        if self.buf.len() > 0 && !self.stopped {
+            self.stopped = (self.flush)(&self.buf).is_break();
         }
         self.buf.clear();
+    }
+
+    /// Whether the query stopped: the broad phase should end. Cheap; call it in inner loops.
+    #[inline]
+    pub fn stopped(&mut self) -> bool {
+        self.polls += 1;
+        if !self.stopped && self.polls.is_multiple_of(4096) {
+            self.stopped = (self.stop)();
+        }
+        self.stopped
     }
 }
 
 /// A broad phase whose overlapping triangle pairs come from parallel tasks: `pair(acc, a, b)`
 /// for every triangle pair to test, each once, with one accumulator per task (made by
-/// `make`, finished by `finish` on the task's thread), handed to `consume` in a fixed task
+/// `make(i)`, `i` the task's index in the fixed order, finished by `finish` on the task's
+/// thread), handed to `consume` in a fixed task
 /// order, batch by batch ([`ParOptions::batch`]); once `consume` returns
-/// [`ControlFlow::Break`], no batch after the one under way runs. The tasks, and what each
+/// [`ControlFlow::Break`], no batch after the one under way runs; `skip(acc)`, asked once as
+/// each task starts, leaves that task untraversed (a query that stopped, a task not needed). The tasks, and what each
 /// receives, depend on the input alone, never on the thread count. Returns the
 /// bounding-volume tests.
 pub(crate) trait TaskPairs {
+    #[allow(clippy::too_many_arguments)]
     fn pairs<T: Send>(
         &self,
         ws: &mut BvhWorkspace,
         par: &ParOptions,
-        make: impl Fn() -> T + Sync + Send,
+        make: impl Fn(usize) -> T + Sync + Send,
         pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
         consume: impl FnMut(T) -> ControlFlow<()>,
+        skip: &(dyn Fn(&T) -> bool + Sync),
     ) -> u64;
 }
 
@@ -139,6 +167,25 @@ pub(crate) trait TaskPairs {
 /// phase, run inside the tasks). Returns the bounding-volume tests.
 pub(crate) trait PairRunner {
     fn run(&mut self, source: &impl TaskPairs, ws: &mut BvhWorkspace) -> u64;
+}
+
+/// Whether the query stopped, for the broad phase's long sequential loops (the cluster
+/// method's leaf growth): a check cheap enough to run every iteration.
+#[derive(Clone)]
+pub(crate) struct Stopper(pub std::sync::Arc<dyn Fn() -> bool + Send + Sync>);
+
+impl Stopper {
+    /// Whether the query stopped.
+    #[inline]
+    pub fn stopped(&self) -> bool {
+        (self.0)()
+    }
+}
+
+impl std::fmt::Debug for Stopper {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Stopper")
+    }
 }
 
 /// What a broad phase did.

@@ -173,12 +173,17 @@ impl<V: BoundingVolume> Bvh<V> {
             consume(r);
             ControlFlow::Continue(())
         };
-        self.par_self_pairs_until(ws, options, &TestAll, make, leaf_pair, finish, consume)
+        let make = |_| make();
+        let (check, never) = (&TestAll, &|_: &T| false);
+        self.par_self_pairs_until(ws, options, check, make, leaf_pair, finish, consume, never)
     }
 
     /// [`Bvh::par_self_pairs_finished`] whose `consume` may stop the traversal: once it returns
     /// [`ControlFlow::Break`], the results of the batch under way are still handed over, and
-    /// no further batch runs. Leaf pairs that `check` skips are neither tested nor reported.
+    /// no further batch runs. `make(i)` makes the accumulator of the `i`-th task in the fixed
+    /// order (0: the pairs found while splitting), and `skip(acc)` is asked once as each task
+    /// starts: a task it says to skip is not traversed (its accumulator, made and finished,
+    /// receives no pair). Leaf pairs that `check` skips are neither tested nor reported.
     /// Returns the bounding-volume tests made.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn par_self_pairs_until<T: Send>(
@@ -186,10 +191,11 @@ impl<V: BoundingVolume> Bvh<V> {
         ws: &mut BvhWorkspace,
         options: &ParOptions,
         check: &impl LeafCheck,
-        make: impl Fn() -> T + Sync + Send,
+        make: impl Fn(usize) -> T + Sync + Send,
         leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
         consume: impl FnMut(T) -> ControlFlow<()>,
+        skip: &(dyn Fn(&T) -> bool + Sync),
     ) -> u64 {
         let t = &mut ws.tasks;
         t.entries.clear();
@@ -199,8 +205,8 @@ impl<V: BoundingVolume> Bvh<V> {
         }
         let small = self.nodes.len() < options.min_nodes;
         let nodes = &self.nodes[..];
-        let run = (nodes, nodes, check);
-        par_run(run, t, 0, small, options, make, leaf_pair, finish, consume)
+        let f = (make, leaf_pair, finish, consume, skip);
+        par_run((nodes, nodes, check), t, 0, small, options, f)
     }
 
     /// [`Bvh::tree_pairs`] on the current rayon thread pool, with per-task accumulators
@@ -266,7 +272,9 @@ impl<V: BoundingVolume> Bvh<V> {
             consume(r);
             ControlFlow::Continue(())
         };
-        par_run((na, nb, &TestAll), t, 1, small, options, make, leaf_pair, |_| {}, consume)
+        let never: &(dyn Fn(&T) -> bool + Sync) = &|_| false;
+        let f = (|_| make(), leaf_pair, |_: &mut T| {}, consume, never);
+        par_run((na, nb, &TestAll), t, 1, small, options, f)
     }
 }
 
@@ -274,17 +282,20 @@ impl<V: BoundingVolume> Bvh<V> {
 /// until there are at least `options.min_tasks` or none left (unless `small`), then runs them
 /// on the rayon pool, batch by batch, handing the results to `consume` in task order. The
 /// first result holds the leaf pairs found while splitting. Returns the overlap tests.
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::type_complexity)]
 fn par_run<V: BoundingVolume, T: Send>(
     (na, nb, check): (&[Node<V>], &[Node<V>], &impl LeafCheck),
     t: &mut Tasks,
     mut bv_tests: u64,
     small: bool,
     options: &ParOptions,
-    make: impl Fn() -> T + Sync + Send,
-    leaf_pair: impl Fn(&mut T, u32, u32) + Sync + Send,
-    finish: impl Fn(&mut T) + Sync + Send,
-    mut consume: impl FnMut(T) -> ControlFlow<()>,
+    (make, leaf_pair, finish, mut consume, skip): (
+        impl Fn(usize) -> T + Sync + Send,
+        impl Fn(&mut T, u32, u32) + Sync + Send,
+        impl Fn(&mut T) + Sync + Send,
+        impl FnMut(T) -> ControlFlow<()>,
+        &(dyn Fn(&T) -> bool + Sync),
+    ),
 ) -> u64 {
     while !small && !t.entries.is_empty() && t.entries.len() < options.min_tasks {
         t.next.clear();
@@ -297,7 +308,7 @@ fn par_run<V: BoundingVolume, T: Send>(
         }
         std::mem::swap(&mut t.entries, &mut t.next);
     }
-    let mut first = make();
+    let mut first = make(0);
     for &(x, y) in &t.found {
         leaf_pair(&mut first, x, y);
     }
@@ -310,28 +321,37 @@ fn par_run<V: BoundingVolume, T: Send>(
         stack.push((a, b));
         run(na, nb, stack, check, &mut |x, y| leaf_pair(acc, x, y))
     };
-    bv_tests + run_batches(&t.entries, options, Vec::new, body, make, finish, &mut consume)
+    let f = (|i| make(i + 1), finish, skip);
+    bv_tests + run_batches(&t.entries, options, Vec::new, body, f, &mut consume)
 }
 
 /// Runs `tasks` on the rayon pool, a batch at a time ([`ParOptions::batch`], doubled after
-/// each batch with [`ParOptions::grow`]): each task's accumulator (made by `make`)
+/// each batch with [`ParOptions::grow`]): each task's accumulator (made by `make(i)`, `i` the
+/// task's index in `tasks`)
 /// is filled by `body(scratch, task, acc)`, which returns its bounding-volume tests, and
 /// finished by `finish` on the task's thread; the accumulators go to `consume` in task order,
 /// so what `consume` sees does not depend on the thread count. Once `consume` returns
 /// [`ControlFlow::Break`], the batch under way is handed over in full and no other batch runs.
-/// `scratch` makes per-thread scratch memory. Returns the bounding-volume tests made.
+/// `skip(acc)` is asked once as each task starts: when it says so, `body` does not run (a query
+/// that stopped leaves the rest of the traversal at once). `scratch` makes per-thread scratch
+/// memory. Returns the bounding-volume tests made.
+#[allow(clippy::type_complexity)]
 pub(crate) fn run_batches<W: Sync, S: Send, T: Send>(
     tasks: &[W],
     options: &ParOptions,
     scratch: impl Fn() -> S + Sync + Send,
     body: impl Fn(&mut S, &W, &mut T) -> u64 + Sync + Send,
-    make: impl Fn() -> T + Sync + Send,
-    finish: impl Fn(&mut T) + Sync + Send,
+    (make, finish, skip): (
+        impl Fn(usize) -> T + Sync + Send,
+        impl Fn(&mut T) + Sync + Send,
+        &(dyn Fn(&T) -> bool + Sync),
+    ),
     consume: &mut impl FnMut(T) -> ControlFlow<()>,
 ) -> u64 {
     let mut bv_tests = 0;
     let (mut size, mut rest) = (options.batch.max(1), tasks);
     while !rest.is_empty() {
+        let offset = tasks.len() - rest.len();
         let (batch, later) = rest.split_at(size.min(rest.len()));
         rest = later;
         if options.grow {
@@ -343,10 +363,11 @@ pub(crate) fn run_batches<W: Sync, S: Send, T: Send>(
         // end while the other worked through a run of heavy tasks.
         let done: Vec<(T, u64)> = batch
             .par_iter()
+            .enumerate()
             .with_max_len(1)
-            .map_init(&scratch, |s, task| {
-                let mut acc = make();
-                let tests = body(s, task, &mut acc);
+            .map_init(&scratch, |s, (i, task)| {
+                let mut acc = make(offset + i);
+                let tests = if skip(&acc) { 0 } else { body(s, task, &mut acc) };
                 finish(&mut acc);
                 (acc, tests)
             })

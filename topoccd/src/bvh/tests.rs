@@ -246,7 +246,7 @@ fn a_traversal_stops_after_the_batch_where_consume_asks() {
                     &mut BvhWorkspace::default(),
                     &options,
                     &super::TestAll,
-                    Vec::new,
+                    |_| Vec::new(),
                     |v, p, q| v.push((p, q)),
                     |_| {},
                     |r| {
@@ -257,6 +257,7 @@ fn a_traversal_stops_after_the_batch_where_consume_asks() {
                             ControlFlow::Continue(())
                         }
                     },
+                    &|_| false,
                 );
                 got
             });

@@ -54,6 +54,41 @@ pub fn intersections<'a>(
     Ok(step_intersections(&step, Frame::Start))
 }
 
+/// [`intersections`] of a frame that ends a topology change: `parents` (`[child, parent]`
+/// rows, as in a sequence's parents files) join each new vertex to its parent, so the two
+/// sides of a fresh crack, which touch, are not reported. The vertices before the first child
+/// are the step's old ones; the rows are checked as [`Step::with_parents`] checks them.
+///
+/// ```
+/// use topoccd::check::frame_intersections;
+/// // A square cut along its diagonal 1-2 (vertices 4 and 5 copy 1 and 2), one half lifted at
+/// // its far corner: the halves still touch along the cut.
+/// let x = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 1.0],
+///          [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// let triangles = [[0u32, 1, 2], [4, 3, 5]];
+/// assert_eq!(frame_intersections(&x, &triangles, &[])?, vec![[0, 1]]);
+/// assert!(frame_intersections(&x, &triangles, &[[4, 1], [5, 2]])?.is_empty());
+/// # Ok::<(), topoccd::StepError>(())
+/// ```
+pub fn frame_intersections<'a>(
+    positions: impl Into<Positions<'a>>,
+    triangles: impl Into<Triangles<'a>>,
+    parents: &[[u32; 2]],
+) -> Result<Vec<[u32; 2]>, StepError> {
+    let positions = positions.into();
+    let frame = Step::new(positions.clone(), positions, triangles)?;
+    let x: &[f64] = bytemuck::cast_slice(frame.x1());
+    let n = frame.vertex_count();
+    let old = parents
+        .iter()
+        .map(|&[child, _]| child as usize)
+        .min()
+        .unwrap_or(n)
+        .min(n);
+    let step = Step::with_parents(&x[..3 * old], x, frame.triangles(), parents)?;
+    Ok(step_intersections(&step, Frame::End))
+}
+
 /// The pairs `[a, b]` (`a < b`, sorted) of the step's triangles that intersect or touch at one
 /// end of the step (`frame`), skipping pairs that share a vertex, where a new vertex of the
 /// step's topology change ([`Step::with_parents`]) and its parent, and two children of one

@@ -59,6 +59,15 @@ pub enum IoError {
         #[source]
         source: std::io::Error,
     },
+    /// A folder was given where a mesh file was expected.
+    #[error(
+        "{path}: is a folder, not a mesh file (expected a .ply, .obj or .stl file; a folder of \
+         frames is a sequence)"
+    )]
+    Folder {
+        /// The folder.
+        path: PathBuf,
+    },
     /// The file name does not end in a known mesh extension.
     #[error("{path}: unknown mesh format (expected the extension .ply, .obj or .stl)")]
     UnknownFormat {

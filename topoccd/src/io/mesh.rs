@@ -255,11 +255,22 @@ impl MeshFormat {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn read_mesh(path: &Path) -> Result<Mesh, IoError> {
+    not_a_folder(path)?;
     match MeshFormat::of_path(path)? {
         MeshFormat::Ply => read_ply(path),
         MeshFormat::Obj => read_obj(path),
         MeshFormat::Stl => read_stl(path),
     }
+}
+
+/// Refuses a folder given where a mesh file is expected ([`IoError::Folder`]).
+pub(crate) fn not_a_folder(path: &Path) -> Result<(), IoError> {
+    if path.is_dir() {
+        return Err(IoError::Folder {
+            path: path.to_path_buf(),
+        });
+    }
+    Ok(())
 }
 
 /// Writes a mesh, choosing the format by the extension of `path`: `.ply` is written as binary

@@ -7,7 +7,8 @@
 //!   are split into triangles ([`triangulate_polygon`]), with a map back to the file's faces
 //!   ([`Mesh::face_origin`]) and notes on what was done ([`Mesh::notes`]).
 //! - [`coincident_vertices`] finds duplicate vertices at one position (seams, poles), which
-//!   touch at t=0; [`weld`] merges them.
+//!   touch at t=0; [`weld`] merges them. [`input_warnings`] finds those, zero-area triangles
+//!   and positions cast to integers, for a front end to warn about before a query.
 //! - With the feature `internals`: `queries` reads the narrow-phase query files (exact
 //!   rationals and ground truth), `scene_frames` and `read_scene_truth` the whole-step scenes
 //!   of the shared data, and `MemoryEstimate` refuses a step too large for memory up front.
@@ -18,6 +19,7 @@
 
 internal!(limits, queries, scene);
 
+mod degenerate;
 mod error;
 mod faces;
 mod mesh;
@@ -30,6 +32,7 @@ pub mod sequence;
 mod stl;
 mod weld;
 
+pub use degenerate::{input_warnings, InputWarning};
 pub use error::{IoError, Location};
 #[cfg(feature = "internals")]
 pub use limits::{

@@ -22,6 +22,7 @@ const COUNTED: [&str; 2] = ["l", "p"];
 /// # Ok::<(), topoccd::io::IoError>(())
 /// ```
 pub fn read_obj(path: &Path) -> Result<Mesh, IoError> {
+    super::mesh::not_a_folder(path)?;
     let file = File::open(path).map_err(|e| IoError::os(path, "open", e))?;
     read_obj_from(file, path)
 }

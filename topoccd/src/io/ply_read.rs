@@ -34,6 +34,7 @@ pub fn read_ply(path: &Path) -> Result<Mesh, IoError> {
 
 /// Opens a file, with its size if it is a regular file (not a pipe or a device).
 fn open_sized(path: &Path) -> Result<(File, Option<u64>), IoError> {
+    super::mesh::not_a_folder(path)?;
     let file = File::open(path).map_err(|e| IoError::os(path, "open", e))?;
     let size = file
         .metadata()
@@ -441,7 +442,10 @@ impl Elements<'_> {
                 Encoding::BinaryBigEndian => parser.read_big_endian_element(input, def),
                 Encoding::BinaryLittleEndian => parser.read_little_endian_element(input, def),
             };
-            let element = element.map_err(|e| self.element_error(&e, location()))?;
+            let element = element.map_err(|e| {
+                let line = ascii.then_some((self.text.as_str(), def));
+                self.element_error(&e, location(), line)
+            })?;
             each(&location, element)?;
         }
         if self.encoding == Encoding::Ascii {
@@ -450,20 +454,90 @@ impl Elements<'_> {
         Ok(())
     }
 
-    fn element_error(&self, e: &ParseError, location: Location) -> IoError {
+    /// The error of an element the parser refused; `line`, in an ASCII file, is its text and
+    /// definition, for a message of our own (the parser's names its grammar's internals).
+    fn element_error(
+        &self,
+        e: &ParseError,
+        location: Location,
+        line: Option<(&str, &ElementDef)>,
+    ) -> IoError {
         if e.kind() == ErrorKind::UnexpectedEof {
             IoError::Truncated {
                 path: self.name.to_path_buf(),
                 location,
             }
         } else {
+            let message = line.and_then(|(text, def)| ascii_diagnosis(text, def));
             IoError::PlyElement {
                 path: self.name.to_path_buf(),
                 location,
-                message: clean_message(e),
+                message: message.unwrap_or_else(|| clean_message(e)),
             }
         }
     }
+}
+
+/// What is wrong with the ASCII line `text` of an element of `def`: the first value that is not
+/// a number of its property's type, or a count of values that does not match; `None` if the
+/// line looks right.
+fn ascii_diagnosis(text: &str, def: &ElementDef) -> Option<String> {
+    let why = ascii_fault(text, def)?;
+    Some(format!("{why}, in '{}'", text.trim()))
+}
+
+/// [`ascii_diagnosis`] without the line.
+fn ascii_fault(text: &str, def: &ElementDef) -> Option<String> {
+    let mut tokens = text.split_whitespace().enumerate();
+    let check = |(k, token): (usize, &str), name: &str, t: &ScalarType| -> Option<String> {
+        let what = format!("value {} ('{token}', property '{name}')", k + 1);
+        if is_integer(t) {
+            if token.parse::<i64>().is_err() {
+                return Some(format!("{what} is not an integer"));
+            }
+        } else {
+            match token.parse::<f64>() {
+                Ok(x) if !x.is_finite() => {
+                    return Some(format!(
+                        "{what} is not a finite number: coordinates must be finite"
+                    ))
+                }
+                Ok(_) => {}
+                Err(_) => return Some(format!("{what} is not a number")),
+            }
+        }
+        None
+    };
+    let mut expected = 0;
+    for property in def.properties.values() {
+        match &property.data_type {
+            PropertyType::Scalar(t) => {
+                expected += 1;
+                let Some(token) = tokens.next() else { break };
+                if let Some(why) = check(token, &property.name, t) {
+                    return Some(why);
+                }
+            }
+            PropertyType::List(count_type, t) => {
+                expected += 1;
+                let Some(token) = tokens.next() else { break };
+                if let Some(why) = check(token, &property.name, count_type) {
+                    return Some(why);
+                }
+                let n: usize = token.1.parse().ok()?;
+                expected += n;
+                for _ in 0..n {
+                    let Some(token) = tokens.next() else { break };
+                    if let Some(why) = check(token, &property.name, t) {
+                        return Some(why);
+                    }
+                }
+            }
+        }
+    }
+    let found = text.split_whitespace().count();
+    (found != expected)
+        .then(|| format!("the line holds {found} values where the header declares {expected}"))
 }
 
 /// The parser's message on one line, without its own "Line N: " prefix.

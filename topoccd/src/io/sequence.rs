@@ -153,6 +153,10 @@ pub struct Sequence {
     pub frames: Vec<PathBuf>,
     /// The number in the name of frame 0 (the first frame).
     pub first: u64,
+    /// The other files of the folder (not frames of the series, nor parents files), each with
+    /// why it was left out: a front end says so, so that a folder holding two frames among
+    /// other files is not taken as a sequence silently.
+    pub ignored: Vec<String>,
 }
 
 /// A file name split into its prefix and the number that ends its stem.
@@ -287,6 +291,7 @@ impl Sequence {
             dir: dir.to_path_buf(),
             frames,
             first,
+            ignored,
         })
     }
 

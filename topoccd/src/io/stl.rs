@@ -24,6 +24,7 @@ const BINARY_TRIANGLE: usize = 50;
 /// # Ok::<(), topoccd::io::IoError>(())
 /// ```
 pub fn read_stl(path: &Path) -> Result<Mesh, IoError> {
+    super::mesh::not_a_folder(path)?;
     let file = File::open(path).map_err(|e| IoError::os(path, "open", e))?;
     read_stl_from(file, path)
 }

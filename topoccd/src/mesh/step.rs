@@ -404,8 +404,10 @@ impl<'a> Step<'a> {
     /// Vertex ids persist, and new vertices are appended: `x0` may be shorter than `x1`. Each
     /// row `[child, parent]` of `parents` says that vertex `child` was split from `parent`. A
     /// new vertex (`child >= x0.len()`) starts at its parent's position at t=0; a new vertex
-    /// without a parent starts where it ends (it does not move). A parent must be an old vertex
-    /// (`< x0.len()`), and a child appears in one row at most.
+    /// without a parent starts where it ends (it does not move). A child must be a new vertex
+    /// (`x0.len() <= child < x1.len()`), a parent an old one (`< x0.len()`), and a child
+    /// appears in one row at most; anything else is a [`StepError::Parent`] naming the row.
+    /// (Without a topology change, [`Step::new`] refuses `x0` and `x1` of different lengths.)
     ///
     /// For the step, a child and its parent, and two children of one parent, count as one
     /// vertex: pairs of features joined that way are not tested while
@@ -422,6 +424,9 @@ impl<'a> Step<'a> {
     /// assert_eq!(step.x0()[4], [1.0, 0.0, 0.0]); // starts at its parent
     /// let report = query(&step, Method::Bvh, &QueryOptions::default())?;
     /// assert_eq!(report.contact_count(), 0); // the two sides of the cut are not a contact
+    /// // A child must be new, a parent old:
+    /// let err = Step::with_parents(&x0, &x1, &triangles, &[[2, 1]]).unwrap_err();
+    /// assert!(err.to_string().starts_with("parent row 0 [2, 1]: the child is not a new vertex"));
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn with_parents(
@@ -446,6 +451,12 @@ impl<'a> Step<'a> {
             };
             if child as usize >= n {
                 return Err(bad("the child is not a vertex at t=1"));
+            }
+            if (child as usize) < old {
+                return Err(bad(
+                    "the child is not a new vertex (new vertices are appended: their ids are at \
+                     least the vertex count at t=0)",
+                ));
             }
             if parent as usize >= old {
                 return Err(bad("the parent is not a vertex at t=0"));

@@ -5,17 +5,20 @@
 use std::ops::ControlFlow;
 use std::time::Instant;
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::Arc;
 
+use super::limits::{CancelToken, Limits, Phase, StopReason, Truncation};
 use super::narrow_phase::{
-    self, first_pass_tau, lower, Context, FirstPass, Found, WholeStep, EARLY,
+    self, first_pass_tau, lower, Context, FirstPass, Found, Keeper, Progress, Stream, WholeStep,
+    EARLY,
 };
-use super::report::{Report, Seconds, Stats};
+use super::report::{Contact, Report, Seconds, Stats};
 use super::{ClusterGrowth, Method, OptionsError, QueryOptions};
 use crate::broad::cluster::phase::ClusterPhase;
 use crate::broad::{
-    brute, bvh::PerStepBvh, BroadInput, BroadStats, Candidates, PairRunner, Sink, TaskPairs,
-    CHUNK,
+    brute, bvh::PerStepBvh, BroadInput, BroadStats, Candidates, PairRunner, Sink, Stopper,
+    TaskPairs, CHUNK,
 };
 use crate::bvh::{BvhWorkspace, ParOptions};
 use crate::kdop::DopKind;
@@ -60,6 +63,8 @@ pub struct Ccd {
     limits: (usize, usize),
     /// The method and k-DOP type of the last hierarchy built, if the last query built one.
     last_tree: Option<(Method, DopKind)>,
+    /// Stops the queries from another thread ([`Ccd::cancel_token`]).
+    cancel: CancelToken,
 }
 
 /// Candidates a task of the parallel traversal buffers before solving them: a task drops its
@@ -81,34 +86,86 @@ struct Task {
     ee_tests: u64,
     peak: usize,
     recorded: Option<Candidates>,
+    /// Triangle pairs given so far.
+    pairs: u64,
+    /// Whether the task is full or the query stopped: it takes no more pairs.
+    done: bool,
+    /// Its index in the traversal's fixed order, and the room at its batch's start, for
+    /// [`Progress`].
+    index: usize,
+    budget: usize,
 }
 
 impl Task {
-    fn new(limit: f64, record: bool) -> Self {
+    /// A task that keeps at most `budget` contacts ([`Found::with_budget`]); it does nothing
+    /// if the query has stopped.
+    fn new(ctx: &Context<'_, '_>, (limit, budget): (f64, usize), index: usize, record: bool) -> Self {
         Self {
             buf: Candidates::default(),
-            found: Found::default(),
+            found: Found::with_budget(ctx, budget, limit),
             limit,
             vf_tests: 0,
             ee_tests: 0,
             peak: 0,
             recorded: record.then(Candidates::default),
+            pairs: 0,
+            done: ctx.limits.poll(true),
+            index,
+            budget,
         }
     }
 
+    /// Whether the task holds all it may: its room, less what the tasks before it hold
+    /// (`progress`, under a cap). Before its contacts count (an Earliest query whose earliest
+    /// time it does not know to be 0), only when the tasks before it leave no room at all.
+    fn full(&self, ctx: &Context<'_, '_>, progress: Option<&Progress>) -> bool {
+        progress.is_some_and(|p| {
+            let room = p.room(self.index, self.budget);
+            room == 0 || (self.found.counting(ctx) && self.found.len() >= room)
+        })
+    }
+
     /// Solves what is buffered, on this thread.
-    fn flush(&mut self, ctx: &Context<'_, '_>) {
+    fn flush(&mut self, ctx: &Context<'_, '_>, progress: Option<&Progress>) {
+        if self.done || self.full(ctx, progress) {
+            self.done = true;
+            self.buf.clear();
+            return;
+        }
         self.peak = self.peak.max(self.buf.len());
         self.vf_tests += self.buf.vf.len() as u64;
         self.ee_tests += self.buf.ee.len() as u64;
         ctx.solve(&self.buf, &mut self.limit, &mut self.found);
+        self.found.settle(ctx, self.limit);
+        self.found.deliver(ctx);
         if let Some(r) = &mut self.recorded {
             r.vf.extend_from_slice(&self.buf.vf);
             r.ee.extend_from_slice(&self.buf.ee);
         }
         self.buf.clear();
+        if let Some(p) = progress.filter(|_| self.found.counting(ctx)) {
+            p.set(self.index, self.found.len());
+        }
+        self.done = self.found.room == 0 || self.full(ctx, progress) || ctx.limits.poll(false);
+    }
+
+    /// Whether the task should take the triangle pair it is given: not once it is full or
+    /// the query stopped (checked every [`TASK_POLL`] pairs).
+    #[inline]
+    fn takes(&mut self, ctx: &Context<'_, '_>, progress: Option<&Progress>) -> bool {
+        self.pairs += 1;
+        if self.pairs.is_multiple_of(TASK_POLL) && !self.done {
+            self.done = ctx.limits.poll(false) || self.full(ctx, progress);
+        }
+        !self.done
     }
 }
+
+/// Triangle pairs a traversal task takes between two polls of the query's limits.
+const TASK_POLL: u64 = 4096;
+/// Traversal tasks whose contacts [`Progress`] follows (the per-step hierarchy splits a step
+/// into about 512; later tasks keep their whole room).
+const PROGRESS_TASKS: usize = 1 << 13;
 
 /// Runs the tasks of the cluster method's traversal ([`traverse_pass`], over the whole step).
 struct Runner<'r, 'a, 's> {
@@ -139,6 +196,8 @@ struct Totals {
     vf_tests: u64,
     ee_tests: u64,
     peak: usize,
+    /// Traversal tasks (or candidate buffers) whose contacts the report holds.
+    tasks: u64,
 }
 
 impl Ccd {
@@ -184,9 +243,82 @@ impl Ccd {
         method: Method,
         options: &QueryOptions,
     ) -> Result<Report, OptionsError> {
+        self.run(step, method, options, None)
+    }
+
+    /// [`Ccd::query`] in [`Mode::All`](super::Mode::All) that hands every contact to `each` as
+    /// it is found, and keeps none: memory stays bounded however many contacts the step has.
+    /// `each` is called from the query's threads, in no particular order (the contacts, each
+    /// once, are those [`Ccd::query`] reports, with their times). The report returned has no
+    /// contacts, but its `earliest` contact, its statistics and
+    /// [`truncated`](Report::truncated). With
+    /// [`max_contacts`](QueryOptions::max_contacts), at most that many are handed over (which
+    /// ones depends on timing), then the query stops, truncated. Refuses
+    /// [`Mode::Earliest`](super::Mode::Earliest) ([`OptionsError::Streaming`]), whose pairs are
+    /// known only at the end.
+    ///
+    /// ```
+    /// use std::sync::atomic::{AtomicUsize, Ordering};
+    /// use topoccd::{Ccd, Method, QueryOptions, Step};
+    /// let x0 = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0],
+    ///           [0.2, 0.2, 1.0], [0.3, 0.2, 1.5], [0.2, 0.3, 1.5]];
+    /// let mut x1 = x0;
+    /// for p in &mut x1[3..] { p[2] -= 2.0; }
+    /// let step = Step::new(&x0, &x1, &[[0u32, 1, 2], [3, 4, 5]])?;
+    /// let count = AtomicUsize::new(0);
+    /// let mut ccd = Ccd::new();
+    /// let report = ccd.for_each_contact(&step, Method::Bvh, &QueryOptions::default(), |_c| {
+    ///     count.fetch_add(1, Ordering::Relaxed); // e.g. write it to a file under a lock
+    /// })?;
+    /// let all = ccd.query(&step, Method::Bvh, &QueryOptions::default())?;
+    /// assert_eq!(count.into_inner(), all.contact_count());
+    /// assert_eq!(report.earliest, all.earliest);
+    /// assert!(report.vf.is_empty() && report.truncated.is_none());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn for_each_contact(
+        &mut self,
+        step: &Step<'_>,
+        method: Method,
+        options: &QueryOptions,
+        each: impl Fn(&Contact) + Sync,
+    ) -> Result<Report, OptionsError> {
+        if options.mode == super::Mode::Earliest {
+            return Err(OptionsError::Streaming);
+        }
+        let stream = Stream::new(&each);
+        self.run(step, method, options, Some(&stream))
+    }
+
+    /// A handle on this query object's [`CancelToken`]: cancelling it (from any thread) stops
+    /// the query running, and every later one until the token is reset. Clones of a `Ccd`
+    /// share its token.
+    pub fn cancel_token(&self) -> CancelToken {
+        self.cancel.clone()
+    }
+
+    /// Makes this query object obey `token` (e.g. one token for the `Ccd`s of several
+    /// threads).
+    pub fn set_cancel_token(&mut self, token: CancelToken) {
+        self.cancel = token;
+    }
+
+    /// The query, its contacts kept in the report or handed to `stream`.
+    fn run(
+        &mut self,
+        step: &Step<'_>,
+        method: Method,
+        options: &QueryOptions,
+        stream: Option<&Stream<'_>>,
+    ) -> Result<Report, OptionsError> {
         options.validate()?;
         let method = method.resolve(step.triangles().len());
         let start = Instant::now();
+        let limits = Arc::new(Limits::new(
+            options.max_contacts,
+            options.deadline,
+            Some(self.cancel.clone()),
+        ));
         let sep = options.narrow.min_separation;
         // The end of the per-step hierarchy's first pass, if it makes one.
         let first_end = first_pass_end(options, !self.late);
@@ -255,6 +387,8 @@ impl Ccd {
         let prepared = start.elapsed().as_secs_f64();
         let edges = &self.features.topo.edges;
         let ctx = Context {
+            limits: &limits,
+            stream,
             step,
             edges,
             options,
@@ -263,6 +397,8 @@ impl Ccd {
             whole: None,
         };
         let mut found = Found::default();
+        // Where a stop found the query: before the candidates (the build), or among them.
+        let built = !limits.poll(true);
         let mut totals = Totals::default();
         let mut narrow = 0.0;
         let mut cluster = None;
@@ -272,6 +408,7 @@ impl Ccd {
         let recorded = &mut self.recorded;
         recorded.clear();
         let broad = match method {
+            _ if !built => BroadStats::default(),
             Method::Bvh => {
                 self.last_tree = Some((Method::Bvh, options.kdop));
                 let ws = &mut self.ws;
@@ -295,6 +432,9 @@ impl Ccd {
                 // per-step hierarchy.
                 self.last_tree = Some((Method::Cluster, options.kdop));
                 let paper = options.growth == ClusterGrowth::Paper;
+                let stop = Arc::clone(&limits);
+                self.cluster
+                    .set_stop(Some(Stopper(Arc::new(move || stop.poll(false)))));
                 let mut runner = Runner {
                     input: &input,
                     ctx: &ctx,
@@ -311,23 +451,32 @@ impl Ccd {
                     &mut self.ws,
                     &mut runner,
                 );
+                self.cluster.set_stop(None);
                 cluster = Some(figures);
                 stats
             }
             Method::Auto => unreachable!("Method::resolve never returns Auto"),
             Method::Brute => {
                 // A sequential broad phase, its buffer solved in parallel whenever it is full.
+                // Each buffer is one unit of the order a cap keeps (see `Keeper`).
                 let mut best = None;
+                let mut keeper = Keeper::default();
                 let mut flush = |c: &Candidates| {
                     let t = Instant::now();
-                    ctx.solve_parallel(c, &mut best, &mut found);
+                    let budget = keeper.budget(&ctx, &found);
+                    let mut part = Found::with_budget(&ctx, budget, ctx.limit(best));
+                    ctx.solve_parallel(c, &mut best, &mut part);
+                    part.deliver(&ctx);
+                    let kept = keeper.take(&ctx, &mut found, &mut part);
                     if record {
                         recorded.vf.extend_from_slice(&c.vf);
                         recorded.ee.extend_from_slice(&c.ee);
                     }
                     narrow += t.elapsed().as_secs_f64();
+                    kept
                 };
-                let mut sink = Sink::new(chunk, &mut flush);
+                let stop = || limits.poll(true);
+                let mut sink = Sink::new(chunk, &mut flush, &stop);
                 let mut stats = {
                     let sink = &mut sink;
                     match options.kdop {
@@ -344,8 +493,10 @@ impl Ccd {
                     vf_tests: sink.vf_total,
                     ee_tests: sink.ee_total,
                     peak: sink.peak,
+                    tasks: 0,
                 };
                 drop(sink);
+                totals.tasks = keeper.tasks;
                 // The narrow phase ran inside the traversal: take it out of the traversal time.
                 stats.traverse = (stats.traverse - narrow).max(0.0);
                 stats
@@ -357,13 +508,34 @@ impl Ccd {
             traverse,
         } = broad;
         let t = Instant::now();
-        let earliest = narrow_phase::finish(&mut found, options);
+        let by_time = matches!(
+            limits.stopped(),
+            Some(StopReason::Deadline | StopReason::Cancelled)
+        );
+        let earliest = if by_time {
+            // What was found by then depends on timing: the report keeps the earliest.
+            found.earliest_only()
+        } else if stream.is_some() {
+            found.streamed
+        } else {
+            narrow_phase::finish(&mut found, options)
+        };
         narrow += t.elapsed().as_secs_f64();
-        let unresolved = found
-            .vf
-            .iter()
-            .filter(|c| c.certainty != Certainty::Resolved)
-            .count()
+        let truncated = limits.stopped().map(|reason| Truncation {
+            reason,
+            phase: if built {
+                Phase::Candidates
+            } else {
+                Phase::Build
+            },
+            tasks: totals.tasks,
+        });
+        let unresolved = found.streamed_unresolved
+            + found
+                .vf
+                .iter()
+                .filter(|c| c.certainty != Certainty::Resolved)
+                .count()
             + found
                 .ee
                 .iter()
@@ -374,6 +546,7 @@ impl Ccd {
             ee: found.ee,
             earliest,
             unresolved,
+            truncated,
             stats: Stats {
                 method,
                 bv_tests,
@@ -600,7 +773,12 @@ fn bvh_query<const H: usize>(
         lower(&mut best, found.vf.iter().map(|c| c.toi));
         lower(&mut best, found.ee.iter().map(|c| c.toi));
         let complete = best.is_some_and(|b| ctx.limit(Some(b)) <= end);
-        if !complete {
+        if !complete && ctx.limits.stopped().is_none() {
+            if ctx.limits.capped() {
+                // The second pass finds again, with the same times, every contact of the
+                // first that the report can hold, in its own order, which a cap follows.
+                *found = Found::default();
+            }
             let t = Instant::now();
             tree.refit_until_t_max(input);
             late_boxes.sweep(input.step, 1.0);
@@ -664,32 +842,56 @@ fn traverse_pass(
     } else {
         usize::MAX
     };
+    // Under a cap, a task keeps only what the tasks before it leave room for (`Progress`):
+    // memory stays bounded with the usual batches (the result does not depend on them: see
+    // `Keeper`).
+    let capped = ctx.limits.capped() && ctx.stream.is_none();
+    let progress = capped.then(|| Progress::new(PROGRESS_TASKS));
+    let progress = progress.as_ref();
     let par = ParOptions {
         batch,
         grow: true,
         ..ParOptions::default()
     };
-    let make = || Task::new(f64::from_bits(limit.load(Ordering::Acquire)), record);
+    // The contacts a task may keep: the room under the cap when its batch starts.
+    let mut keeper = Keeper::default();
+    let budget = AtomicUsize::new(keeper.budget(ctx, found));
+    let make = |index| {
+        let limit = f64::from_bits(limit.load(Ordering::Acquire));
+        let budget = budget.load(Ordering::Acquire);
+        Task::new(ctx, (limit, budget), index, record)
+    };
     let pair = |task: &mut Task, a: u32, b: u32| {
+        if !task.takes(ctx, progress) {
+            return;
+        }
         features.triangle_pair(boxes, [a, b], filter, &mut task.buf.vf, &mut task.buf.ee);
         if task.buf.len() >= task_chunk {
-            task.flush(ctx);
+            task.flush(ctx, progress);
         }
     };
     let finish = |task: &mut Task| {
-        task.flush(ctx);
+        task.flush(ctx, progress);
         task.buf = Candidates::default();
     };
     let (mut consumed, mut early) = (0, false);
     let consume = |mut task: Task| {
+        if keeper.full {
+            // After the cap: not the report's.
+            return ControlFlow::Break(());
+        }
         let mut best = None;
         lower(&mut best, task.found.vf.iter().map(|c| c.toi));
         lower(&mut best, task.found.ee.iter().map(|c| c.toi));
         let current = f64::from_bits(limit.load(Ordering::Acquire));
         limit.store(current.min(ctx.limit(best)).to_bits(), Ordering::Release);
         early |= ctx.limit(best) <= start;
-        found.vf.append(&mut task.found.vf);
-        found.ee.append(&mut task.found.ee);
+        let kept = keeper.take(ctx, found, &mut task.found);
+        budget.store(keeper.budget(ctx, found), Ordering::Release);
+        if let Some(p) = progress {
+            p.handed_until(task.index + 1);
+        }
+        totals.tasks += 1;
         totals.vf_tests += task.vf_tests;
         totals.ee_tests += task.ee_tests;
         totals.peak = totals.peak.max(task.peak);
@@ -699,11 +901,14 @@ fn traverse_pass(
         }
         // The first task holds the pairs found while splitting; the first batch follows.
         consumed += 1;
-        if first_pass && consumed > TASK_BATCH && !early {
+        if kept.is_break() || (first_pass && consumed > TASK_BATCH && !early) {
             ControlFlow::Break(())
         } else {
             ControlFlow::Continue(())
         }
     };
-    tree.pairs(ws, &par, make, pair, finish, consume)
+    // One check as each task starts: once the query stops, the tasks left are not traversed.
+    // (and a task the tasks before it leave no room is not needed).
+    let skip = |task: &Task| ctx.limits.poll(true) || task.full(ctx, progress);
+    tree.pairs(ws, &par, make, pair, finish, consume, &skip)
 }

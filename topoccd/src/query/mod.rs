@@ -13,6 +13,7 @@
 
 mod ccd;
 mod geometry;
+mod limits;
 mod narrow_phase;
 mod options;
 mod report;
@@ -20,6 +21,7 @@ mod report;
 #[cfg(feature = "internals")]
 pub use ccd::CandidatePairs;
 pub use ccd::{query, Ccd};
+pub use limits::{CancelToken, Phase, StopReason, Truncation};
 pub use options::{ClusterGrowth, Method, Mode, OptionsError, QueryOptions, AUTO_CLUSTER_TRIANGLES};
 pub use report::{
     Certainty, ClusterFigures, Contact, EeContact, EeGeometry, Report, Seconds, Stats, VfContact,

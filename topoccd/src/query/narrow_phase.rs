@@ -1,9 +1,12 @@
 //! The narrow phase shared by every method: the elementary tests over a buffer of candidate
 //! feature pairs, in either mode, in parallel, with the same output for any thread count.
 
+use std::ops::ControlFlow;
+
 use rayon::prelude::*;
 
 use super::geometry;
+use super::limits::{Limits, StopReason};
 use super::report::{Contact, EeContact, VfContact};
 use super::{Mode, QueryOptions};
 use crate::broad::{triangle_volume, Candidates};
@@ -22,11 +25,389 @@ use crate::narrow::{
 /// what is pruned does not depend on the thread count.
 const EARLIEST_CHUNK: usize = 4096;
 
-/// What the narrow phase found.
-#[derive(Debug, Default)]
+/// What the narrow phase found, in the order found: batch of candidates by batch, the
+/// vertex-face contacts of a batch before its edge-edge contacts (`marks`).
+#[derive(Debug)]
 pub(crate) struct Found {
     pub vf: Vec<VfContact>,
     pub ee: Vec<EeContact>,
+    /// `[vf.len(), ee.len()]` after each batch solved.
+    marks: Vec<[usize; 2]>,
+    /// How many more contacts may be kept (`usize::MAX`: no cap). Solving stops when it
+    /// reaches 0.
+    pub room: usize,
+    /// The most contacts this buffer may hold ([`Found::with_budget`]).
+    budget: usize,
+    /// In [`Mode::Earliest`], whether the earliest time is known to be 0 and the contacts
+    /// after the tolerance were dropped ([`Found::settle`]).
+    settled: bool,
+    /// Streaming ([`Stream`]): the earliest contact handed over, and how many were.
+    pub streamed: Option<Contact>,
+    pub streamed_count: usize,
+    /// Of those, the ones not [`Certainty::Resolved`].
+    pub streamed_unresolved: usize,
+}
+
+impl Default for Found {
+    fn default() -> Self {
+        Self {
+            vf: Vec::new(),
+            ee: Vec::new(),
+            marks: Vec::new(),
+            room: usize::MAX,
+            budget: usize::MAX,
+            settled: false,
+            streamed: None,
+            streamed_count: 0,
+            streamed_unresolved: 0,
+        }
+    }
+}
+
+impl Found {
+    /// A buffer that keeps at most `budget` contacts: at once in [`Mode::All`]; in
+    /// [`Mode::Earliest`] from the moment the earliest time is known to be 0 ([`Found::settle`],
+    /// applied here already if `limit` shows it), since before then no contact may be dropped.
+    pub fn with_budget(ctx: &Context, budget: usize, limit: f64) -> Self {
+        let mut found = Self {
+            budget,
+            ..Self::default()
+        };
+        if ctx.options.mode == Mode::All {
+            found.room = budget;
+        }
+        found.settle(ctx, limit);
+        found
+    }
+
+    /// Contacts held.
+    pub fn len(&self) -> usize {
+        self.vf.len() + self.ee.len()
+    }
+
+    /// Whether the contacts held count against a cap: always in [`Mode::All`]; in
+    /// [`Mode::Earliest`] once the earliest time is known to be 0 ([`Found::settle`]).
+    pub fn counting(&self, ctx: &Context) -> bool {
+        ctx.options.mode == Mode::All || self.settled
+    }
+
+    /// Closes a batch of the order.
+    fn mark(&mut self) {
+        let now = [self.vf.len(), self.ee.len()];
+        if self.marks.last() != Some(&now) {
+            self.marks.push(now);
+        }
+    }
+
+    /// Keeps the first `n` contacts in the order found.
+    pub fn keep_first(&mut self, n: usize) {
+        self.mark();
+        let (mut vf0, mut ee0, mut left) = (0, 0, n);
+        for i in 0..self.marks.len() {
+            let [vf1, ee1] = self.marks[i];
+            if left <= vf1 - vf0 {
+                self.vf.truncate(vf0 + left);
+                self.ee.truncate(ee0);
+                self.marks.truncate(i);
+                self.mark();
+                return;
+            }
+            left -= vf1 - vf0;
+            if left <= ee1 - ee0 {
+                self.vf.truncate(vf1);
+                self.ee.truncate(ee0 + left);
+                self.marks.truncate(i);
+                self.mark();
+                return;
+            }
+            left -= ee1 - ee0;
+            (vf0, ee0) = (vf1, ee1);
+        }
+    }
+
+    /// Drops the contacts whose time of impact is after `cut`, keeping the order of the rest.
+    fn retain_until(&mut self, cut: f64) {
+        self.mark();
+        let (mut vf0, mut ee0) = (0, 0);
+        let (mut vf_kept, mut ee_kept) = (0, 0);
+        let mut marks = Vec::with_capacity(self.marks.len());
+        for &[vf1, ee1] in &self.marks {
+            for i in vf0..vf1 {
+                if self.vf[i].toi <= cut {
+                    self.vf[vf_kept] = self.vf[i];
+                    vf_kept += 1;
+                }
+            }
+            for i in ee0..ee1 {
+                if self.ee[i].toi <= cut {
+                    self.ee[ee_kept] = self.ee[i];
+                    ee_kept += 1;
+                }
+            }
+            marks.push([vf_kept, ee_kept]);
+            (vf0, ee0) = (vf1, ee1);
+        }
+        self.vf.truncate(vf_kept);
+        self.ee.truncate(ee_kept);
+        marks.dedup();
+        self.marks = marks;
+    }
+
+    /// In [`Mode::Earliest`] with a cap, once the earliest time is known to be 0 (`limit` has
+    /// come down to [`Context::limit`] of 0): drops the contacts after the tolerance (the
+    /// report keeps none of them) and keeps at most the budget from now on, the first ones.
+    /// In [`Mode::All`] nothing changes.
+    pub fn settle(&mut self, ctx: &Context, limit: f64) {
+        if self.settled || !ctx.known_zero(limit) || !ctx.limits.capped() {
+            return;
+        }
+        self.settled = true;
+        self.retain_until(ctx.options.narrow.tolerance);
+        if self.len() > self.budget {
+            self.keep_first(self.budget);
+        }
+        self.room = self.budget - self.len();
+    }
+
+    /// Keeps, of the contacts from `starts` on (`[vf, ee]` indices), those that a settled
+    /// buffer keeps (at or before the tolerance) and at most `room` of them, the first ones,
+    /// lowering `room`. Only in [`Mode::All`] or once settled.
+    fn trim_from(&mut self, ctx: &Context, [vf0, ee0]: [usize; 2]) {
+        if self.settled {
+            let tol = ctx.options.narrow.tolerance;
+            let kept: Vec<_> = self.vf.drain(vf0..).filter(|c| c.toi <= tol).collect();
+            self.vf.extend(kept);
+            let kept: Vec<_> = self.ee.drain(ee0..).filter(|c| c.toi <= tol).collect();
+            self.ee.extend(kept);
+        }
+        let vf_new = self.vf.len() - vf0;
+        let vf_kept = vf_new.min(self.room);
+        self.vf.truncate(vf0 + vf_kept);
+        self.room -= vf_kept;
+        let ee_new = self.ee.len() - ee0;
+        let ee_kept = ee_new.min(self.room);
+        self.ee.truncate(ee0 + ee_kept);
+        self.room -= ee_kept;
+    }
+
+    /// Appends `other`'s contacts after this one's, in order.
+    pub fn append(&mut self, other: &mut Found) {
+        self.mark();
+        other.mark();
+        let [vf0, ee0] = [self.vf.len(), self.ee.len()];
+        self.marks
+            .extend(other.marks.iter().map(|&[v, e]| [vf0 + v, ee0 + e]));
+        self.vf.append(&mut other.vf);
+        self.ee.append(&mut other.ee);
+        other.marks.clear();
+        self.streamed_count += other.streamed_count;
+        self.streamed_unresolved += other.streamed_unresolved;
+        if let Some(c) = other.streamed.take() {
+            let earlier = |s: &Contact| c.earliest_order(s) == std::cmp::Ordering::Less;
+            if self.streamed.as_ref().is_none_or(earlier) {
+                self.streamed = Some(c);
+            }
+        }
+    }
+
+    /// Forgets `task`'s contacts, but for the earliest of them (kept in `streamed`, as a
+    /// stream's).
+    fn keep_earliest(&mut self, task: &mut Found) {
+        let contacts = (task.vf.iter().map(|&c| Contact::Vf(c)))
+            .chain(task.ee.iter().map(|&c| Contact::Ee(c)));
+        if let Some(c) = contacts.min_by(Contact::earliest_order) {
+            let earlier = |s: &Contact| c.earliest_order(s) == std::cmp::Ordering::Less;
+            if self.streamed.as_ref().is_none_or(earlier) {
+                self.streamed = Some(c);
+            }
+        }
+        *task = Found::default();
+    }
+
+    /// After a deadline or a cancellation: the contacts held are forgotten but for the
+    /// earliest, returned (with any kept by [`Found::keep_earliest`] or streamed).
+    pub fn earliest_only(&mut self) -> Option<Contact> {
+        let mut all = std::mem::take(self);
+        let streamed = all.streamed.take();
+        self.keep_earliest(&mut all);
+        match (self.streamed.take(), streamed) {
+            (Some(a), Some(b)) => Some(std::cmp::min_by(a, b, Contact::earliest_order)),
+            (a, b) => a.or(b),
+        }
+    }
+
+    /// Hands what is held to the stream, if there is one, and forgets it.
+    pub fn deliver(&mut self, ctx: &Context) {
+        let Some(stream) = ctx.stream else { return };
+        let contacts = (self.vf.drain(..).map(Contact::Vf)).chain(self.ee.drain(..).map(Contact::Ee));
+        for c in contacts {
+            if !stream.take_one(ctx.limits) {
+                break;
+            }
+            (stream.each)(&c);
+            self.streamed_count += 1;
+            self.streamed_unresolved += usize::from(c.certainty() != Certainty::Resolved);
+            let earlier = |s: &Contact| c.earliest_order(s) == std::cmp::Ordering::Less;
+            if self.streamed.as_ref().is_none_or(earlier) {
+                self.streamed = Some(c);
+            }
+        }
+        self.vf.clear();
+        self.ee.clear();
+        self.marks.clear();
+    }
+}
+
+/// The consumer of a streaming query ([`Ccd::for_each_contact`](super::Ccd::for_each_contact)):
+/// every contact is handed to `each` on the thread that found it.
+pub(crate) struct Stream<'f> {
+    pub each: &'f (dyn Fn(&Contact) + Sync),
+    /// Contacts handed over so far (for the cap).
+    handed: std::sync::atomic::AtomicUsize,
+}
+
+impl<'f> Stream<'f> {
+    pub fn new(each: &'f (dyn Fn(&Contact) + Sync)) -> Self {
+        Self {
+            each,
+            handed: std::sync::atomic::AtomicUsize::new(0),
+        }
+    }
+
+    /// Whether one more contact may be handed over (`false` once the cap is reached, which
+    /// stops the query).
+    fn take_one(&self, limits: &Limits) -> bool {
+        if !limits.capped() {
+            return true;
+        }
+        let n = self.handed.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        if n >= limits.max_contacts {
+            limits.stop(StopReason::MaxContacts);
+            return false;
+        }
+        true
+    }
+}
+
+/// How many contacts each task of a traversal under a cap holds so far (that count against it:
+/// [`Found::counting`]), so that a task keeps only what the tasks before it leave room for: the
+/// report takes the first contacts in task order, and the counts only grow, so a task never
+/// needs more than the room at its batch's start less what the tasks before it, not yet
+/// handed over, hold already. Once earlier tasks fill the room, the later ones stop at once:
+/// memory stays near the cap per thread, however many tasks a batch runs.
+pub(crate) struct Progress {
+    counts: Vec<std::sync::atomic::AtomicUsize>,
+    /// Tasks handed over (their contacts are in the report, and in the room already).
+    handed: std::sync::atomic::AtomicUsize,
+}
+
+impl Progress {
+    /// Counts for the first `tasks` tasks (later ones keep their whole room).
+    pub fn new(tasks: usize) -> Self {
+        Self {
+            counts: (0..tasks).map(|_| Default::default()).collect(),
+            handed: Default::default(),
+        }
+    }
+
+    /// Records that task `index` holds `count` contacts.
+    pub fn set(&self, index: usize, count: usize) {
+        if let Some(c) = self.counts.get(index) {
+            c.store(count, std::sync::atomic::Ordering::Relaxed);
+        }
+    }
+
+    /// Records that the tasks before `index` were handed over.
+    pub fn handed_until(&self, index: usize) {
+        self.handed.store(index, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// The room task `index` has, out of `room` at its batch's start: less what the tasks
+    /// before it, not handed over, hold.
+    pub fn room(&self, index: usize, room: usize) -> usize {
+        if index >= self.counts.len() {
+            return room;
+        }
+        let from = self.handed.load(std::sync::atomic::Ordering::Relaxed).min(index);
+        let ahead: usize = self.counts[from..index]
+            .iter()
+            .map(|c| c.load(std::sync::atomic::Ordering::Relaxed))
+            .sum();
+        room.saturating_sub(ahead)
+    }
+}
+
+/// What the consumer of the traversal's tasks (or of a sequential broad phase's buffers) keeps
+/// under a cap: the contacts of the tasks in their order, until more than `max_contacts` are
+/// known (in [`Mode::Earliest`], counted once the earliest time is known to be 0: before, no
+/// contact can be dropped); then the first `max_contacts` of them.
+#[derive(Debug, Default)]
+pub(crate) struct Keeper {
+    /// Tasks (or buffers) whose contacts are held.
+    pub tasks: u64,
+    /// The earliest time held so far (Earliest only).
+    best: Option<f64>,
+    /// Whether the cap was reached: later tasks are not the report's.
+    pub full: bool,
+}
+
+impl Keeper {
+    /// Takes the contacts of the next task in order into `found`; `Break` once the report is
+    /// full or the query stopped (a stop is recorded on the limits).
+    pub fn take(&mut self, ctx: &Context, found: &mut Found, task: &mut Found) -> ControlFlow<()> {
+        if self.full {
+            return ControlFlow::Break(());
+        }
+        self.tasks += 1;
+        let limits = ctx.limits;
+        if matches!(
+            limits.stopped(),
+            Some(StopReason::Deadline | StopReason::Cancelled)
+        ) {
+            // The report of a query stopped by time keeps only its earliest contact.
+            found.keep_earliest(task);
+            return ControlFlow::Break(());
+        }
+        if limits.capped() && ctx.options.mode == Mode::Earliest {
+            lower(&mut self.best, task.vf.iter().map(|c| c.toi));
+            lower(&mut self.best, task.ee.iter().map(|c| c.toi));
+            if self.best == Some(0.0) {
+                let tol = ctx.options.narrow.tolerance;
+                if !found.settled {
+                    found.settled = true;
+                    found.retain_until(tol);
+                }
+                task.retain_until(tol);
+            }
+        }
+        found.append(task);
+        let counting = ctx.options.mode == Mode::All || found.settled;
+        if limits.capped() && counting && found.len() > limits.max_contacts {
+            found.keep_first(limits.max_contacts);
+            self.full = true;
+            limits.stop(StopReason::MaxContacts);
+            return ControlFlow::Break(());
+        }
+        if limits.stopped().is_some() {
+            return ControlFlow::Break(());
+        }
+        ControlFlow::Continue(())
+    }
+
+    /// How many contacts a task of the next batch may keep ([`Found::with_budget`]): one more
+    /// than the room left under the cap (one more tells that the step has more), the whole cap
+    /// while the earliest time of an Earliest query is not known to be 0; `usize::MAX` without
+    /// a cap.
+    pub fn budget(&self, ctx: &Context, found: &Found) -> usize {
+        let max = ctx.limits.max_contacts;
+        if !ctx.limits.capped() {
+            usize::MAX
+        } else if ctx.options.mode == Mode::Earliest && !found.settled {
+            max + 1
+        } else {
+            (max + 1).saturating_sub(found.len())
+        }
+    }
 }
 
 /// In [`Mode::Earliest`], the per-step hierarchy first looks at the first `1 / EARLY` of the
@@ -318,15 +699,17 @@ fn ee_solved(
 
 /// Solves `pairs` in order, four at a time through the batched prefilter (`first` on the
 /// pairs' `corners`, then `rest` on the query of each pair it leaves), appending the contacts
-/// to `out` and, in [`Mode::Earliest`], lowering `limit` as they come (`lowered`). A pair gets
-/// exactly what it gets alone (`alone`, [`vf_contact`]): where a contact earlier in its four
-/// lowered the limit, it is solved alone with the new one.
+/// that `keep` accepts to `out` and, in [`Mode::Earliest`], lowering `limit` as they come
+/// (`lowered`). A pair gets exactly what it gets alone (`alone`, [`vf_contact`]): where a
+/// contact earlier in its four lowered the limit, it is solved alone with the new one. Stops
+/// once `room` contacts were kept (each kept contact takes one) or the query stops (`limits`,
+/// polled every [`POLL_FOURS`] fours).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn solve_in_fours<Q, C>(
     pairs: &[[u32; 2]],
     t_max: f64,
-    limit: &mut f64,
+    (limit, room, limits): (&mut f64, &mut usize, &Limits),
     out: &mut Vec<C>,
     corners: impl Fn([u32; 2]) -> [u32; 4],
     first: impl Fn(&[[u32; 4]; 4], f64) -> Firsts,
@@ -334,16 +717,29 @@ fn solve_in_fours<Q, C>(
     rest: impl Fn(&Q, f64, Rest) -> Option<f64>,
     solved: impl Fn(&Q, [u32; 2], f64, f64) -> Option<C>,
     alone: impl Fn([u32; 2], f64) -> Option<C>,
-    lowered: impl Fn(f64, &C) -> f64,
+    (lowered, keep): (impl Fn(f64, &C) -> f64, impl Fn(f64, &C) -> bool),
 ) {
+    let mut take = |c: C, limit: &mut f64, room: &mut usize| {
+        *limit = lowered(*limit, &c);
+        if keep(*limit, &c) {
+            out.push(c);
+            *room -= 1;
+        }
+    };
     let mut fours = pairs.chunks_exact(4);
-    for four in &mut fours {
+    for (k, four) in (&mut fours).enumerate() {
+        if *room == 0 || (k % POLL_FOURS == 0 && limits.poll(false)) {
+            return;
+        }
         // The limit the four's first tests ran with.
         let tested = *limit;
         let t_end = tested.min(t_max);
         let four = [four[0], four[1], four[2], four[3]];
         let passed = first(&four.map(&corners), t_end);
         for (i, pair) in four.into_iter().enumerate() {
+            if *room == 0 {
+                return;
+            }
             let contact = if *limit == tested {
                 passed.rest(i).and_then(|r| {
                     let q = query(pair);
@@ -354,22 +750,31 @@ fn solve_in_fours<Q, C>(
                 alone(pair, *limit)
             };
             if let Some(c) = contact {
-                *limit = lowered(*limit, &c);
-                out.push(c);
+                take(c, limit, room);
             }
         }
     }
     for &pair in fours.remainder() {
+        if *room == 0 {
+            return;
+        }
         if let Some(c) = alone(pair, *limit) {
-            *limit = lowered(*limit, &c);
-            out.push(c);
+            take(c, limit, room);
         }
     }
 }
 
+/// Fours of pairs [`solve_in_fours`] solves between two polls of the query's limits (the
+/// cancel token, and every few polls the clock): a few dozen pairs, some microseconds.
+const POLL_FOURS: usize = 16;
+
 /// What the narrow phase reads besides the candidates.
 #[derive(Clone, Copy)]
 pub(crate) struct Context<'a, 's> {
+    /// The query's cap, deadline and cancel token, polled as the candidates are solved.
+    pub limits: &'a Limits,
+    /// Streaming: where the contacts go as they are found ([`Found::deliver`]).
+    pub stream: Option<&'a Stream<'a>>,
     pub step: &'a Step<'s>,
     /// The step's edges, sorted lexicographically (edge-edge candidates index them).
     pub edges: &'a [[u32; 2]],
@@ -395,24 +800,62 @@ impl Context<'_, '_> {
         }
     }
 
-    /// Solves the candidates in order on this thread, appending the contacts to `found`.
-    /// `limit` (see [`Context::limit`]) is lowered as contacts are found.
+    /// Whether `limit`, a limit of this query's narrow phase, shows that the earliest time is
+    /// 0 (in [`Mode::Earliest`] a limit is never below [`Context::limit`] of 0, which only a
+    /// contact at 0 brings it down to).
+    pub fn known_zero(&self, limit: f64) -> bool {
+        self.options.mode == Mode::Earliest && limit <= self.limit(Some(0.0))
+    }
+
+    /// Solves the candidates in order on this thread, appending the contacts to `found`
+    /// (at most `found.room` of them, which it lowers). `limit` (see [`Context::limit`]) is
+    /// lowered as contacts are found. Stops early if the query stops ([`Limits::poll`]). In
+    /// [`Mode::Earliest`] with a cap, once the earliest time is known to be 0, contacts after
+    /// the tolerance are not kept (no report keeps them).
     pub fn solve(&self, candidates: &Candidates, limit: &mut f64, found: &mut Found) {
-        let (step, edges, options, coord) = (self.step, self.edges, self.options, self.coord);
+        // An Earliest query with a cap settles ([`Found::settle`]) as soon as its earliest
+        // time is known to be 0, so that a task holds few contacts beyond its room.
+        let part = if self.limits.capped() && self.options.mode == Mode::Earliest {
+            SETTLE_PAIRS
+        } else {
+            usize::MAX
+        };
+        for pairs in candidates.vf.chunks(part) {
+            self.solve_vf(pairs, limit, found);
+            found.settle(self, *limit);
+        }
+        for pairs in candidates.ee.chunks(part) {
+            self.solve_ee(pairs, limit, found);
+            found.settle(self, *limit);
+        }
+        found.mark();
+    }
+
+    /// The new limit after a contact at `toi` ([`Context::limit`]; unchanged in [`Mode::All`]).
+    fn lowered(&self, limit: f64, toi: f64) -> f64 {
+        if self.options.mode == Mode::Earliest {
+            limit.min(self.limit(Some(toi)))
+        } else {
+            limit
+        }
+    }
+
+    /// Whether a contact at `toi`, found with `limit`, may be kept: not after the tolerance
+    /// once the earliest time of an Earliest query with a cap is known to be 0.
+    fn keeps(&self, limit: f64, toi: f64) -> bool {
+        let tol = self.options.narrow.tolerance;
+        !(self.limits.capped() && toi > tol && self.known_zero(limit))
+    }
+
+    /// [`Context::solve`] for vertex-face candidates.
+    fn solve_vf(&self, pairs: &[[u32; 2]], limit: &mut f64, found: &mut Found) {
+        let (step, options, coord) = (self.step, self.options, self.coord);
         let (sep, t_max) = (options.narrow.min_separation, options.narrow.t_max);
         let (x, tris) = ((step.pos0(), step.pos1()), step.triangles());
-        let earliest = options.mode == Mode::Earliest;
-        let lowered = |limit: f64, toi: f64| {
-            if earliest {
-                limit.min(self.limit(Some(toi)))
-            } else {
-                limit
-            }
-        };
         solve_in_fours(
-            &candidates.vf,
+            pairs,
             t_max,
-            limit,
+            (limit, &mut found.room, self.limits),
             &mut found.vf,
             |[v, f]| {
                 let [f0, f1, f2] = tris[f as usize];
@@ -423,12 +866,22 @@ impl Context<'_, '_> {
             |q, t_end, r| vf_rest_unresolved(q, sep, t_end, coord, r),
             |q, pair, limit, from| vf_solved(self, q, pair, (limit, from)),
             |pair, limit| vf_contact(self, pair, limit),
-            |limit, c| lowered(limit, c.toi),
+            (
+                |limit, c: &VfContact| self.lowered(limit, c.toi),
+                |limit, c: &VfContact| self.keeps(limit, c.toi),
+            ),
         );
+    }
+
+    /// [`Context::solve`] for edge-edge candidates.
+    fn solve_ee(&self, pairs: &[[u32; 2]], limit: &mut f64, found: &mut Found) {
+        let (step, edges, options, coord) = (self.step, self.edges, self.options, self.coord);
+        let (sep, t_max) = (options.narrow.min_separation, options.narrow.t_max);
+        let x = (step.pos0(), step.pos1());
         solve_in_fours(
-            &candidates.ee,
+            pairs,
             t_max,
-            limit,
+            (limit, &mut found.room, self.limits),
             &mut found.ee,
             |[e, f]| {
                 let ([a0, a1], [b0, b1]) = (edges[e as usize], edges[f as usize]);
@@ -439,59 +892,99 @@ impl Context<'_, '_> {
             |q, t_end, r| ee_rest_unresolved(q, sep, t_end, coord, r),
             |q, pair, limit, from| ee_solved(self, q, pair, (limit, from)),
             |pair, limit| ee_contact(self, pair, limit),
-            |limit, c| lowered(limit, c.toi),
+            (
+                |limit, c: &EeContact| self.lowered(limit, c.toi),
+                |limit, c: &EeContact| self.keeps(limit, c.toi),
+            ),
         );
     }
 
     /// Solves a buffer of candidates on the current rayon pool, appending the contacts to
-    /// `found`. In [`Mode::Earliest`] the buffer goes in fixed chunks, each pruned with the
-    /// best time of the chunks before (`best`, updated), so what is pruned does not depend on
-    /// the thread count.
+    /// `found` in the buffer's order (at most `found.room` of them, which it lowers). The
+    /// buffer goes in fixed chunks, between which the query's limits are polled; in
+    /// [`Mode::Earliest`] each chunk is pruned with the best time of the chunks before
+    /// (`best`, updated), so what is pruned does not depend on the thread count.
     pub fn solve_parallel(&self, candidates: &Candidates, best: &mut Option<f64>, found: &mut Found) {
-        match self.options.mode {
-            Mode::All => {
-                let limit = f64::INFINITY;
-                found.vf.par_extend(
-                    candidates
-                        .vf
-                        .par_iter()
-                        .with_min_len(256)
-                        .filter_map(|&pair| vf_contact(self, pair, limit)),
-                );
-                found.ee.par_extend(
-                    candidates
-                        .ee
-                        .par_iter()
-                        .with_min_len(256)
-                        .filter_map(|&pair| ee_contact(self, pair, limit)),
-                );
+        let (size, min_len) = match self.options.mode {
+            Mode::All => (ALL_CHUNK, 256),
+            Mode::Earliest => (EARLIEST_CHUNK, 64),
+        };
+        for chunk in candidates.vf.chunks(size) {
+            if found.room == 0 || self.limits.poll(true) {
+                break;
             }
-            Mode::Earliest => {
-                for chunk in candidates.vf.chunks(EARLIEST_CHUNK) {
-                    let limit = self.limit(*best);
-                    let start = found.vf.len();
-                    found.vf.par_extend(
-                        chunk
-                            .par_iter()
-                            .with_min_len(64)
-                            .filter_map(|&pair| vf_contact(self, pair, limit)),
-                    );
-                    lower(best, found.vf[start..].iter().map(|c| c.toi));
-                }
-                for chunk in candidates.ee.chunks(EARLIEST_CHUNK) {
-                    let limit = self.limit(*best);
-                    let start = found.ee.len();
-                    found.ee.par_extend(
-                        chunk
-                            .par_iter()
-                            .with_min_len(64)
-                            .filter_map(|&pair| ee_contact(self, pair, limit)),
-                    );
-                    lower(best, found.ee[start..].iter().map(|c| c.toi));
-                }
+            let limit = self.limit(*best);
+            let start = found.vf.len();
+            found.vf.par_extend(
+                chunk
+                    .par_iter()
+                    .with_min_len(min_len)
+                    .filter_map(|&pair| vf_contact(self, pair, limit)),
+            );
+            self.settle_chunk(best, found, [start, found.ee.len()]);
+        }
+        for chunk in candidates.ee.chunks(size) {
+            if found.room == 0 || self.limits.poll(true) {
+                break;
             }
+            let limit = self.limit(*best);
+            let start = found.ee.len();
+            found.ee.par_extend(
+                chunk
+                    .par_iter()
+                    .with_min_len(min_len)
+                    .filter_map(|&pair| ee_contact(self, pair, limit)),
+            );
+            self.settle_chunk(best, found, [found.vf.len(), start]);
+        }
+        found.mark();
+    }
+
+    /// After a chunk of [`Context::solve_parallel`] appended the contacts from `starts` on:
+    /// lowers `best` (Earliest), then, under a cap, keeps what the buffer may keep
+    /// ([`Found::settle`], [`Found::trim_from`]).
+    fn settle_chunk(&self, best: &mut Option<f64>, found: &mut Found, starts: [usize; 2]) {
+        if self.options.mode == Mode::Earliest {
+            lower(best, found.vf[starts[0]..].iter().map(|c| c.toi));
+            lower(best, found.ee[starts[1]..].iter().map(|c| c.toi));
+            if found.settled {
+                found.trim_from(self, starts);
+            } else {
+                found.settle(self, self.limit(*best));
+            }
+        } else if self.limits.capped() {
+            found.trim_from(self, starts);
         }
     }
+}
+
+/// Candidates of a buffer of [`Context::solve_parallel`] solved between two polls of the
+/// query's limits in [`Mode::All`]: some milliseconds of work.
+const ALL_CHUNK: usize = 1 << 14;
+
+/// Pairs [`Context::solve`] solves between two settlements of an Earliest query with a cap
+/// (a multiple of four).
+const SETTLE_PAIRS: usize = 256;
+
+/// Sorts `v` by `key` (unique per element), on the rayon pool for long vectors: their keys
+/// and positions are sorted, then the elements gathered in that order (contacts are over a
+/// hundred bytes each: moving them once beats moving them at every level of a sort; a
+/// collapsed step's millions of contacts sorted in place took most of a second).
+fn sort_by_key<T, K>(v: &mut Vec<T>, key: impl Fn(&T) -> K + Sync)
+where
+    T: Copy + Send + Sync,
+    K: Ord + Send + Sync,
+{
+    if v.len() < 1 << 14 {
+        v.sort_unstable_by_key(key);
+        return;
+    }
+    let mut keys: Vec<(K, u32)> = (v.par_iter().enumerate())
+        .map(|(i, c)| (key(c), i as u32))
+        .collect();
+    keys.par_sort_unstable_by(|a, b| a.0.cmp(&b.0));
+    let sorted: Vec<T> = keys.par_iter().map(|&(_, i)| v[i as usize]).collect();
+    *v = sorted;
 }
 
 /// Lowers `best` to the smallest of `tois`.
@@ -506,8 +999,8 @@ pub(crate) fn lower(best: &mut Option<f64>, tois: impl Iterator<Item = f64>) {
 /// Sorts what was found, keeps in [`Mode::Earliest`] only the contacts within the tolerance of
 /// the earliest, and returns the earliest contact.
 pub(crate) fn finish(found: &mut Found, options: &QueryOptions) -> Option<Contact> {
-    found.vf.sort_unstable_by_key(|c| (c.vertex, c.face));
-    found.ee.sort_unstable_by_key(|c| (c.a, c.b));
+    sort_by_key(&mut found.vf, |c| (c.vertex, c.face));
+    sort_by_key(&mut found.ee, |c| (c.a, c.b));
     let earliest = found
         .vf
         .iter()

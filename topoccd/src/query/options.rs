@@ -167,6 +167,29 @@ pub struct QueryOptions {
     /// ([`Step::with_parents`](crate::Step::with_parents)), a new vertex and its parent count
     /// as one vertex, so pairs joined that way are not tested. Default `true`.
     pub crack_filter: bool,
+    /// The most contacts the report keeps; `None` (the default) for no limit. Once the query
+    /// knows more, it stops and the report says so
+    /// ([`Report::truncated`](crate::Report::truncated)): it then holds the first
+    /// `max_contacts` contacts of the query's fixed order of work, the same for any thread
+    /// count (see [`Truncation`](crate::Truncation)). In [`Mode::Earliest`] the earliest time
+    /// stays exact: the query truncates only once it knows that time is 0 (nothing is
+    /// earlier), keeping the first `max_contacts` pairs within the tolerance of it. Memory
+    /// then stays bounded by a few times `max_contacts` contacts.
+    ///
+    /// A step whose vertices collapsed (positions cast to integers, a mesh scaled to zero)
+    /// can have hundreds of millions of contacts at t=0; a cap turns that into a quick,
+    /// truncated answer.
+    pub max_contacts: Option<usize>,
+    /// When the query gives up: past this instant it stops within about a millisecond of
+    /// work per thread (the checks run in the traversal tasks, between a few dozen elementary
+    /// tests, in the brute-force sweep and in the cluster growth), and the report, holding
+    /// only the earliest contact found by then, says so
+    /// ([`Report::truncated`](crate::Report::truncated),
+    /// [`StopReason::Deadline`](crate::StopReason::Deadline)). `None` (the default): no
+    /// deadline. Not serialised. To stop a query from another thread, see
+    /// [`Ccd::cancel_token`](crate::Ccd::cancel_token).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub deadline: Option<std::time::Instant>,
 }
 
 impl Default for QueryOptions {
@@ -178,6 +201,8 @@ impl Default for QueryOptions {
             growth: ClusterGrowth::default(),
             geometry: false,
             crack_filter: true,
+            max_contacts: None,
+            deadline: None,
         }
     }
 }
@@ -198,6 +223,10 @@ pub enum OptionsError {
     /// `t_max` not in `(0, 1]`.
     #[error("t_max must be in (0, 1], got {0}")]
     TMax(f64),
+    /// [`Ccd::for_each_contact`](crate::Ccd::for_each_contact) asked for
+    /// [`Mode::Earliest`], whose pairs are known only at the end.
+    #[error("mode Earliest cannot stream its contacts (its pairs are known only at the end); use Ccd::query")]
+    Streaming,
 }
 
 impl QueryOptions {

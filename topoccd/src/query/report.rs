@@ -188,6 +188,12 @@ pub struct Report {
     /// up on them (iteration limit, unrepresentable coordinates) and reported a conservative
     /// time. Check it before trusting a time of impact of 0.
     pub unresolved: usize,
+    /// `None` when the query ran to its end; else why it stopped early and how far it got
+    /// ([`QueryOptions::max_contacts`](crate::QueryOptions::max_contacts),
+    /// [`QueryOptions::deadline`](crate::QueryOptions::deadline), a
+    /// [`CancelToken`](crate::CancelToken)): the report then holds only part of the step's
+    /// contacts (see [`Truncation`](crate::Truncation) for which).
+    pub truncated: Option<super::limits::Truncation>,
     /// Work counters and timings.
     pub stats: Stats,
 }

@@ -38,6 +38,8 @@ pub(super) struct LeafScratch {
     /// round, without the shortcuts that skip offers bound to be refused (a check that they
     /// change no decision).
     pub(super) reference: bool,
+    /// The query's stop: once it says stop, the remaining leaves are single triangles.
+    pub(crate) stop: Option<crate::broad::Stopper>,
     /// The leaves of the last step that passed their certificate on this one, by seed.
     pub(super) kept: Vec<Kept>,
     /// The `V-bar` of the kept leaves.
@@ -157,10 +159,14 @@ pub(super) fn grow_leaves(
         scratch.position.clear();
         scratch.position.resize(n, 0);
     }
-    let grow = options.min_separation == 0.0;
+    let mut grow = options.min_separation == 0.0;
     scratch.centre_prefix.clear();
     let mut next_kept = 0;
     for seed in 0..n as u32 {
+        // A query that stops: the leaves left are single triangles (valid, and quick).
+        if grow && scratch.stop.as_ref().is_some_and(|s| s.stopped()) {
+            grow = false;
+        }
         let mark = out.leaf_of_triangle[seed as usize];
         if mark == RESERVED {
             // Kept leaves are sorted by seed, and a seed is its leaf's lowest triangle.
@@ -170,7 +176,9 @@ pub(super) fn grow_leaves(
                     next_kept += 1;
                     let id = out.leaves.len() as u32;
                     emit_kept(previous, &kept, out, scratch, stats);
-                    grow_kept(step, topo, options, &kept, scratch, disk, out);
+                    if grow {
+                        grow_kept(step, topo, options, &kept, scratch, disk, out);
+                    }
                     let leaf = &out.leaves[id as usize];
                     // A kept leaf that was neither trimmed nor grown met no failure on this step.
                     let grew = leaf.triangles.len() > kept.triangles as usize;

@@ -110,6 +110,11 @@ impl ClusterPhase {
         (stats, figures)
     }
 
+    /// Makes the leaf growth of the next queries obey `stop` (`None`: never stop).
+    pub fn set_stop(&mut self, stop: Option<crate::broad::Stopper>) {
+        self.ws.leaf.stop = stop;
+    }
+
     /// Validates the hierarchy of `kind` built by the last query (see
     /// [`ClusterTree::validate`]).
     pub fn validate(&self, kind: DopKind) -> Result<(), BvhError> {
@@ -185,6 +190,7 @@ fn run<const H: usize, R: PairRunner>(
     let traversal = Inputs {
         clustering,
         trust,
+        stop: cluster_ws.leaf.stop.as_ref(),
     };
     let mut counts = traverse::prepare(tree, &traversal, pairs, ws);
     let source = TrianglePairs {

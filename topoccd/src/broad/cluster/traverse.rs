@@ -173,6 +173,9 @@ pub(crate) struct Inputs<'a> {
     /// `false` treats every leaf cluster as uncertified (every pair is then tested: a check
     /// of the traversal itself, used by the tests).
     pub trust: bool,
+    /// The query's stop: once it says stop, no more leaf pairs are listed (a collapsed step
+    /// has one per pair of triangles).
+    pub stop: Option<&'a crate::broad::Stopper>,
 }
 
 /// Steps 1, 2 and 4 of the traversal (see the module documentation) down to the work items of
@@ -199,15 +202,30 @@ pub(crate) fn prepare<const H: usize>(
                     .all(|&l| certified(c.leaves[l as usize].certificate))
         }));
 
+    // Whether the query stopped, asked every 2^16 pairs listed.
+    let mut listed = 0u64;
+    let mut halted = false;
+    let mut go_on = || {
+        listed += 1;
+        if !halted && listed.is_multiple_of(1 << 16) {
+            halted = input.stop.is_some_and(|s| s.stopped());
+        }
+        !halted
+    };
     // Steps 1 and 2: leaf pairs of distinct intermediate clusters.
     scratch.ic_pairs.clear();
     let ic_pairs = &mut scratch.ic_pairs;
-    counts.bv_tests += tree
-        .top
-        .self_pairs(ws, |i, j| ic_pairs.push((i.min(j), i.max(j))));
+    counts.bv_tests += tree.top.self_pairs(ws, |i, j| {
+        if go_on() {
+            ic_pairs.push((i.min(j), i.max(j)));
+        }
+    });
     scratch.items.clear();
     let items = &mut scratch.items;
     for &(i, j) in &scratch.ic_pairs {
+        if !go_on() {
+            break;
+        }
         let (si, sj) = (tree.sub_of_ic[i as usize], tree.sub_of_ic[j as usize]);
         let (li, lj) = (
             c.intermediate_leaves(i as usize),
@@ -431,10 +449,11 @@ impl<const H: usize> TaskPairs for TrianglePairs<'_, H> {
         &self,
         _ws: &mut BvhWorkspace,
         par: &ParOptions,
-        make: impl Fn() -> T + Sync + Send,
+        make: impl Fn(usize) -> T + Sync + Send,
         pair: impl Fn(&mut T, u32, u32) + Sync + Send,
         finish: impl Fn(&mut T) + Sync + Send,
         mut consume: impl FnMut(T) -> std::ops::ControlFlow<()>,
+        skip: &(dyn Fn(&T) -> bool + Sync),
     ) -> u64 {
         let work = &self.scratch.work[..];
         let mut start = 0;
@@ -452,7 +471,8 @@ impl<const H: usize> TaskPairs for TrianglePairs<'_, H> {
             }
             tests
         };
-        run_batches(&tasks, par, Default::default, body, make, finish, &mut consume)
+        let f = (make, finish, skip);
+        run_batches(&tasks, par, Default::default, body, f, &mut consume)
     }
 }
 
