@@ -5,9 +5,78 @@
 
 use std::time::Instant;
 
-use super::{triangle_volumes, BroadInput, BroadStats, Sink};
-use crate::kdop::Kdop;
+use super::tasks::{Out, Passes, Totals};
+use super::{triangle_volumes, BroadInput, BroadPhase, BroadStats, Candidates, Sink};
+use crate::bvh::BvhWorkspace;
+use crate::kdop::{DopKind, Kdop};
 use crate::mesh::features::SweptBox;
+use crate::query::narrow_phase::{Found, Keeper};
+
+/// The oracle as a broad phase: a sequential sweep whose buffer of candidates is solved in
+/// parallel whenever it is full. It keeps nothing from one step to the next.
+pub(crate) struct Brute;
+
+impl BroadPhase for Brute {
+    fn run(&mut self, passes: &Passes<'_, '_, '_>, _: &mut BvhWorkspace, out: Out<'_>) -> BroadStats {
+        let Passes {
+            input,
+            ctx,
+            limits,
+            record,
+            chunk,
+            ..
+        } = *passes;
+        let Out {
+            found,
+            totals,
+            recorded,
+        } = out;
+        // Each buffer is one unit of the order a cap keeps (see `Keeper`).
+        let mut best = None;
+        let mut keeper = Keeper::default();
+        let mut narrow = 0.0;
+        let mut flush = |c: &Candidates| {
+            let t = Instant::now();
+            let budget = keeper.budget(ctx, found);
+            let mut part = Found::with_budget(ctx, budget, ctx.limit(best));
+            ctx.solve_parallel(c, &mut best, &mut part);
+            part.deliver(ctx);
+            let kept = keeper.take(ctx, found, &mut part);
+            if record {
+                recorded.vf.extend_from_slice(&c.vf);
+                recorded.ee.extend_from_slice(&c.ee);
+            }
+            narrow += t.elapsed().as_secs_f64();
+            kept
+        };
+        let stop = || limits.poll(true);
+        let mut sink = Sink::new(chunk, &mut flush, &stop);
+        let mut stats = {
+            let sink = &mut sink;
+            match ctx.options.kdop {
+                DopKind::K6 => candidates::<3>(input, &mut Vec::new(), sink),
+                DopKind::K14 => candidates::<7>(input, &mut Vec::new(), sink),
+                DopKind::K18 => candidates::<9>(input, &mut Vec::new(), sink),
+                DopKind::K26 => candidates::<13>(input, &mut Vec::new(), sink),
+            }
+        };
+        let t = Instant::now();
+        sink.flush_now();
+        stats.traverse += t.elapsed().as_secs_f64();
+        *totals = Totals {
+            vf_tests: sink.vf_total,
+            ee_tests: sink.ee_total,
+            peak: sink.peak,
+            tasks: 0,
+        };
+        drop(sink);
+        totals.tasks = keeper.tasks;
+        // The narrow phase ran inside the traversal: take it out of the traversal time.
+        stats.traverse = (stats.traverse - narrow).max(0.0);
+        stats.narrow = narrow;
+        stats
+    }
+}
 
 /// One box of the sweep: its lower x (the sort key), a kind and an index.
 #[derive(Clone, Copy, Debug)]
@@ -155,5 +224,6 @@ pub(crate) fn candidates<const H: usize>(
         bv_tests: tests,
         build,
         traverse: start.elapsed().as_secs_f64(),
+        ..BroadStats::default()
     }
 }

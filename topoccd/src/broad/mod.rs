@@ -28,6 +28,7 @@
 pub(crate) mod brute;
 pub(crate) mod bvh;
 pub mod cluster;
+pub(crate) mod tasks;
 
 use std::ops::ControlFlow;
 
@@ -197,6 +198,25 @@ pub(crate) struct BroadStats {
     pub build: f64,
     /// Seconds spent traversing down to the candidates.
     pub traverse: f64,
+    /// Seconds of the narrow phase run apart from the traversal (by a sequential broad phase).
+    pub narrow: f64,
+    /// The cluster method's figures.
+    pub cluster: Option<cluster::phase::ClusterFigures>,
+}
+
+/// The interface the three broad phases share: once the query has the step's features, its
+/// pair filter and the narrow phase's context (`passes`), a broad phase finds the step's
+/// candidate pairs and runs the narrow phase on them, in its own tasks or in bounded buffers,
+/// putting what it finds in `out`. What it keeps from one step to the next is its own, and is
+/// checked again on every step ([`bvh::BvhPhase`], [`cluster::phase::ClusterPhase`]; the
+/// oracle, [`brute::Brute`], keeps nothing).
+pub(crate) trait BroadPhase {
+    fn run(
+        &mut self,
+        passes: &tasks::Passes<'_, '_, '_>,
+        ws: &mut BvhWorkspace,
+        out: tasks::Out<'_>,
+    ) -> BroadStats;
 }
 
 /// The k-DOP of every triangle swept over `[0, t_max]` (the whole step for `t_max >= 1`),

@@ -6,7 +6,11 @@ use std::time::Instant;
 use super::traverse::{self, Inputs, PairScratch, TrianglePairs};
 use super::tree::ClusterTree;
 use super::{cluster_into_beside, ClusterOptions, ClusterWorkspace, Clustering};
-use crate::broad::{BroadInput, BroadStats, PairRunner};
+use std::sync::Arc;
+
+use crate::broad::tasks::{Out, Passes, Runner};
+use crate::broad::{BroadInput, BroadPhase, BroadStats, PairRunner, Stopper};
+use crate::query::ClusterGrowth;
 use crate::bvh::{BvhError, BvhWorkspace};
 use crate::kdop::DopKind;
 
@@ -128,6 +132,24 @@ impl ClusterPhase {
     }
 }
 
+impl BroadPhase for ClusterPhase {
+    /// The cluster method's step ([`ClusterPhase::candidates`]), its traversal's tasks solving
+    /// their own candidates, as the per-step hierarchy's do; the leaf growth stops with the
+    /// query.
+    fn run(&mut self, passes: &Passes<'_, '_, '_>, ws: &mut BvhWorkspace, out: Out<'_>) -> BroadStats {
+        let options = passes.ctx.options;
+        let paper = options.growth == ClusterGrowth::Paper;
+        let stop = Arc::clone(passes.limits);
+        self.set_stop(Some(Stopper(Arc::new(move || stop.poll(false)))));
+        let mut runner = Runner { passes, out };
+        let (mut stats, figures) =
+            self.candidates(passes.input, options.kdop, paper, ws, &mut runner);
+        self.set_stop(None);
+        stats.cluster = Some(figures);
+        stats
+    }
+}
+
 /// Leaf clusters of at least this many triangles get their hierarchy built while the clustering
 /// grows, when a second thread is there to do it (whether or not the traversal will need it).
 const AHEAD_TRIANGLES: usize = 1024;
@@ -204,6 +226,7 @@ fn run<const H: usize, R: PairRunner>(
         bv_tests: counts.bv_tests,
         build: built + counts.lazy_seconds,
         traverse: (traversed - counts.lazy_seconds).max(0.0),
+        ..BroadStats::default()
     };
     (stats, counts)
 }

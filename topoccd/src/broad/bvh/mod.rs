@@ -1,22 +1,38 @@
 //! The per-step hierarchy (the paper's baseline, as in Self-CCD): a k-DOP tree over the
-//! triangles' swept volumes, built anew for every new topology (refitted while the triangles
-//! stay the same and the tree fits them), traversed against itself; every overlapping
-//! triangle pair gives the feature pairs its two triangles own.
+//! triangles' swept volumes, traversed against itself; every overlapping triangle pair gives
+//! the feature pairs its two triangles own.
 //!
-//! The traversal runs on the rayon pool as a fixed list of tasks (see
-//! [`Bvh::par_self_pairs_with`]); each task gets its own accumulator, so the caller can run the
-//! narrow phase inside the tasks on bounded buffers.
+//! Kept across steps ([`BvhPhase`]): the tree is refitted while the triangles stay the same,
+//! or while at most one in eight changes its corners (a cut or a tear re-indexes a few), as
+//! long as it fits its leaves; otherwise it is rebuilt. With the tree comes its *front*
+//! ([`Bvh::front`]): the highest pairs of subtrees that share no mesh vertex. Two subtrees
+//! that share a vertex always overlap, so a traversal from the root descends them every step
+//! down to neighbouring triangles, most of its tests. The front depends on the tree's shape
+//! and the triangles only; it is computed with each build, updated where a cut changed the
+//! triangles, and the traversal starts from it. The neighbouring triangles that rule 6 of the
+//! pair filter does not drop (those sharing no vertex with a certified star) come from the
+//! topology instead ([`neighbours`]).
+//!
+//! The traversal runs on the rayon pool as a fixed list of tasks (chunks of the front, or,
+//! without a front, the tasks of [`Bvh::par_self_pairs_with`]); each task gets its own
+//! accumulator, so the caller can run the narrow phase inside the tasks on bounded buffers.
 
 use std::ops::ControlFlow;
 
 use rayon::prelude::*;
 
+mod neighbours;
+mod phase;
+
+pub(crate) use phase::BvhPhase;
+
+use neighbours::neighbours;
+
 use super::{corner_volumes, triangle_volume, triangle_volume_from, BroadInput, TaskPairs};
+use crate::bvh::run_batches;
 use crate::bvh::{Bvh, BvhError, BvhWorkspace, Front, Leaf, LeafCheck, ParOptions, TestAll};
 use crate::kdop::Kdop;
 use crate::math::{lerp, DVec3};
-use crate::bvh::run_batches;
-use crate::mesh::filter::shared_corners;
 use crate::mesh::star::StarView;
 use crate::mesh::{Step, Topology};
 
@@ -396,50 +412,6 @@ impl<const H: usize> PerStepBvh<H> {
         };
         run_batches(&tasks, par, Vec::new, body, (make, finish, skip), &mut consume)
     }
-}
-
-/// The neighbouring triangle pairs `[s, t]` (`s < t`, sharing a vertex) that share no vertex
-/// with a certified star (all of them without `stars`), each once (from its smallest shared
-/// vertex), in vertex order, into `out`. Only the stars that failed are looked at.
-fn neighbours(
-    stars: Option<StarView<'_>>,
-    topo: &Topology,
-    tris: &[[u32; 3]],
-    out: &mut Vec<[u32; 2]>,
-) {
-    let certified = |v: u32| stars.is_some_and(|s| s.certified(v));
-    let of = |v: u32| {
-        let fan = topo.triangles_of(v);
-        let mut pairs = Vec::new();
-        if certified(v) {
-            return pairs;
-        }
-        for (i, &s) in fan.iter().enumerate() {
-            for &t in &fan[i + 1..] {
-                let (a, b) = (tris[s as usize], tris[t as usize]);
-                let equal = shared_corners(a, b);
-                // Shared vertices, smallest first: `v` must be the smallest, and none certified.
-                let shared = (0..3).filter(|&i| equal >> (3 * i) & 7 != 0).map(|i| a[i]);
-                let mut first = u32::MAX;
-                let mut any_certified = false;
-                for w in shared {
-                    first = first.min(w);
-                    any_certified |= w != v && certified(w);
-                }
-                if first == v && !any_certified {
-                    pairs.push([s, t]);
-                }
-            }
-        }
-        pairs
-    };
-    let n = topo.vertex_offsets.len().saturating_sub(1) as u32;
-    out.par_extend(
-        (0..n)
-            .into_par_iter()
-            .with_min_len(1 << 12)
-            .flat_map_iter(of),
-    );
 }
 
 #[cfg(test)]
