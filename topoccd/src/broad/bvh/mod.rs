@@ -391,6 +391,14 @@ impl<const H: usize> PerStepBvh<H> {
         mut consume: impl FnMut(T) -> ControlFlow<()>,
         skip: &(dyn Fn(&T) -> bool + Sync),
     ) -> u64 {
+        // Task 0, before the batches, as the traversal from the root's first task (the pairs
+        // found while splitting): here empty, so that the batches are the same in both (an
+        // Earliest query's first look stops after its first batch).
+        let mut first = make(0);
+        finish(&mut first);
+        if consume(first).is_break() {
+            return 0;
+        }
         let tasks: Vec<FrontTask<'_>> = (self.neighbours.chunks(NEIGHBOUR_TASK))
             .map(FrontTask::Neighbours)
             .chain(self.front.pairs.chunks(FRONT_TASK).map(FrontTask::Front))
@@ -410,6 +418,7 @@ impl<const H: usize> PerStepBvh<H> {
                 self.bvh.front_pairs(front, stack, &mut |a, b| pair(acc, a, b))
             }
         };
+        let make = |i| make(i + 1);
         run_batches(&tasks, par, Vec::new, body, (make, finish, skip), &mut consume)
     }
 }
