@@ -165,6 +165,23 @@ impl Ccd {
         options: &QueryOptions,
         stream: Option<&Stream<'_>>,
     ) -> Result<Report, OptionsError> {
+        if rayon::current_thread_index().is_some() {
+            return self.run_in_pool(step, method, options, stream);
+        }
+        // Called from outside the thread pool (the main thread of a program), each parallel
+        // part of the query would hand its work to the pool and wait: a dozen hand-offs a
+        // step. The whole query goes to the pool instead, as one job.
+        rayon::scope(|_| self.run_in_pool(step, method, options, stream))
+    }
+
+    /// [`Ccd::run`] on a thread of the current pool.
+    fn run_in_pool(
+        &mut self,
+        step: &Step<'_>,
+        method: Method,
+        options: &QueryOptions,
+        stream: Option<&Stream<'_>>,
+    ) -> Result<Report, OptionsError> {
         options.validate()?;
         let method = method.resolve(step.triangles().len());
         let start = Instant::now();
