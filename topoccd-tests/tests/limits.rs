@@ -111,6 +111,25 @@ fn a_cap_keeps_the_same_contacts_on_one_and_two_threads() {
     }
 }
 
+/// On a collapsed grid every pair of subtrees overlaps, so the per-step hierarchy's search for
+/// its front gives up (it would look at every pair of triangles before the query could stop)
+/// and the traversal starts from the root: the same contacts as brute force, on the first step
+/// and on the next, whose tree is refitted (and the search not tried again).
+#[test]
+fn a_collapsed_step_without_a_front_gives_the_brute_force_pairs() {
+    let step = collapsed(24);
+    let brute = query(&step, Method::Brute, &QueryOptions::default()).unwrap();
+    assert!(brute.contact_count() > 100_000, "{}", brute.contact_count());
+    let mut ccd = Ccd::new();
+    for round in 0..2 {
+        let r = ccd
+            .query(&step, Method::Bvh, &QueryOptions::default())
+            .unwrap();
+        assert_eq!(key(&r), key(&brute), "round {round}");
+        assert_eq!(r.earliest.map(|c| c.toi()), Some(0.0));
+    }
+}
+
 #[test]
 fn a_cap_the_step_does_not_reach_changes_nothing() {
     for kind in [SceneKind::ALL[0], SceneKind::ALL[2]] {

@@ -11,7 +11,7 @@
 //! The *front* is the set of the highest unrelated pairs of the traversal: the unrelated child
 //! pairs of related pairs, and the unrelated sibling pairs. Every unrelated pair of leaves lies
 //! below exactly one of them, and no related pair of leaves below any. A traversal that starts
-//! from the front ([`Bvh::par_front_pairs_until`]) therefore reports every unrelated pair of
+//! from the front ([`Bvh::front_pairs`]) therefore reports every unrelated pair of
 //! leaves whose volumes overlap, each once, without a test on the related pairs above it; for
 //! a valid tree (every node containing its children) these are exactly the unrelated pairs the
 //! full traversal reports. The front stays valid while the tree is only refitted.
@@ -21,7 +21,7 @@ use super::{BoundingVolume, Bvh, LEAF};
 
 /// A front kept with its tree, in blocks: the block of an internal node is the front below
 /// the pair of its two children. A change of relation below some leaves changes only the
-/// blocks of their ancestors ([`Bvh::update_front`]).
+/// blocks of their ancestors ([`Bvh::update_front_within`]).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Front {
     /// The pairs of the front, block after block, the internal nodes in post-order.
@@ -33,6 +33,9 @@ pub(crate) struct Front {
     next_blocks: Vec<(u32, u32)>,
 }
 
+/// The next front's pairs and blocks, as they are written.
+type BlocksOut<'a> = (&'a mut Vec<(u32, u32)>, &'a mut [(u32, u32)]);
+
 /// The blocks of a front, read while the next are written.
 #[derive(Clone, Copy)]
 struct Blocks<'a> {
@@ -42,26 +45,53 @@ struct Blocks<'a> {
 
 impl<V: BoundingVolume> Bvh<V> {
     /// Computes the front of the self-traversal (see the module documentation) into `front`,
-    /// in a deterministic order, each pair `(a, b)` of node indices once. `related(a, b)` says
-    /// whether the leaves of nodes `a` and `b` are related; it must hold only for leaves whose
-    /// volumes overlap (the search takes two subtrees whose volumes are disjoint as unrelated).
-    /// Costs about one full traversal.
-    pub(crate) fn front(&self, related: &impl Fn(u32, u32) -> bool, front: &mut Front) {
+    /// in a deterministic order, each pair `(a, b)` of node indices once, looking at `budget`
+    /// node pairs at most: returns whether that was enough. If not, `front` holds no front (on
+    /// a mesh collapsed to a few points every pair of subtrees overlaps, and the search would
+    /// look at every pair of leaves). `related(a, b)` says whether the leaves of nodes `a` and
+    /// `b` are related; it must hold only for leaves whose volumes overlap (the search takes
+    /// two subtrees whose volumes are disjoint as unrelated). Costs about one full traversal.
+    pub(crate) fn front_within(
+        &self,
+        related: &impl Fn(u32, u32) -> bool,
+        front: &mut Front,
+        budget: u64,
+    ) -> bool {
         front.blocks.clear();
-        self.update_front(related, &|_| true, front);
+        self.update_front_within(related, &|_| true, front, budget)
     }
 
-    /// Recomputes the blocks of the nodes that `dirty` names (by node index) and keeps the
-    /// others: the front of [`Bvh::front`] for a relation that changed only between leaves
-    /// below dirty nodes, when the tree's shape is the one `front` was computed for (a refit
-    /// keeps it). Every ancestor of a dirty node must be dirty. Costs the dirty blocks, plus a
-    /// copy of the others.
+    /// [`Bvh::front_within`] without a budget, for the tests.
+    #[cfg(test)]
+    pub(crate) fn front(&self, related: &impl Fn(u32, u32) -> bool, front: &mut Front) {
+        assert!(self.front_within(related, front, u64::MAX));
+    }
+
+    /// [`Bvh::update_front_within`] without a budget, for the tests.
+    #[cfg(test)]
     pub(crate) fn update_front(
         &self,
         related: &impl Fn(u32, u32) -> bool,
         dirty: &impl Fn(u32) -> bool,
         front: &mut Front,
     ) {
+        assert!(self.update_front_within(related, dirty, front, u64::MAX));
+    }
+
+    /// Recomputes the blocks of the nodes that `dirty` names (by node index) and keeps the
+    /// others: the front of [`Bvh::front_within`] for a relation that changed only between
+    /// leaves below dirty nodes, when the tree's shape is the one `front` was computed for (a
+    /// refit keeps it). Every ancestor of a dirty node must be dirty. Costs the dirty blocks,
+    /// plus a copy of the others; looks at `budget` node pairs at most, and returns whether
+    /// that was enough (if not, `front` holds no front).
+    pub(crate) fn update_front_within(
+        &self,
+        related: &impl Fn(u32, u32) -> bool,
+        dirty: &impl Fn(u32) -> bool,
+        front: &mut Front,
+        budget: u64,
+    ) -> bool {
+        let mut left = budget;
         let mut pairs = std::mem::take(&mut front.next_pairs);
         let mut blocks = std::mem::take(&mut front.next_blocks);
         pairs.clear();
@@ -72,33 +102,44 @@ impl<V: BoundingVolume> Bvh<V> {
                 pairs: &front.pairs,
                 blocks: &front.blocks,
             };
-            self.front_blocks(0, related, dirty, old, &mut pairs, &mut blocks);
+            self.front_blocks(0, related, dirty, old, (&mut pairs, &mut blocks), &mut left);
+        }
+        if left == 0 {
+            front.pairs.clear();
+            front.blocks.clear();
+            (front.next_pairs, front.next_blocks) = (pairs, blocks);
+            return false;
         }
         front.next_pairs = std::mem::replace(&mut front.pairs, pairs);
         front.next_blocks = std::mem::replace(&mut front.blocks, blocks);
+        true
     }
 
     /// The blocks of internal node `n`'s subtree, in post-order, into `out` and `blocks`: the
-    /// old ones where `dirty` does not name the node, else computed anew.
+    /// old ones where `dirty` does not name the node, else computed anew. Stops early once
+    /// `left`, the node pairs it may still look at, is 0.
     fn front_blocks(
         &self,
         n: u32,
         related: &impl Fn(u32, u32) -> bool,
         dirty: &impl Fn(u32) -> bool,
         old: Blocks<'_>,
-        out: &mut Vec<(u32, u32)>,
-        blocks: &mut [(u32, u32)],
+        (out, blocks): BlocksOut<'_>,
+        left: &mut u64,
     ) {
         let node = &self.nodes[n as usize];
         let (l, r) = (node.a, node.b);
         for c in [l, r] {
-            if self.nodes[c as usize].b != LEAF {
-                self.front_blocks(c, related, dirty, old, out, blocks);
+            if self.nodes[c as usize].b != LEAF && *left > 0 {
+                self.front_blocks(c, related, dirty, old, (out, blocks), left);
             }
+        }
+        if *left == 0 {
+            return;
         }
         let start = out.len();
         if dirty(n) {
-            if !self.front_of_pair(l, r, related, out) {
+            if !self.front_of_pair(l, r, related, out, left) {
                 out.push((l, r));
             }
         } else {
@@ -109,14 +150,20 @@ impl<V: BoundingVolume> Bvh<V> {
     }
 
     /// Whether nodes `a` and `b` (distinct, neither below the other) are related; if they are,
-    /// the front below them is pushed to `out`. If not, nothing is pushed.
+    /// the front below them is pushed to `out`. If not, nothing is pushed. Each pair looked at
+    /// takes one from `left`; once it is 0 the answer is meaningless (the caller drops it).
     fn front_of_pair(
         &self,
         a: u32,
         b: u32,
         related: &impl Fn(u32, u32) -> bool,
         out: &mut Vec<(u32, u32)>,
+        left: &mut u64,
     ) -> bool {
+        if *left == 0 {
+            return false;
+        }
+        *left -= 1;
         let (x, y) = (&self.nodes[a as usize], &self.nodes[b as usize]);
         let (x_leaf, y_leaf) = (x.b == LEAF, y.b == LEAF);
         if x_leaf && y_leaf {
@@ -143,7 +190,7 @@ impl<V: BoundingVolume> Bvh<V> {
         };
         let mut rel = [false; 4];
         for k in 0..count {
-            rel[k] = self.front_of_pair(pairs[k].0, pairs[k].1, related, out);
+            rel[k] = self.front_of_pair(pairs[k].0, pairs[k].1, related, out, left);
         }
         let any = rel[..count].iter().any(|&r| r);
         if any {
@@ -159,7 +206,7 @@ impl<V: BoundingVolume> Bvh<V> {
 
 impl<V: BoundingVolume> Bvh<V> {
     /// Calls `leaf_pair(a, b)` for every pair of leaves below the pairs of `front` (a slice of
-    /// a [`Bvh::front`]) whose volumes overlap, each once, in a deterministic order: the
+    /// a [`Bvh::front_within`]) whose volumes overlap, each once, in a deterministic order: the
     /// traversal of the pairs of the front, one after the other. Returns the bounding-volume
     /// tests made.
     pub(crate) fn front_pairs(

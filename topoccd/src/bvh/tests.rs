@@ -377,3 +377,26 @@ fn an_updated_front_is_the_front_computed_afresh() {
         }
     }
 }
+
+/// A search for the front given too small a budget says so and leaves no front; given enough,
+/// it finds the front of [`Bvh::front`], also when it updates a front kept from before.
+#[test]
+fn a_front_search_past_its_budget_gives_no_front() {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let leaves = leaves(&mut rng, 300);
+    let bvh = Bvh::from_leaves(&leaves);
+    let nodes = bvh.nodes();
+    let volume = |node: u32| nodes[node as usize].volume;
+    let rel = |a: u32, b: u32| (a + b).is_multiple_of(3) && volume(a).overlaps(&volume(b));
+    let mut whole = super::Front::default();
+    bvh.front(&rel, &mut whole);
+    assert!(!whole.pairs.is_empty());
+    let mut front = super::Front::default();
+    assert!(!bvh.front_within(&rel, &mut front, 10));
+    assert!(front.pairs.is_empty());
+    assert!(bvh.front_within(&rel, &mut front, u64::MAX - 1));
+    assert_eq!(front.pairs, whole.pairs);
+    // An update of every block: too small a budget drops the kept front too.
+    assert!(!bvh.update_front_within(&rel, &|_| true, &mut front, 10));
+    assert!(front.pairs.is_empty());
+}

@@ -5,7 +5,7 @@
 //! Kept across steps ([`BvhPhase`]): the tree is refitted while the triangles stay the same,
 //! or while at most one in eight changes its corners (a cut or a tear re-indexes a few), as
 //! long as it fits its leaves; otherwise it is rebuilt. With the tree comes its *front*
-//! ([`Bvh::front`]): the highest pairs of subtrees that share no mesh vertex. Two subtrees
+//! ([`Bvh::front_within`]): the highest pairs of subtrees that share no mesh vertex. Two subtrees
 //! that share a vertex always overlap, so a traversal from the root descends them every step
 //! down to neighbouring triangles, most of its tests. The front depends on the tree's shape
 //! and the triangles only; it is computed with each build, updated where a cut changed the
@@ -56,10 +56,13 @@ pub(crate) struct PerStepBvh<const H: usize> {
     /// cleared by every build, so a stale mark never drops a pair.
     marked: bool,
     /// The front of the tree's self-traversal for the relation "the triangles share a vertex"
-    /// ([`Bvh::front`]), valid while `front_valid`: the tree's shape and its triangles are
+    /// ([`Bvh::front_within`]), valid while `front_valid`: the tree's shape and its triangles are
     /// those it was computed for (a rebuild clears it; a refit keeps it).
     front: Front,
     front_valid: bool,
+    /// Whether the search for the front of this tree's shape gave up ([`FRONT_BUDGET`]): the
+    /// traversal then starts from the root until the tree is rebuilt.
+    front_refused: bool,
     /// The parent of each node (the root's is itself), for the ancestors of changed leaves.
     parent: Vec<u32>,
     /// This step's neighbouring triangle pairs that share no vertex with a certified star
@@ -74,6 +77,13 @@ pub(crate) struct PerStepBvh<const H: usize> {
 /// Past one triangle in this many with other corners, a tree over as many triangles is rebuilt
 /// rather than refitted.
 const CHANGED_SHARE: usize = 8;
+
+/// The node pairs the search for a front may look at, per leaf: about one full traversal's
+/// bounding-volume tests (10 to 50 per leaf on the scenes measured), with room to spare. Past
+/// it (a mesh collapsed to a few points, where every pair of subtrees overlaps and the search
+/// would look at every pair of leaves before the query could stop) the tree has no front, and
+/// its traversal from the root, which a cap, a deadline or a cancel stops, does the work.
+const FRONT_BUDGET: u64 = 256;
 
 /// Pairs of the front one task of the front's traversal takes (a fixed number, so the tasks do
 /// not depend on the thread count).
@@ -188,6 +198,7 @@ impl<const H: usize> PerStepBvh<H> {
         }
         self.refitted = false;
         self.front_valid = false;
+        self.front_refused = false;
         let (x0, x1) = (step.pos0(), step.pos1());
         // A leaf stands for its triangle's box at 0 and at `t_max` when splitting.
         let t_end = t_max.clamp(0.0, 1.0);
@@ -226,11 +237,11 @@ impl<const H: usize> PerStepBvh<H> {
 
     /// Computes the front of the tree as it is, unless it is valid already. A triangle's volume
     /// contains its corners' paths, so two triangles that share a vertex overlap, as
-    /// [`Bvh::front`] needs; but not if a volume holds a NaN (coordinates near `f64::MAX`,
+    /// [`Bvh::front_within`] needs; but not if a volume holds a NaN (coordinates near `f64::MAX`,
     /// whose projections overflow): then there is no front, and the traversal starts from the
     /// root as before.
     fn find_front(&mut self) {
-        if self.front_valid {
+        if self.front_valid || self.front_refused {
             return;
         }
         if !self.leaves_without_nan() {
@@ -241,8 +252,14 @@ impl<const H: usize> PerStepBvh<H> {
             let (x, y) = (&corners[a as usize].vertices, &corners[b as usize].vertices);
             x.iter().any(|v| y.contains(v))
         };
-        self.bvh.front(&shares, &mut self.front);
-        self.front_valid = true;
+        let budget = self.front_budget();
+        self.front_valid = self.bvh.front_within(&shares, &mut self.front, budget);
+        self.front_refused = !self.front_valid;
+    }
+
+    /// The node pairs a search for the front may look at ([`FRONT_BUDGET`]).
+    fn front_budget(&self) -> u64 {
+        (FRONT_BUDGET * self.leaf_node.len() as u64).max(1 << 16)
     }
 
     /// Whether no leaf volume holds a NaN (see [`PerStepBvh::find_front`]).
@@ -261,7 +278,7 @@ impl<const H: usize> PerStepBvh<H> {
     }
 
     /// Gives the `changed` triangles their new corners, and updates the front for them: only
-    /// the blocks of their ancestors change ([`Bvh::update_front`]).
+    /// the blocks of their ancestors change ([`Bvh::update_front_within`]).
     fn update_corners(&mut self, tris: &[[u32; 3]], changed: &[u32]) {
         if changed.is_empty() {
             return self.find_front();
@@ -283,13 +300,16 @@ impl<const H: usize> PerStepBvh<H> {
             self.front_valid = false;
             return;
         }
+        let budget = self.front_budget();
         let corners = &self.corners;
         let shares = |a: u32, b: u32| {
             let (x, y) = (&corners[a as usize].vertices, &corners[b as usize].vertices);
             x.iter().any(|v| y.contains(v))
         };
-        self.bvh
-            .update_front(&shares, &|n| dirty[n as usize], &mut self.front);
+        self.front_valid =
+            self.bvh
+                .update_front_within(&shares, &|n| dirty[n as usize], &mut self.front, budget);
+        self.front_refused = !self.front_valid;
     }
 
     /// Records which leaf triangles' corners have a certified star this step (`None`: none,
