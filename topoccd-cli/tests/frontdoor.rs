@@ -3,59 +3,16 @@
 //! topology-changing step with `--parents`, coincident vertices warned about and `--weld`ed,
 //! reader notes, and `run` on the folders `bench` accepts.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
-/// A fresh folder under the system's temporary folder, removed when dropped.
-struct TempDir(PathBuf);
+mod common;
+use common::{Run, TempDir};
 
-impl TempDir {
-    fn new(name: &str) -> Self {
-        let dir =
-            std::env::temp_dir().join(format!("topoccd-frontdoor-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("create the temporary folder");
-        Self(dir)
-    }
-
-    fn file(&self, name: &str, text: impl AsRef<[u8]>) -> PathBuf {
-        let path = self.0.join(name);
-        if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).expect("mkdir");
-        }
-        std::fs::write(&path, text).expect("write a test input");
-        path
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-struct Run {
-    output: Output,
-    stdout: String,
-    stderr: String,
-}
+const SUITE: &str = "frontdoor";
 
 /// Runs the binary in `cwd` with stdout and stderr both piped (neither is a terminal).
 fn topoccd_in(cwd: &Path, args: &[&str]) -> Run {
-    let output = Command::new(env!("CARGO_BIN_EXE_topoccd"))
-        .args(args)
-        .current_dir(cwd)
-        .env_remove("TOPOCCD_MAX_MEMORY")
-        .output()
-        .expect("run topoccd");
-    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
-    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
-    assert!(!stderr.contains("panicked"), "a panic: {stderr}");
-    Run {
-        output,
-        stdout,
-        stderr,
-    }
+    common::run(Some(cwd), args, &[])
 }
 
 fn ok(run: &Run) {
@@ -106,7 +63,7 @@ fn json(text: &str) -> serde_json::Value {
 #[test]
 fn pairs_dash_writes_the_pairs_to_stdout_and_the_summary_to_stderr() {
     // Issue 12: "`--pairs -` creates a file named `-`".
-    let tmp = TempDir::new("pairs-dash");
+    let tmp = TempDir::new(SUITE, "pairs-dash");
     tmp.file("t0.obj", seam_frames(1.0));
     tmp.file("t1.obj", seam_frames(-1.0));
     let run = topoccd_in(
@@ -154,7 +111,7 @@ fn pairs_dash_writes_the_pairs_to_stdout_and_the_summary_to_stderr() {
 fn coincident_vertices_are_warned_about_and_welded() {
     // Issue 12: duplicates "give thousands of spurious contacts at t=0 (earliest 0.0 instead of
     // 0.5) with no warning".
-    let tmp = TempDir::new("weld");
+    let tmp = TempDir::new(SUITE, "weld");
     tmp.file("t0.obj", seam_frames(1.0));
     tmp.file("t1.obj", seam_frames(-1.0));
     let plain = topoccd_in(&tmp.0, &["step", "--json", "t0.obj", "t1.obj"]);
@@ -191,7 +148,7 @@ fn coincident_vertices_are_warned_about_and_welded() {
 #[test]
 fn one_topology_changing_step_with_parents() {
     // Issue 12: "`step` has no `--parents`, so one topology-changing step needs a folder".
-    let tmp = TempDir::new("parents");
+    let tmp = TempDir::new(SUITE, "parents");
     let sheet = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
     let top = [[0.2, 0.2, 1.0], [0.6, 0.2, 1.0], [0.2, 0.6, 1.0]];
     let mut p0 = sheet.to_vec();
@@ -257,7 +214,7 @@ fn one_topology_changing_step_with_parents() {
 
 #[test]
 fn quads_are_read_noted_and_their_pairs_name_the_face() {
-    let tmp = TempDir::new("quads");
+    let tmp = TempDir::new(SUITE, "quads");
     let quad = |z: f64| {
         obj(
             &[
@@ -304,7 +261,7 @@ fn prefixed_sequence(tmp: &TempDir, frames: usize) {
 #[test]
 fn run_prints_each_step_on_stdout_when_stderr_is_not_a_terminal() {
     // Issue 12: "`topoccd run seq > out 2> err` prints only the summary".
-    let tmp = TempDir::new("run-lines");
+    let tmp = TempDir::new(SUITE, "run-lines");
     prefixed_sequence(&tmp, 3);
     let run = topoccd_in(&tmp.0, &["run", "seq"]);
     ok(&run);
@@ -350,7 +307,7 @@ fn run_prints_each_step_on_stdout_when_stderr_is_not_a_terminal() {
 fn run_accepts_what_bench_accepts_and_bench_json_has_typed_fields() {
     // Issue 12: "`run` refuses the shared scene folders that `bench` accepts"; "in `bench
     // --json`, `seconds` is a list of `[name, value]` pairs and `contacts` is a float".
-    let tmp = TempDir::new("scene");
+    let tmp = TempDir::new(SUITE, "scene");
     for sub in ["boxes", "mma_bool"] {
         std::fs::create_dir_all(tmp.0.join("scene").join(sub)).expect("mkdir");
     }

@@ -4,55 +4,16 @@
 //! in an ASCII PLY, an unwritable `--out` and a sequence folder holding other files each get a
 //! clear message, before any work.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::Command;
 
-/// A fresh folder under the system's temporary folder, removed when dropped.
-struct TempDir(PathBuf);
+mod common;
+use common::{Run, TempDir};
 
-impl TempDir {
-    fn new(name: &str) -> Self {
-        let dir =
-            std::env::temp_dir().join(format!("topoccd-hostile-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("create the temporary folder");
-        Self(dir)
-    }
-
-    fn file(&self, name: &str, text: &str) -> PathBuf {
-        let path = self.0.join(name);
-        std::fs::write(&path, text).expect("write a test input");
-        path
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-struct Run {
-    output: Output,
-    stdout: String,
-    stderr: String,
-}
+const SUITE: &str = "hostile";
 
 fn topoccd(args: &[&str], dir: &Path) -> Run {
-    let output = Command::new(env!("CARGO_BIN_EXE_topoccd"))
-        .args(args)
-        .current_dir(dir)
-        .env_remove("TOPOCCD_MAX_MEMORY")
-        .output()
-        .expect("run topoccd");
-    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
-    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
-    assert!(!stderr.contains("panicked"), "a panic: {stderr}");
-    Run {
-        output,
-        stdout,
-        stderr,
-    }
+    common::run(Some(dir), args, &[])
 }
 
 fn assert_fails(run: &Run, needle: &str) {
@@ -90,8 +51,8 @@ const TRIANGLES: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
 
 #[test]
 fn a_collapsed_step_is_warned_about_and_ends_with_a_cap() {
-    let tmp = TempDir::new("collapsed");
-    tmp.file("c.obj", &collapsed_obj(24));
+    let tmp = TempDir::new(SUITE, "collapsed");
+    tmp.file("c.obj", collapsed_obj(24));
     let json = |threads: &str| {
         let args = [
             "--threads",
@@ -159,8 +120,8 @@ fn a_collapsed_step_is_warned_about_and_ends_with_a_cap() {
 /// grows past it. `--max-contacts off` lifts it.
 #[test]
 fn the_default_cap_follows_the_memory_limit() {
-    let tmp = TempDir::new("default-cap");
-    tmp.file("c.obj", &collapsed_obj(24));
+    let tmp = TempDir::new(SUITE, "default-cap");
+    tmp.file("c.obj", collapsed_obj(24));
     let json = |limit: &str, cap: &[&str]| {
         let mut args = vec!["--threads", "1", "step", "c.obj", "c.obj", "--json"];
         args.extend(["--max-memory", limit]);
@@ -192,7 +153,7 @@ fn the_default_cap_follows_the_memory_limit() {
 
 #[test]
 fn threads_has_the_python_range() {
-    let tmp = TempDir::new("threads");
+    let tmp = TempDir::new(SUITE, "threads");
     tmp.file("t.obj", TRIANGLES);
     for bad in ["0", "4097", "two"] {
         let run = topoccd(&["--threads", bad, "step", "t.obj", "t.obj"], &tmp.0);
@@ -215,7 +176,7 @@ fn threads_has_the_python_range() {
 
 #[test]
 fn a_folder_given_as_a_mesh_is_named_a_folder() {
-    let tmp = TempDir::new("folder");
+    let tmp = TempDir::new(SUITE, "folder");
     tmp.file("t.obj", TRIANGLES);
     std::fs::create_dir_all(tmp.0.join("frames")).unwrap();
     std::fs::create_dir_all(tmp.0.join("mesh.ply")).unwrap();
@@ -229,21 +190,15 @@ fn a_folder_given_as_a_mesh_is_named_a_folder() {
 
 #[test]
 fn nan_in_an_ascii_ply_names_the_value_and_the_line() {
-    let tmp = TempDir::new("nan");
+    let tmp = TempDir::new(SUITE, "nan");
     let header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
                   property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
                   end_header\n";
-    tmp.file(
-        "n.ply",
-        &format!("{header}0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"),
-    );
-    tmp.file(
-        "i.ply",
-        &format!("{header}0 0 0\n1 0 0\n0 1 inf\n3 0 1 2\n"),
-    );
+    tmp.file("n.ply", format!("{header}0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"));
+    tmp.file("i.ply", format!("{header}0 0 0\n1 0 0\n0 1 inf\n3 0 1 2\n"));
     tmp.file(
         "w.ply",
-        &format!("{header}0 0 0\n1 0 zero\n0 1 0\n3 0 1 2\n"),
+        format!("{header}0 0 0\n1 0 zero\n0 1 0\n3 0 1 2\n"),
     );
     let run = topoccd(&["step", "n.ply", "n.ply"], &tmp.0);
     assert_fails(
@@ -266,8 +221,8 @@ fn nan_in_an_ascii_ply_names_the_value_and_the_line() {
 
 #[test]
 fn an_unwritable_output_fails_before_any_work() {
-    let tmp = TempDir::new("out");
-    tmp.file("c.obj", &collapsed_obj(4));
+    let tmp = TempDir::new(SUITE, "out");
+    tmp.file("c.obj", collapsed_obj(4));
     let run = topoccd(&["render", "c.obj", "--out", "missing/x.png"], &tmp.0);
     assert_fails(
         &run,
@@ -298,7 +253,7 @@ fn an_unwritable_output_fails_before_any_work() {
 
 #[test]
 fn a_sequence_folder_with_other_files_says_what_it_left_out() {
-    let tmp = TempDir::new("seq");
+    let tmp = TempDir::new(SUITE, "seq");
     std::fs::create_dir_all(tmp.0.join("q")).unwrap();
     tmp.file("q/q0.obj", TRIANGLES);
     tmp.file("q/q1.obj", TRIANGLES);

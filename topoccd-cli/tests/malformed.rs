@@ -3,58 +3,16 @@
 //! JSON with `--json`), and nothing panics. Valid but degenerate input (an empty mesh, a single
 //! triangle) is not an error.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
-/// A fresh folder under the system's temporary folder, removed when dropped.
-struct TempDir(PathBuf);
+mod common;
+use common::{Run, TempDir};
 
-impl TempDir {
-    fn new(name: &str) -> Self {
-        let dir =
-            std::env::temp_dir().join(format!("topoccd-malformed-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("create the temporary folder");
-        Self(dir)
-    }
-
-    /// Writes `bytes` to a file of the folder and returns its path.
-    fn file(&self, name: &str, bytes: impl AsRef<[u8]>) -> PathBuf {
-        let path = self.0.join(name);
-        std::fs::write(&path, bytes).expect("write a test input");
-        path
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-/// What a run of the binary printed.
-struct Run {
-    output: Output,
-    stdout: String,
-    stderr: String,
-}
+const SUITE: &str = "malformed";
 
 fn topoccd_env(args: &[&Path], env: &[(&str, &str)]) -> Run {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_topoccd"));
-    command.args(args).env_remove("TOPOCCD_MAX_MEMORY");
-    for (key, value) in env {
-        command.env(key, value);
-    }
-    let output = command.output().expect("run topoccd");
-    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
-    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
-    assert!(!stderr.contains("panicked"), "a panic: {stderr}");
-    Run {
-        output,
-        stdout,
-        stderr,
-    }
+    common::run(None, args, env)
 }
 
 fn topoccd(args: &[&Path]) -> Run {
@@ -142,7 +100,7 @@ const SQUARE: [[f64; 3]; 4] = [
 
 #[test]
 fn wrong_magic_is_refused() {
-    let tmp = TempDir::new("magic");
+    let tmp = TempDir::new(SUITE, "magic");
     let obj_in_ply = tmp.file("mesh.ply", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     let path = obj_in_ply.display().to_string();
     for json in [false, true] {
@@ -163,7 +121,7 @@ fn wrong_magic_is_refused() {
 
 #[test]
 fn truncated_binary_ply_names_the_element() {
-    let tmp = TempDir::new("truncated");
+    let tmp = TempDir::new(SUITE, "truncated");
     let whole = binary_ply((4, 2), &SQUARE, &[[0, 1, 2], [1, 3, 2]]);
     let good = tmp.file("good.ply", &whole);
     let cut = tmp.file("cut.ply", &whole[..whole.len() - 5]);
@@ -189,7 +147,7 @@ fn truncated_binary_ply_names_the_element() {
 
 #[test]
 fn wrong_element_counts_are_refused() {
-    let tmp = TempDir::new("counts");
+    let tmp = TempDir::new(SUITE, "counts");
     let good = tmp.file(
         "good.ply",
         binary_ply((4, 2), &SQUARE, &[[0, 1, 2], [1, 3, 2]]),
@@ -230,7 +188,7 @@ fn wrong_element_counts_are_refused() {
 
 #[test]
 fn absurd_counts_fail_fast_without_allocating() {
-    let tmp = TempDir::new("absurd");
+    let tmp = TempDir::new(SUITE, "absurd");
     let header = "ply\nformat binary_little_endian 1.0\nelement vertex 10000000000\n\
                   property float x\nproperty float y\nproperty float z\nelement face 20000000000\n\
                   property list uchar int vertex_indices\nend_header\n";
@@ -250,7 +208,7 @@ fn absurd_counts_fail_fast_without_allocating() {
 
 #[test]
 fn face_index_out_of_range_names_the_face() {
-    let tmp = TempDir::new("range");
+    let tmp = TempDir::new(SUITE, "range");
     let bad = tmp.file("bad.ply", ply(&SQUARE, &[[0, 1, 2], [1, 4, 2]]));
     let run = topoccd(&[p("step"), &bad, &bad]);
     assert_fails(
@@ -264,7 +222,7 @@ fn face_index_out_of_range_names_the_face() {
 
 #[test]
 fn mismatched_vertex_counts_name_both_files() {
-    let tmp = TempDir::new("mismatch");
+    let tmp = TempDir::new(SUITE, "mismatch");
     let four = tmp.file("four.ply", ply(&SQUARE, &[[0, 1, 2]]));
     let three = tmp.file("three.ply", ply(&SQUARE[..3], &[[0, 1, 2]]));
     let four_obj = tmp.file("four.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\n");
@@ -282,7 +240,7 @@ fn mismatched_vertex_counts_name_both_files() {
 
 #[test]
 fn non_finite_coordinates_are_refused() {
-    let tmp = TempDir::new("nan");
+    let tmp = TempDir::new(SUITE, "nan");
     let good = tmp.file("good.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     let nan = tmp.file("nan.obj", "v 0 0 0\nv 1 NaN 0\nv 0 1 0\nf 1 2 3\n");
     let run = topoccd(&[p("step"), &good, &nan]);
@@ -297,7 +255,7 @@ fn non_finite_coordinates_are_refused() {
 
 #[test]
 fn an_empty_mesh_has_no_contacts() {
-    let tmp = TempDir::new("empty");
+    let tmp = TempDir::new(SUITE, "empty");
     let empty_ply = tmp.file("empty.ply", ply(&[], &[]));
     let empty_obj = tmp.file("empty.obj", "# nothing\n");
     let lonely_vertices = tmp.file("vertices.obj", "v 0 0 0\nv 1 0 0\n");
@@ -325,7 +283,7 @@ fn an_empty_mesh_has_no_contacts() {
 
 #[test]
 fn a_single_triangle_has_no_contacts() {
-    let tmp = TempDir::new("one");
+    let tmp = TempDir::new(SUITE, "one");
     let t0 = tmp.file("t0.ply", ply(&SQUARE[..3], &[[0, 1, 2]]));
     let t1 = tmp.file(
         "t1.ply",
@@ -348,7 +306,7 @@ fn a_single_triangle_has_no_contacts() {
 
 #[test]
 fn a_step_over_the_memory_limit_is_refused_up_front() {
-    let tmp = TempDir::new("memory");
+    let tmp = TempDir::new(SUITE, "memory");
     let t0 = tmp.file("t0.ply", ply(&SQUARE, &[[0, 1, 2], [1, 3, 2]]));
     let t1 = tmp.file(
         "t1.obj",
@@ -401,7 +359,7 @@ fn a_step_over_the_memory_limit_is_refused_up_front() {
 
 #[test]
 fn malformed_query_files_and_sequences_are_refused() {
-    let tmp = TempDir::new("queries");
+    let tmp = TempDir::new(SUITE, "queries");
     std::fs::create_dir_all(tmp.0.join("set/vertex-face")).expect("mkdir");
     let csv = tmp.file("set/vertex-face/q.csv", "1,1,0,1,0,1,0\n1,1,0,1,0,1,0\n");
     let run = topoccd(&[p("queries"), &tmp.0]);
@@ -413,7 +371,7 @@ fn malformed_query_files_and_sequences_are_refused() {
         ],
     );
 
-    let seq = TempDir::new("sequence");
+    let seq = TempDir::new(SUITE, "sequence");
     seq.file("0000.ply", ply(&SQUARE, &[[0, 1, 2]]));
     let run = topoccd(&[p("run"), &seq.0]);
     assert_fails(&run, &["a sequence needs at least two frames", "found 1"]);
@@ -427,7 +385,7 @@ fn malformed_query_files_and_sequences_are_refused() {
 /// message (one argument struct, one validation).
 #[test]
 fn invalid_options_are_refused_by_every_command_alike() {
-    let dir = TempDir::new("options");
+    let dir = TempDir::new(SUITE, "options");
     let tri = ply(
         &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
         &[[0, 1, 2]],
@@ -494,7 +452,7 @@ fn invalid_options_are_refused_by_every_command_alike() {
 /// `--pairs` writes them.
 #[test]
 fn earliest_shows_its_pairs() {
-    let dir = TempDir::new("earliest");
+    let dir = TempDir::new(SUITE, "earliest");
     // A vertex (3) of a small carrier triangle falls through a fixed triangle at t = 0.5.
     let t0 = ply(
         &[
