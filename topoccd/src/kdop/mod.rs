@@ -14,8 +14,10 @@
 //! [`Kdop<H>`] holds `H = k/2` slabs; it is monomorphised for `H` = 3, 7, 9 and 13, and a query
 //! dispatches on [`DopKind`] once, at the top.
 
+mod compact;
 mod volume;
 
+pub use compact::CompactKdop;
 pub use volume::Kdop;
 
 /// The 13 directions used by the k-DOPs, grouped: axes, cube diagonals, edge diagonals.

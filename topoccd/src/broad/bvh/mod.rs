@@ -31,7 +31,7 @@ use neighbours::neighbours;
 use super::{corner_volumes, triangle_volume, triangle_volume_from, BroadInput, TaskPairs};
 use crate::bvh::run_batches;
 use crate::bvh::{Bvh, BvhError, BvhWorkspace, Front, Leaf, LeafCheck, ParOptions, TestAll};
-use crate::kdop::Kdop;
+use crate::kdop::{CompactKdop, Kdop};
 use crate::math::{lerp, DVec3};
 use crate::mesh::star::StarView;
 use crate::mesh::{Step, Topology};
@@ -41,7 +41,7 @@ use crate::mesh::{Step, Topology};
 /// are computed from the positions where the build or the refit places them.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct PerStepBvh<const H: usize> {
-    bvh: Bvh<Kdop<H>>,
+    bvh: Bvh<CompactKdop<H>>,
     /// The end of the times the leaves' volumes are swept over, and their inflation.
     swept: (f64, f64),
     /// What the tree's shape was built for, while it may still be refitted.
@@ -72,6 +72,11 @@ pub(crate) struct PerStepBvh<const H: usize> {
     leaf_node: Vec<u32>,
     /// Scratch: the vertices' parts of this step's volumes ([`corner_volumes`]).
     corner_volumes: Vec<(Kdop<H>, DVec3)>,
+    /// Each triangle's volume in `f64`, as the tree was last fitted. The tree's nodes hold
+    /// them rounded outward to `f32` ([`CompactKdop`]): half the memory for the traversal,
+    /// which finds a few more pairs of leaves that way; the pairs it reports are those whose
+    /// `f64` volumes overlap, the same as a tree of `f64` volumes reports.
+    leaf_volumes: Vec<Kdop<H>>,
 }
 
 /// Past one triangle in this many with other corners, a tree over as many triangles is rebuilt
@@ -138,16 +143,15 @@ const REFIT_SPREAD: f64 = 1.25;
 /// their first three slabs, the axes) over the root's extent. A tree refitted to leaves that
 /// moved apart from their neighbours of the build has bigger internal nodes, which overlap
 /// more and cost the traversal more tests.
-fn spread<const H: usize>(bvh: &Bvh<Kdop<H>>) -> f64 {
-    let extent = |v: &Kdop<H>| (0..3).map(|i| v.hi[i] - v.lo[i]).sum::<f64>();
+fn spread<const H: usize>(bvh: &Bvh<CompactKdop<H>>) -> f64 {
     let Some(root) = bvh.root_volume() else {
         return 0.0;
     };
     let inner: f64 = (bvh.nodes().iter())
         .filter(|n| n.children().is_some())
-        .map(|n| extent(&n.volume))
+        .map(|n| n.volume.extent())
         .sum();
-    inner / extent(root)
+    inner / root.extent()
 }
 
 impl<const H: usize> PerStepBvh<H> {
@@ -168,8 +172,9 @@ impl<const H: usize> PerStepBvh<H> {
         same_triangles: bool,
         ws: &mut BvhWorkspace,
     ) {
-        corner_volumes(step, t_max, &mut self.corner_volumes);
-        let volume = triangle_volume_from(step, &self.corner_volumes, t_max, sep);
+        self.sweep_leaves(step, t_max, sep);
+        let leaves = &self.leaf_volumes;
+        let volume = move |t: u32| CompactKdop::outward(&leaves[t as usize]);
         self.swept = (t_max, sep);
         self.marked = false;
         let tris = step.triangles();
@@ -264,8 +269,7 @@ impl<const H: usize> PerStepBvh<H> {
 
     /// Whether no leaf volume holds a NaN (see [`PerStepBvh::find_front`]).
     fn leaves_without_nan(&self) -> bool {
-        let nan = |v: &Kdop<H>| v.lo.iter().chain(&v.hi).any(|x| x.is_nan());
-        !self.bvh.nodes().iter().any(|n| n.leaf().is_some() && nan(&n.volume))
+        !(self.bvh.nodes().iter()).any(|n| n.leaf().is_some() && n.volume.has_nan())
     }
 
     /// The leaf triangles whose corners are not those of `tris` (as many triangles as leaves).
@@ -346,9 +350,21 @@ impl<const H: usize> PerStepBvh<H> {
         }
         let (sep, t_max) = (input.filter.sep, input.filter.t_max());
         self.swept = (t_max, sep);
-        corner_volumes(input.step, t_max, &mut self.corner_volumes);
-        let volume = triangle_volume_from(input.step, &self.corner_volumes, t_max, sep);
-        self.bvh.refit(volume);
+        self.sweep_leaves(input.step, t_max, sep);
+        let leaves = &self.leaf_volumes;
+        self.bvh
+            .refit(move |t| CompactKdop::outward(&leaves[t as usize]));
+    }
+
+    /// The triangles' volumes swept over `[0, t_max]`, inflated by `sep`, into `leaf_volumes`.
+    fn sweep_leaves(&mut self, step: &Step, t_max: f64, sep: f64) {
+        corner_volumes(step, t_max, &mut self.corner_volumes);
+        let volume = triangle_volume_from(step, &self.corner_volumes, t_max, sep);
+        (0..step.triangles().len() as u32)
+            .into_par_iter()
+            .with_min_len(1 << 12)
+            .map(volume)
+            .collect_into_vec(&mut self.leaf_volumes);
     }
 
     /// Checks the hierarchy of the last step, `step`, against its leaves: the triangles'
@@ -356,10 +372,10 @@ impl<const H: usize> PerStepBvh<H> {
     pub fn validate(&self, step: &Step) -> Result<(), BvhError> {
         let (t_max, sep) = self.swept;
         let volume = triangle_volume::<H>(step, t_max, sep);
-        let leaves: Vec<Leaf<Kdop<H>>> = (0..step.triangles().len() as u32)
+        let leaves: Vec<Leaf<CompactKdop<H>>> = (0..step.triangles().len() as u32)
             .map(|t| Leaf {
                 id: t,
-                volume: volume(t),
+                volume: CompactKdop::outward(&volume(t)),
             })
             .collect();
         self.bvh.validate(&leaves)
@@ -378,6 +394,14 @@ impl<const H: usize> TaskPairs for PerStepBvh<H> {
         consume: impl FnMut(T) -> ControlFlow<()>,
         skip: &(dyn Fn(&T) -> bool + Sync),
     ) -> u64 {
+        // The tree's volumes are rounded outward: the pairs of leaves whose `f64` volumes
+        // overlap.
+        let leaves = &self.leaf_volumes;
+        let pair = |acc: &mut T, a: u32, b: u32| {
+            if leaves[a as usize].overlaps(&leaves[b as usize]) {
+                pair(acc, a, b);
+            }
+        };
         if self.marked && self.front_valid {
             self.front_pairs(par, make, pair, finish, consume, skip)
         } else if self.marked {
@@ -423,14 +447,11 @@ impl<const H: usize> PerStepBvh<H> {
             .map(FrontTask::Neighbours)
             .chain(self.front.pairs.chunks(FRONT_TASK).map(FrontTask::Front))
             .collect();
-        let nodes = self.bvh.nodes();
         let body = |stack: &mut Vec<(u32, u32)>, task: &FrontTask<'_>, acc: &mut T| match task {
             FrontTask::Neighbours(list) => {
+                // `pair` tests the triangles' own volumes.
                 for &[s, t] in *list {
-                    let (x, y) = (self.leaf_node[s as usize], self.leaf_node[t as usize]);
-                    if nodes[x as usize].volume.overlaps(&nodes[y as usize].volume) {
-                        pair(acc, s, t);
-                    }
+                    pair(acc, s, t);
                 }
                 list.len() as u64
             }
