@@ -31,10 +31,10 @@ PARTS = [
     ("reading frames (left out)", r"ply_rs|io::|parser|read_binary|from_utf8|Sequence"),
     ("tree built afresh (step 0, left out)", r"front_of_pair|front_of_self|front_blocks|bvh::build|sort::|partition|rebuild"),
     ("star certificates", r"mesh::star::"),
-    ("swept volumes and refit", r"triangle_volume|corner_volume|swept_point|swept_triangle|kdop::volume|bvh::refit|Bvh<V>>::refit"),
+    ("swept volumes and refit", r"triangle_volume|corner_volume|swept_point|swept_triangle|kdop::volume|kdop::compact|sweep_leaves|bvh::refit|Bvh<V>>::refit"),
     ("features' boxes, topology", r"FeatureBoxes|Features::update|topology::|same_topology|memcmp|bcmp"),
     ("neighbour list and star marks", r"mark_stars|neighbours"),
-    ("front traversal (bounding volumes)", r"front_pairs|traverse::run|traverse::step|par_self_pairs"),
+    ("front traversal (bounding volumes)", r"front_pairs|traverse::run|traverse::step|par_self_pairs|TaskPairs>::pairs"),
     ("triangle pairs (filter, features)", r"triangle_pair|filter::|triangles_separated|vertices_face"),
     ("narrow phase (prefilter, solver)", r"prefilter|solver|narrow_phase|narrow::|bernstein|closest|Search::"),
 ]
