@@ -31,6 +31,10 @@ pub(crate) struct BvhPhase {
     /// Whether the last Earliest query found its earliest contact late (after the step's first
     /// `1 / EARLY`): the next one then skips the first pass.
     late: bool,
+    /// Whether the next first pass looks at every task: set when the last one stopped after
+    /// its first batch and the second pass then found an early contact (one the first batch
+    /// did not reach); cleared when a contact comes late.
+    whole_first: bool,
     /// The end of this step's first pass, if it makes one ([`BvhPhase::first_end`]).
     first_end: Option<f64>,
 }
@@ -123,11 +127,17 @@ impl BroadPhase for BvhPhase {
     fn run(&mut self, passes: &Passes<'_, '_, '_>, ws: &mut BvhWorkspace, out: Out<'_>) -> BroadStats {
         let (first_end, late_boxes) = (self.first_end, &mut self.late_boxes);
         let options = passes.ctx.options;
-        let (stats, late) = with_tree!(self, options.kdop, |t| {
-            bvh_query(t, passes, ws, late_boxes, first_end, out)
+        let first = first_end.map(|end| (end, self.whole_first));
+        let (stats, late, first_failed) = with_tree!(self, options.kdop, |t| {
+            bvh_query(t, passes, ws, late_boxes, first, out)
         });
         if options.mode == Mode::Earliest {
             self.late = late;
+            if late {
+                self.whole_first = false;
+            } else if first_failed {
+                self.whole_first = true;
+            }
         }
         stats
     }
@@ -146,7 +156,7 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// figures; the narrow phase's time is inside the traversal's (the two run interleaved on
 /// every thread).
 ///
-/// In [`Mode::Earliest`], with `first_end` = `Some(tau)` from
+/// In [`Mode::Earliest`], with `first` = `Some((tau, whole))`, `tau` from
 /// [`first_pass_end`] (`tau = t_max / EARLY`), a first pass uses triangle volumes and feature
 /// boxes (the features' own, swept by the caller over `[0, tau]`) and solves every
 /// candidate over `[0, tau]` first. If it finds contacts whose earliest time `b` has
@@ -162,25 +172,30 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// The first pass pays
 /// when contacts are dense at the start of the step (resting contact) and is wasted
 /// otherwise, so it stops after its first batch of tasks unless that batch found a contact
-/// early enough, and [`Ccd`](crate::Ccd) tries it only while the last Earliest query's contact came early
-/// (`early`); the answer is the same either way (the second pass alone is complete). Also
-/// returns whether this step's earliest contact came late (after `t_max / EARLY`, or none),
-/// with one pass or two. `tree` must have been built for this
+/// early enough (or `first` says to look at every task: the last query's early contact lay
+/// beyond its first batch), and [`Ccd`](crate::Ccd) tries it only while the last Earliest
+/// query's contact came early (`early`); the answer is the same either way (the second pass
+/// alone is complete). Also returns whether this step's earliest contact came late (after
+/// `t_max / EARLY`, or none), with one pass or two, and whether a first pass was made and
+/// did not give the answer. `tree` must have been built for this
 /// step, over `[0, tau]` for two passes, else over `[0, t_max]`.
 fn bvh_query<const H: usize>(
     tree: &mut PerStepBvh<H>,
     passes: &Passes<'_, '_, '_>,
     ws: &mut BvhWorkspace,
     late_boxes: &mut FeatureBoxes,
-    first_end: Option<f64>,
+    first: Option<(f64, bool)>,
     mut out: Out<'_>,
-) -> (BroadStats, bool) {
+) -> (BroadStats, bool, bool) {
+    let first_end = first.map(|(end, _)| end);
+    let stop_first = first.is_some_and(|(_, whole)| !whole);
     let (input, ctx) = (passes.input, passes.ctx);
     // Whether or not there is a first pass, a contact is late after the first `1 / EARLY`.
     let tau = ctx.options.narrow.t_max / EARLY;
     let two_pass = first_end.is_some();
     let end = first_end.unwrap_or(f64::INFINITY);
     let mut build = 0.0;
+    let mut first_failed = false;
     let t = Instant::now();
     // A first pass keeps only contacts that the whole step's pass would look at too.
     let topo = &input.features.topo;
@@ -193,13 +208,14 @@ fn bvh_query<const H: usize>(
         ..*passes
     };
     let boxes = &input.features.boxes;
-    let mut bv_tests = traverse_pass(tree, &first, ws, boxes, (end, two_pass), out.reborrow());
+    let mut bv_tests = traverse_pass(tree, &first, ws, boxes, (end, stop_first), out.reborrow());
     let mut traverse = t.elapsed().as_secs_f64();
     if two_pass {
         let mut best = None;
         lower(&mut best, out.found.vf.iter().map(|c| c.toi));
         lower(&mut best, out.found.ee.iter().map(|c| c.toi));
         let complete = best.is_some_and(|b| ctx.limit(Some(b)) <= end);
+        first_failed = !complete;
         if !complete && ctx.limits.stopped().is_none() {
             if ctx.limits.capped() {
                 // The second pass finds again, with the same times, every contact of the
@@ -232,6 +248,6 @@ fn bvh_query<const H: usize>(
         traverse,
         ..BroadStats::default()
     };
-    (stats, late)
+    (stats, late, first_failed)
 }
 
