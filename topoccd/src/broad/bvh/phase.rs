@@ -31,9 +31,9 @@ pub(crate) struct BvhPhase {
     /// Whether the last Earliest query found its earliest contact late (after the step's first
     /// `1 / EARLY`): the next one then skips the first pass.
     late: bool,
-    /// Whether the next first pass looks at every task: set when the last one stopped after
-    /// its first batch and the second pass then found an early contact (one the first batch
-    /// did not reach); cleared when a contact comes late.
+    /// Whether the next first pass looks at every task: set when the last one did not give
+    /// the answer and the second pass then found an early contact (one beyond the first
+    /// pass's first batch, where it stopped); cleared when a contact comes late.
     whole_first: bool,
     /// The end of this step's first pass, if it makes one ([`BvhPhase::first_end`]).
     first_end: Option<f64>,
@@ -127,9 +127,9 @@ impl BroadPhase for BvhPhase {
     fn run(&mut self, passes: &Passes<'_, '_, '_>, ws: &mut BvhWorkspace, out: Out<'_>) -> BroadStats {
         let (first_end, late_boxes) = (self.first_end, &mut self.late_boxes);
         let options = passes.ctx.options;
-        let first = first_end.map(|end| (end, self.whole_first));
+        let first_look = first_end.map(|end| (end, self.whole_first));
         let (stats, late, first_failed) = with_tree!(self, options.kdop, |t| {
-            bvh_query(t, passes, ws, late_boxes, first, out)
+            bvh_query(t, passes, ws, late_boxes, first_look, out)
         });
         if options.mode == Mode::Earliest {
             self.late = late;
@@ -156,7 +156,7 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// figures; the narrow phase's time is inside the traversal's (the two run interleaved on
 /// every thread).
 ///
-/// In [`Mode::Earliest`], with `first` = `Some((tau, whole))`, `tau` from
+/// In [`Mode::Earliest`], with `first_look` = `Some((tau, whole))`, `tau` from
 /// [`first_pass_end`] (`tau = t_max / EARLY`), a first pass uses triangle volumes and feature
 /// boxes (the features' own, swept by the caller over `[0, tau]`) and solves every
 /// candidate over `[0, tau]` first. If it finds contacts whose earliest time `b` has
@@ -172,7 +172,7 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// The first pass pays
 /// when contacts are dense at the start of the step (resting contact) and is wasted
 /// otherwise, so it stops after its first batch of tasks unless that batch found a contact
-/// early enough (or `first` says to look at every task: the last query's early contact lay
+/// early enough (or `whole` says to look at every task: the last query's early contact lay
 /// beyond its first batch), and [`Ccd`](crate::Ccd) tries it only while the last Earliest
 /// query's contact came early (`early`); the answer is the same either way (the second pass
 /// alone is complete). Also returns whether this step's earliest contact came late (after
@@ -184,11 +184,11 @@ fn bvh_query<const H: usize>(
     passes: &Passes<'_, '_, '_>,
     ws: &mut BvhWorkspace,
     late_boxes: &mut FeatureBoxes,
-    first: Option<(f64, bool)>,
+    first_look: Option<(f64, bool)>,
     mut out: Out<'_>,
 ) -> (BroadStats, bool, bool) {
-    let first_end = first.map(|(end, _)| end);
-    let stop_first = first.is_some_and(|(_, whole)| !whole);
+    let first_end = first_look.map(|(end, _)| end);
+    let stop_first = first_look.is_some_and(|(_, whole)| !whole);
     let (input, ctx) = (passes.input, passes.ctx);
     // Whether or not there is a first pass, a contact is late after the first `1 / EARLY`.
     let tau = ctx.options.narrow.t_max / EARLY;
