@@ -7,7 +7,7 @@
 //! out of range or repeated in a triangle), and `Ccd::query` exactly the invalid options, with
 //! an error naming an offending option. For a valid step and options, every report must be
 //! well formed (sorted, each pair once, no pair of features sharing a vertex, every time of
-//! impact finite and in `[0, t_max]`, `unresolved` counting the contacts not `Resolved`,
+//! impact finite and in `[0, tmax]`, `unresolved` counting the contacts not `Resolved`,
 //! geometry present exactly when asked, `earliest` the first contact), and the BVH and the
 //! brute-force oracle must report the same contacts. The cluster method must report them too,
 //! but for pairs whose features lie in one intermediate cluster: its certificate proves those
@@ -156,8 +156,8 @@ struct Input {
     x0: Vec<Point>,
     motion: Motion,
     triangles: Vec<Triangles>,
-    min_separation: u8,
-    t_max: u8,
+    min_distance: u8,
+    tmax: u8,
     kdop: u8,
     iterations: u8,
     tolerance: u8,
@@ -205,16 +205,16 @@ fn step_is_valid(x0: &[[f64; 3]], x1: &[[f64; 3]], tris: &[[u32; 3]]) -> bool {
 }
 
 /// The options as documented: tolerance in (0, 1), at least one iteration, a finite
-/// `min_separation >= 0`, `t_max` in (0, 1].
+/// `min_distance >= 0`, `tmax` in (0, 1].
 fn options_are_valid(o: &QueryOptions) -> bool {
     let n = &o.narrow;
     n.tolerance > 0.0
         && n.tolerance < 1.0
         && n.max_iterations >= 1
-        && n.min_separation >= 0.0
-        && n.min_separation.is_finite()
-        && n.t_max > 0.0
-        && n.t_max <= 1.0
+        && n.min_distance >= 0.0
+        && n.min_distance.is_finite()
+        && n.tmax > 0.0
+        && n.tmax <= 1.0
 }
 
 /// Whether the error names an option that is out of its range, with its value.
@@ -226,18 +226,18 @@ fn names_a_bad_option(e: &OptionsError, o: &QueryOptions) -> bool {
             same(x, n.tolerance) && !(n.tolerance > 0.0 && n.tolerance < 1.0)
         }
         OptionsError::MaxIterations => n.max_iterations == 0,
-        OptionsError::MinSeparation(x) => {
-            same(x, n.min_separation) && !(n.min_separation >= 0.0 && n.min_separation.is_finite())
+        OptionsError::MinDistance(x) => {
+            same(x, n.min_distance) && !(n.min_distance >= 0.0 && n.min_distance.is_finite())
         }
-        OptionsError::TMax(x) => same(x, n.t_max) && !(n.t_max > 0.0 && n.t_max <= 1.0),
+        OptionsError::Tmax(x) => same(x, n.tmax) && !(n.tmax > 0.0 && n.tmax <= 1.0),
         _ => false,
     }
 }
 
 /// What every report must satisfy, whatever the method, mode and iteration limit.
 fn check_report(report: &Report, tris: &[[u32; 3]], options: &QueryOptions, what: &str) {
-    let t_max = options.narrow.t_max;
-    let toi_ok = |toi: f64| toi.is_finite() && (0.0..=t_max).contains(&toi);
+    let tmax = options.narrow.tmax;
+    let toi_ok = |toi: f64| toi.is_finite() && (0.0..=tmax).contains(&toi);
     let used = |v: u32| tris.iter().any(|t| t.contains(&v));
     let is_edge = |[i, j]: [u32; 2]| {
         tris.iter()
@@ -345,8 +345,8 @@ fuzz_target!(|input: Input| {
     assert_eq!(step.triangles(), &tris[..]);
 
     let mut options = QueryOptions::default();
-    options.narrow.min_separation = [0.0, 1e-6, 1e-3, 0.1][usize::from(input.min_separation % 4)];
-    options.narrow.t_max = [1.0, 0.5, 1e-3, f64::MIN_POSITIVE][usize::from(input.t_max % 4)];
+    options.narrow.min_distance = [0.0, 1e-6, 1e-3, 0.1][usize::from(input.min_distance % 4)];
+    options.narrow.tmax = [1.0, 0.5, 1e-3, f64::MIN_POSITIVE][usize::from(input.tmax % 4)];
     let default_tolerance = options.narrow.tolerance;
     options.narrow.tolerance =
         [default_tolerance, 1e-3, 0.1, 0.5][usize::from(input.tolerance % 4)];
@@ -360,7 +360,7 @@ fuzz_target!(|input: Input| {
         [DopKind::K6, DopKind::K14, DopKind::K18, DopKind::K26][usize::from(input.kdop % 4)];
     options.geometry = input.geometry;
     // One draw in five puts one option out of its range or on its edge (-0.0 separation and a
-    // subnormal t_max are valid).
+    // subnormal tmax are valid).
     let n = &mut options.narrow;
     match input.invalid % 80 {
         0 => n.tolerance = 0.0,
@@ -369,16 +369,16 @@ fuzz_target!(|input: Input| {
         3 => n.tolerance = -1e-6,
         4 => n.tolerance = f64::INFINITY,
         5 => n.max_iterations = 0,
-        6 => n.min_separation = -1e-6,
-        7 => n.min_separation = f64::NAN,
-        8 => n.min_separation = f64::INFINITY,
-        9 => n.min_separation = -0.0,
-        10 => n.t_max = 0.0,
-        11 => n.t_max = 1.0 + f64::EPSILON,
-        12 => n.t_max = f64::NAN,
-        13 => n.t_max = -0.0,
-        14 => n.t_max = f64::INFINITY,
-        15 => n.t_max = f64::MIN_POSITIVE / 2.0, // subnormal, in (0, 1]: valid
+        6 => n.min_distance = -1e-6,
+        7 => n.min_distance = f64::NAN,
+        8 => n.min_distance = f64::INFINITY,
+        9 => n.min_distance = -0.0,
+        10 => n.tmax = 0.0,
+        11 => n.tmax = 1.0 + f64::EPSILON,
+        12 => n.tmax = f64::NAN,
+        13 => n.tmax = -0.0,
+        14 => n.tmax = f64::INFINITY,
+        15 => n.tmax = f64::MIN_POSITIVE / 2.0, // subnormal, in (0, 1]: valid
         _ => {}
     }
     let exact = options.narrow.max_iterations == default_iterations;
@@ -493,7 +493,7 @@ fuzz_target!(|input: Input| {
             );
         }
         if !exact || all.unresolved > 0 || tolerance != default_tolerance || mixed {
-            // A pair that cannot be resolved over [0, t_max] (under a small iteration limit,
+            // A pair that cannot be resolved over [0, tmax] (under a small iteration limit,
             // or at the default one with coordinates of 1e298 beside coordinates of 0.01), or
             // that comes within a large tolerance of a touch, or within the rounding of
             // coordinates of 1e300 of a touch it makes only later, may be ruled out over the

@@ -285,7 +285,7 @@ typedef struct topoccd_step {
 } topoccd_step;
 
 // The options of `topoccd_ccd_query` and of the per-pair tests (which read `tolerance`,
-// `max_iterations`, `min_separation` and `t_max` only).
+// `max_iterations`, `min_distance` and `tmax` only).
 //
 // Initialise it with `topoccd_query_options_default(&options)`, then change what you need.
 // Every function that takes it checks it first (an uninitialised or out-of-range value is
@@ -322,10 +322,10 @@ typedef struct topoccd_query_options {
   uint32_t k;
   // Distance, in coordinate units, at or below which features count as touching; finite,
   // >= 0. Default 0.
-  double min_separation;
+  double min_distance;
   // End of the time interval searched, in (0, 1]; later contacts are not reported.
   // Default 1.
-  double t_max;
+  double tmax;
   // A `topoccd_growth`. Default `TOPOCCD_GROWTH_CERTIFICATE`.
   uint32_t growth;
   // Threads of the query: 0 for one per core (a pool shared by the process), else a count
@@ -370,7 +370,7 @@ typedef struct topoccd_vf_contact {
   uint32_t vertex;
   // The triangle's index in the step's triangles.
   uint32_t face;
-  // Time of impact in [0, t_max], never later than the first contact.
+  // Time of impact in [0, tmax], never later than the first contact.
   double toi;
   // A `topoccd_certainty`.
   topoccd_certainty certainty;
@@ -402,7 +402,7 @@ typedef struct topoccd_ee_contact {
   uint32_t a[2];
   // The second edge.
   uint32_t b[2];
-  // Time of impact in [0, t_max], never later than the first contact.
+  // Time of impact in [0, tmax], never later than the first contact.
   double toi;
   // A `topoccd_certainty`.
   topoccd_certainty certainty;
@@ -546,12 +546,12 @@ typedef struct topoccd_vertex_face {
 
 // The answer of a per-pair test.
 typedef struct topoccd_outcome {
-  // Whether the features (may) touch during `[0, t_max]`; false: they stay farther apart
-  // than `min_separation`.
+  // Whether the features (may) touch during `[0, tmax]`; false: they stay farther apart
+  // than `min_distance`.
   bool contact;
   // A `topoccd_certainty` (`TOPOCCD_CERTAINTY_RESOLVED` when there is no contact).
   topoccd_certainty certainty;
-  // With a contact, the time of impact in [0, t_max], never later than the first contact;
+  // With a contact, the time of impact in [0, tmax], never later than the first contact;
   // NaN without.
   double toi;
 } topoccd_outcome;
@@ -601,7 +601,7 @@ void topoccd_ccd_free(struct topoccd_ccd **ccd);
 // (`topoccd_ccd_report`). `options` may be NULL for the defaults.
 //
 // Every vertex-face pair and every pair of edges that share no vertex and pass the step's
-// pair filter (parents, groups), and come within `min_separation` during `[0, t_max]`, is
+// pair filter (parents, groups), and come within `min_distance` during `[0, tmax]`, is
 // reported with a conservative time of impact (never later than the first contact) and its
 // certainty (`TOPOCCD_MODE_ALL`); only the earliest pair(s) with `TOPOCCD_MODE_EARLIEST`. The
 // result does not depend on the method, the thread count or earlier queries.
@@ -875,10 +875,10 @@ topoccd_status topoccd_query_options_init(struct topoccd_query_options *options,
                                           size_t size);
 
 // Continuous collision test of a vertex against a triangle (its interior, edges and corners)
-// over `[0, t_max]`, conservative: when they touch in exact arithmetic, the outcome is a
+// over `[0, tmax]`, conservative: when they touch in exact arithmetic, the outcome is a
 // contact whose time of impact is never later than the first contact, and within `tolerance`
 // of it unless the features come close before they touch. `options` may be NULL (the
-// defaults); only `tolerance`, `max_iterations`, `min_separation` and `t_max` are read.
+// defaults); only `tolerance`, `max_iterations`, `min_distance` and `tmax` are read.
 //
 // NaN or infinite coordinates are not an error: the outcome is a contact at time 0 marked
 // `TOPOCCD_CERTAINTY_INVALID_INPUT`. Returns `TOPOCCD_STATUS_NULL_POINTER` (`query` or
@@ -904,7 +904,7 @@ topoccd_status topoccd_pair_vertex_face(const struct topoccd_vertex_face *query,
                                         struct topoccd_error **error);
 
 // Continuous collision test of two edges (their interiors and end points) over
-// `[0, t_max]`; otherwise as `topoccd_pair_vertex_face`.
+// `[0, tmax]`; otherwise as `topoccd_pair_vertex_face`.
 //
 // # Safety
 // As `topoccd_pair_vertex_face`.

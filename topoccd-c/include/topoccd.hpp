@@ -199,9 +199,9 @@ class QueryOptions {
   /// 6, 14, 18 or 26. Default 18.
   QueryOptions& k(std::uint32_t k) noexcept { return set(c_.k, k); }
   /// Distance (coordinate units, >= 0) at or below which features count as touching.
-  QueryOptions& min_separation(double d) noexcept { return set(c_.min_separation, d); }
+  QueryOptions& min_distance(double d) noexcept { return set(c_.min_distance, d); }
   /// End of the time interval searched, in (0, 1]. Default 1.
-  QueryOptions& t_max(double t) noexcept { return set(c_.t_max, t); }
+  QueryOptions& tmax(double t) noexcept { return set(c_.tmax, t); }
   QueryOptions& growth(Growth g) noexcept { return set(c_.growth, static_cast<std::uint32_t>(g)); }
   /// 0 for one thread per core (the default), else a pool of n kept by the Ccd.
   QueryOptions& threads(std::uint32_t n) noexcept { return set(c_.threads, n); }
@@ -219,8 +219,8 @@ class QueryOptions {
   double tolerance() const noexcept { return c_.tolerance; }
   std::uint32_t max_iterations() const noexcept { return c_.max_iterations; }
   std::uint32_t k() const noexcept { return c_.k; }
-  double min_separation() const noexcept { return c_.min_separation; }
-  double t_max() const noexcept { return c_.t_max; }
+  double min_distance() const noexcept { return c_.min_distance; }
+  double tmax() const noexcept { return c_.tmax; }
   Growth growth() const noexcept { return static_cast<Growth>(c_.growth); }
   std::uint32_t threads() const noexcept { return c_.threads; }
   bool geometry() const noexcept { return c_.geometry; }
@@ -454,7 +454,7 @@ class Ccd {
 
 /// The answer of a per-pair test.
 struct Outcome {
-  /// Whether the features (may) touch during [0, t_max].
+  /// Whether the features (may) touch during [0, tmax].
   bool contact = false;
   /// With a contact, its time of impact (never later than the first contact); NaN without.
   double toi = 0.0;

@@ -134,7 +134,7 @@ pub unsafe extern "C" fn topoccd_ccd_free(ccd: *mut *mut topoccd_ccd) {
 /// (`topoccd_ccd_report`). `options` may be NULL for the defaults.
 ///
 /// Every vertex-face pair and every pair of edges that share no vertex and pass the step's
-/// pair filter (parents, groups), and come within `min_separation` during `[0, t_max]`, is
+/// pair filter (parents, groups), and come within `min_distance` during `[0, tmax]`, is
 /// reported with a conservative time of impact (never later than the first contact) and its
 /// certainty (`TOPOCCD_MODE_ALL`); only the earliest pair(s) with `TOPOCCD_MODE_EARLIEST`. The
 /// result does not depend on the method, the thread count or earlier queries.

@@ -47,7 +47,7 @@ pub enum topoccd_growth {
 }
 
 /// The options of `topoccd_ccd_query` and of the per-pair tests (which read `tolerance`,
-/// `max_iterations`, `min_separation` and `t_max` only).
+/// `max_iterations`, `min_distance` and `tmax` only).
 ///
 /// Initialise it with `topoccd_query_options_default(&options)`, then change what you need.
 /// Every function that takes it checks it first (an uninitialised or out-of-range value is
@@ -86,10 +86,10 @@ pub struct topoccd_query_options {
     pub k: u32,
     /// Distance, in coordinate units, at or below which features count as touching; finite,
     /// >= 0. Default 0.
-    pub min_separation: f64,
+    pub min_distance: f64,
     /// End of the time interval searched, in (0, 1]; later contacts are not reported.
     /// Default 1.
-    pub t_max: f64,
+    pub tmax: f64,
     /// A `topoccd_growth`. Default `TOPOCCD_GROWTH_CERTIFICATE`.
     pub growth: u32,
     /// Threads of the query: 0 for one per core (a pool shared by the process), else a count
@@ -145,8 +145,8 @@ impl Default for topoccd_query_options {
             tolerance: query.narrow.tolerance,
             max_iterations: query.narrow.max_iterations,
             k: query.kdop.k() as u32,
-            min_separation: query.narrow.min_separation,
-            t_max: query.narrow.t_max,
+            min_distance: query.narrow.min_distance,
+            tmax: query.narrow.tmax,
             growth: match query.growth {
                 ClusterGrowth::Paper => topoccd_growth::Paper as u32,
                 ClusterGrowth::Certificate => topoccd_growth::Certificate as u32,
@@ -310,8 +310,8 @@ impl Options {
             narrow: NarrowOptions {
                 tolerance: o.tolerance,
                 max_iterations: o.max_iterations,
-                min_separation: o.min_separation,
-                t_max: o.t_max,
+                min_distance: o.min_distance,
+                tmax: o.tmax,
             },
             kdop,
             mode,

@@ -59,12 +59,12 @@ pub struct topoccd_edge_edge {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct topoccd_outcome {
-    /// Whether the features (may) touch during `[0, t_max]`; false: they stay farther apart
-    /// than `min_separation`.
+    /// Whether the features (may) touch during `[0, tmax]`; false: they stay farther apart
+    /// than `min_distance`.
     pub contact: bool,
     /// A `topoccd_certainty` (`TOPOCCD_CERTAINTY_RESOLVED` when there is no contact).
     pub certainty: topoccd_certainty,
-    /// With a contact, the time of impact in [0, t_max], never later than the first contact;
+    /// With a contact, the time of impact in [0, tmax], never later than the first contact;
     /// NaN without.
     pub toi: f64,
 }
@@ -114,10 +114,10 @@ unsafe fn run<Q: Copy>(
 }
 
 /// Continuous collision test of a vertex against a triangle (its interior, edges and corners)
-/// over `[0, t_max]`, conservative: when they touch in exact arithmetic, the outcome is a
+/// over `[0, tmax]`, conservative: when they touch in exact arithmetic, the outcome is a
 /// contact whose time of impact is never later than the first contact, and within `tolerance`
 /// of it unless the features come close before they touch. `options` may be NULL (the
-/// defaults); only `tolerance`, `max_iterations`, `min_separation` and `t_max` are read.
+/// defaults); only `tolerance`, `max_iterations`, `min_distance` and `tmax` are read.
 ///
 /// NaN or infinite coordinates are not an error: the outcome is a contact at time 0 marked
 /// `TOPOCCD_CERTAINTY_INVALID_INPUT`. Returns `TOPOCCD_STATUS_NULL_POINTER` (`query` or
@@ -160,7 +160,7 @@ pub unsafe extern "C" fn topoccd_pair_vertex_face(
 }
 
 /// Continuous collision test of two edges (their interiors and end points) over
-/// `[0, t_max]`; otherwise as `topoccd_pair_vertex_face`.
+/// `[0, tmax]`; otherwise as `topoccd_pair_vertex_face`.
 ///
 /// # Safety
 /// As `topoccd_pair_vertex_face`.

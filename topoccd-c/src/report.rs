@@ -83,7 +83,7 @@ pub struct topoccd_vf_contact {
     pub vertex: u32,
     /// The triangle's index in the step's triangles.
     pub face: u32,
-    /// Time of impact in [0, t_max], never later than the first contact.
+    /// Time of impact in [0, tmax], never later than the first contact.
     pub toi: f64,
     /// A `topoccd_certainty`.
     pub certainty: topoccd_certainty,
@@ -103,7 +103,7 @@ pub struct topoccd_ee_contact {
     pub a: [u32; 2],
     /// The second edge.
     pub b: [u32; 2],
-    /// Time of impact in [0, t_max], never later than the first contact.
+    /// Time of impact in [0, tmax], never later than the first contact.
     pub toi: f64,
     /// A `topoccd_certainty`.
     pub certainty: topoccd_certainty,

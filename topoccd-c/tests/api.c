@@ -88,7 +88,7 @@ static void test_options(void) {
     CHECK(o.size == sizeof o, "size %zu", o.size);
     CHECK(o.method == TOPOCCD_METHOD_AUTO && o.mode == TOPOCCD_MODE_ALL, "method %u mode %u", o.method, o.mode);
     CHECK(o.tolerance == 1e-6 && o.max_iterations == 1000000 && o.k == 18, "narrow defaults");
-    CHECK(o.min_separation == 0 && o.t_max == 1 && o.threads == 0, "more defaults");
+    CHECK(o.min_distance == 0 && o.tmax == 1 && o.threads == 0, "more defaults");
     CHECK(!o.geometry && o.crack_filter && o.growth == TOPOCCD_GROWTH_CERTIFICATE, "flags");
     CHECK_STATUS(topoccd_query_options_init(NULL, sizeof o), TOPOCCD_STATUS_NULL_POINTER, "NULL options");
     CHECK_STATUS(topoccd_query_options_init(&o, 3), TOPOCCD_STATUS_INVALID_ARGUMENT, "a size no version has");
@@ -190,11 +190,11 @@ static void test_falling_triangle(void) {
     CHECK(r->vf_count == 3 && r->truncated == TOPOCCD_STOP_REASON_NONE && same_vf(r->vf, oracle, 3),
           "%zu vf, truncated %u", r->vf_count, r->truncated);
 
-    /* t_max = 0.6 leaves out the contacts at 0.75. */
+    /* tmax = 0.6 leaves out the contacts at 0.75. */
     topoccd_query_options_default(&o);
-    o.t_max = 0.6;
-    CHECK_STATUS(topoccd_ccd_query(ccd, &s, &o), TOPOCCD_STATUS_OK, "t_max");
-    CHECK(report_of(ccd)->vf_count == 1, "t_max 0.6");
+    o.tmax = 0.6;
+    CHECK_STATUS(topoccd_ccd_query(ccd, &s, &o), TOPOCCD_STATUS_OK, "tmax");
+    CHECK(report_of(ccd)->vf_count == 1, "tmax 0.6");
 
     /* Groups: one group for everything tests nothing; the fixed and the falling triangle in
      * two groups keep every contact. */
@@ -365,9 +365,9 @@ static void test_query_errors(void) {
     OPTION_CASE(o.tolerance = 0, "tolerance must be in (0, 1), got 0");
     OPTION_CASE(o.tolerance = NAN, "tolerance must be in (0, 1), got NaN");
     OPTION_CASE(o.max_iterations = 0, "max_iterations must be at least 1");
-    OPTION_CASE(o.min_separation = -1, "min_separation must be finite and >= 0, got -1");
-    OPTION_CASE(o.min_separation = INFINITY, "min_separation must be finite");
-    OPTION_CASE(o.t_max = 1.5, "t_max must be in (0, 1], got 1.5");
+    OPTION_CASE(o.min_distance = -1, "min_distance must be finite and >= 0, got -1");
+    OPTION_CASE(o.min_distance = INFINITY, "min_distance must be finite");
+    OPTION_CASE(o.tmax = 1.5, "tmax must be in (0, 1], got 1.5");
     OPTION_CASE(o.k = 7, "k must be 6, 14, 18 or 26, got 7");
     OPTION_CASE(o.method = 42, "method 42 is not a topoccd_method");
     OPTION_CASE(o.mode = 9, "mode 9 is not a topoccd_mode");
@@ -543,9 +543,9 @@ static void test_pairs(void) {
     CHECK(!out.contact && isnan(out.toi), "separated");
     topoccd_query_options o;
     topoccd_query_options_default(&o);
-    o.min_separation = 0.5; /* ... by 0.5 at the end: touching within 0.5 */
-    CHECK_STATUS(topoccd_pair_vertex_face(&vf, &o, &out, NULL), TOPOCCD_STATUS_OK, "min_separation");
-    CHECK(out.contact && out.toi <= 1 && out.toi > 1 - 1e-6, "within min_separation at the end: %.17g", out.toi);
+    o.min_distance = 0.5; /* ... by 0.5 at the end: touching within 0.5 */
+    CHECK_STATUS(topoccd_pair_vertex_face(&vf, &o, &out, NULL), TOPOCCD_STATUS_OK, "min_distance");
+    CHECK(out.contact && out.toi <= 1 && out.toi > 1 - 1e-6, "within min_distance at the end: %.17g", out.toi);
     vf.v_t0[0] = NAN; /* NaN is not an error for a per-pair test: a conservative contact at 0 */
     CHECK_STATUS(topoccd_pair_vertex_face(&vf, NULL, &out, NULL), TOPOCCD_STATUS_OK, "NaN");
     CHECK(out.contact && out.toi == 0 && out.certainty == TOPOCCD_CERTAINTY_INVALID_INPUT, "NaN gives %d %g",

@@ -82,13 +82,13 @@ pub struct QueryArgs {
     pub k: usize,
     /// Distance at or below which features count as touching (coordinate units, >= 0).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    pub min_separation: f64,
+    pub min_distance: f64,
     /// Time resolution of the elementary tests, in (0, 1).
     #[arg(long, default_value_t = NarrowOptions::default().tolerance, allow_negative_numbers = true)]
     pub tolerance: f64,
     /// End of the time interval searched, in (0, 1].
-    #[arg(long, default_value_t = NarrowOptions::default().t_max, allow_negative_numbers = true)]
-    pub t_max: f64,
+    #[arg(long, default_value_t = NarrowOptions::default().tmax, allow_negative_numbers = true)]
+    pub tmax: f64,
     /// Most parameter boxes an elementary test may examine (>= 1) before it gives up
     /// conservatively (the contact is then reported as unresolved).
     #[arg(long, default_value_t = NarrowOptions::default().max_iterations)]
@@ -157,9 +157,9 @@ impl Default for QueryArgs {
         Self {
             earliest: false,
             k: 18,
-            min_separation: narrow.min_separation,
+            min_distance: narrow.min_distance,
             tolerance: narrow.tolerance,
-            t_max: narrow.t_max,
+            tmax: narrow.tmax,
             max_iterations: narrow.max_iterations,
             growth: GrowthArg::default_growth(),
             geometry: false,
@@ -188,8 +188,8 @@ impl QueryArgs {
         let options = QueryOptions {
             narrow: NarrowOptions {
                 tolerance: self.tolerance,
-                min_separation: self.min_separation,
-                t_max: self.t_max,
+                min_distance: self.min_distance,
+                tmax: self.tmax,
                 max_iterations: self.max_iterations,
             },
             kdop: DopKind::from_k(self.k).unwrap_or_default(),

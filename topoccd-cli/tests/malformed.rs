@@ -398,10 +398,10 @@ fn invalid_options_are_refused_by_every_command_alike() {
             &["--tolerance", "NaN"],
             "tolerance must be in (0, 1), got NaN",
         ),
-        (&["--t-max", "2"], "t_max must be in (0, 1], got 2"),
+        (&["--tmax", "2"], "tmax must be in (0, 1], got 2"),
         (
-            &["--min-separation", "-1"],
-            "min_separation must be finite and >= 0, got -1",
+            &["--min-distance", "-1"],
+            "min_distance must be finite and >= 0, got -1",
         ),
         (
             &["--max-iterations", "0"],

@@ -247,9 +247,9 @@ impl Ccd {
     ///         never later than the true first contact and at most this much earlier, unless
     ///         the features come that close (relative to their displacement, plus rounding)
     ///         before they touch.
-    ///     min_separation: distance (coordinate units, >= 0) at or below which features count
+    ///     min_distance: distance (coordinate units, >= 0) at or below which features count
     ///         as touching.
-    ///     t_max: only contacts at times in ``[0, t_max]``, ``t_max`` in (0, 1].
+    ///     tmax: only contacts at times in ``[0, tmax]``, ``tmax`` in (0, 1].
     ///     max_iterations: per elementary test, >= 1; a pair still undecided then is reported
     ///         with certainty code 1.
     ///     k: bounding volumes are k-DOPs, k in {6, 14, 18, 26}.
@@ -294,7 +294,7 @@ impl Ccd {
     ///     KeyboardInterrupt: Ctrl-C while the query ran.
     #[pyo3(signature = (
         x0, x1, triangles, *, parents=None, groups=None, method="auto", mode="all",
-        tolerance=1e-6, min_separation=0.0, t_max=1.0, max_iterations=1_000_000, k=18,
+        tolerance=1e-6, min_distance=0.0, tmax=1.0, max_iterations=1_000_000, k=18,
         growth=None, threads=None, geometry=false, crack_filter=true, max_contacts=None,
         timeout=None
     ))]
@@ -310,8 +310,8 @@ impl Ccd {
         method: &str,
         mode: &str,
         tolerance: f64,
-        min_separation: f64,
-        t_max: f64,
+        min_distance: f64,
+        tmax: f64,
         max_iterations: i64,
         k: i64,
         growth: Option<&str>,
@@ -326,8 +326,8 @@ impl Ccd {
             method,
             mode,
             tolerance,
-            min_separation,
-            t_max,
+            min_distance,
+            tmax,
             max_iterations,
             k,
             growth,

@@ -30,7 +30,7 @@ create_exception!(
     topoccd,
     OptionsError,
     PyValueError,
-    "A keyword option out of its range (tolerance, t_max, k, method, mode, threads...)."
+    "A keyword option out of its range (tolerance, tmax, k, method, mode, threads...)."
 );
 create_exception!(
     topoccd,

@@ -10,8 +10,8 @@ pub struct Keywords<'a> {
     pub method: &'a str,
     pub mode: &'a str,
     pub tolerance: f64,
-    pub min_separation: f64,
-    pub t_max: f64,
+    pub min_distance: f64,
+    pub tmax: f64,
     pub max_iterations: i64,
     pub k: i64,
     pub growth: Option<&'a str>,
@@ -69,8 +69,8 @@ impl Keywords<'_> {
         })?;
         let mut options = QueryOptions::default();
         options.narrow.tolerance = self.tolerance;
-        options.narrow.min_separation = self.min_separation;
-        options.narrow.t_max = self.t_max;
+        options.narrow.min_distance = self.min_distance;
+        options.narrow.tmax = self.tmax;
         options.narrow.max_iterations = max_iterations;
         options.kdop = kdop;
         options.mode = mode(self.mode)?;

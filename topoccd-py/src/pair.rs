@@ -78,15 +78,15 @@ fn options(
     let options = NarrowOptions {
         tolerance,
         max_iterations,
-        min_separation: min_distance,
-        t_max: tmax,
+        min_distance: min_distance,
+        tmax: tmax,
     };
     // The library's messages name its fields; say the keywords' names instead.
     options.validate().map_err(|e| {
         let text = e
             .to_string()
-            .replace("min_separation", "min_distance")
-            .replace("t_max", "tmax");
+            .replace("min_distance", "min_distance")
+            .replace("tmax", "tmax");
         options_error(text)
     })?;
     Ok(options)

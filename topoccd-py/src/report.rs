@@ -18,7 +18,7 @@ use crate::errors::input_error;
 /// Attributes:
 ///     vf (numpy.ndarray): ``(N, 2)`` int64, the colliding vertex-face pairs ``(vertex, face)``,
 ///         sorted; ``face`` indexes the rows of ``triangles``.
-///     vf_toi (numpy.ndarray): ``(N,)`` float64, each pair's time of impact in ``[0, t_max]``
+///     vf_toi (numpy.ndarray): ``(N,)`` float64, each pair's time of impact in ``[0, tmax]``
 ///         (never later than the true first contact; at most ``tolerance`` earlier).
 ///     vf_certainty (numpy.ndarray): ``(N,)`` uint8: 0 resolved, 1 the iteration limit was
 ///         reached (the pair is reported conservatively), 2 invalid input (non-finite

@@ -34,10 +34,10 @@ def test_the_step_size_gives_a_step_without_contact(funnel, min_distance):
     x_alpha = x0 + alpha * (x1 - x0)
     assert topoccd.is_step_collision_free(x0, x_alpha, triangles, min_distance=min_distance, ccd=ccd)
     for method in ("bvh", "brute"):
-        report = ccd.query(x0, x_alpha, triangles, method=method, min_separation=min_distance)
+        report = ccd.query(x0, x_alpha, triangles, method=method, min_distance=min_distance)
         assert len(report) == 0, method
     # The same number as the earliest query gives, and as the CLI's Earliest step.
-    earliest = topoccd.query(x0, x1, triangles, mode="earliest", min_separation=min_distance)
+    earliest = topoccd.query(x0, x1, triangles, mode="earliest", min_distance=min_distance)
     assert alpha == 0.8 * earliest.earliest_toi
 
 
@@ -45,19 +45,19 @@ def test_step_size_agrees_with_the_cli(funnel, cli, scenes_dir):
     x0, x1, triangles = funnel
     frames = sorted((scenes_dir / "cloth-funnel" / "frames").glob("*.ply"))
     out = json.loads(run_cli(cli, "step", str(frames[0]), str(frames[1]), "--earliest", "--json"))
-    alpha = topoccd.collision_free_stepsize(x0, x1, triangles, rescaling=0.5)
+    alpha = topoccd.collision_free_stepsize(x0, x1, triangles, conservative_rescaling=0.5)
     assert alpha == 0.5 * out["earliest_toi"]
 
 
 def test_a_free_step_is_taken_whole_and_bad_options_are_refused():
     x0 = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0.0]])
     assert topoccd.collision_free_stepsize(x0, x0 + 1, [[0, 1, 2]]) == 1.0
-    assert topoccd.collision_free_stepsize(x0, x0 + 1, [[0, 1, 2]], t_max=0.5) == 0.5
+    assert topoccd.collision_free_stepsize(x0, x0 + 1, [[0, 1, 2]], tmax=0.5) == 0.5
     assert topoccd.is_step_collision_free(x0, x0 + 1, [[0, 1, 2]]) is True
     for bad in (0.0, 1.5):
-        with pytest.raises(topoccd.OptionsError, match="rescaling"):
-            topoccd.collision_free_stepsize(x0, x0, [[0, 1, 2]], rescaling=bad)
-    with pytest.raises(topoccd.OptionsError, match="min_separation"):
+        with pytest.raises(topoccd.OptionsError, match="conservative_rescaling"):
+            topoccd.collision_free_stepsize(x0, x0, [[0, 1, 2]], conservative_rescaling=bad)
+    with pytest.raises(topoccd.OptionsError, match="min_distance"):
         topoccd.is_step_collision_free(x0, x0, [[0, 1, 2]], min_distance=-1.0)
     with pytest.raises(topoccd.InputError, match="vertex 5"):
         topoccd.is_step_collision_free(x0, x0, [[0, 1, 5]])

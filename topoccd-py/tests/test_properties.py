@@ -177,19 +177,19 @@ def test_any_shape_is_valid_or_an_input_error(shapes, dtype):
 @SETTINGS
 @given(
     tolerance=st.floats(allow_nan=True, allow_infinity=True),
-    t_max=st.floats(allow_nan=True, allow_infinity=True),
-    min_separation=st.floats(allow_nan=True, allow_infinity=True),
+    tmax=st.floats(allow_nan=True, allow_infinity=True),
+    min_distance=st.floats(allow_nan=True, allow_infinity=True),
     max_contacts=st.one_of(st.none(), st.integers(-3, 3)),
     timeout=st.one_of(st.none(), st.floats(allow_nan=True, allow_infinity=True)),
 )
 def test_any_option_value_is_valid_or_an_options_error(
-    tolerance, t_max, min_separation, max_contacts, timeout
+    tolerance, tmax, min_distance, max_contacts, timeout
 ):
     fixed = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], dtype=np.float64)
     valid = (
         0 < tolerance < 1
-        and 0 < t_max <= 1
-        and 0 <= min_separation < float("inf")
+        and 0 < tmax <= 1
+        and 0 <= min_distance < float("inf")
         and (max_contacts is None or max_contacts >= 0)
         and (timeout is None or 0 < timeout < 1e9)
     )
@@ -199,8 +199,8 @@ def test_any_option_value_is_valid_or_an_options_error(
             fixed,
             [[0, 1, 2]],
             tolerance=tolerance,
-            t_max=t_max,
-            min_separation=min_separation,
+            tmax=tmax,
+            min_distance=min_distance,
             max_contacts=max_contacts,
             timeout=timeout,
         )

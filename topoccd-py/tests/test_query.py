@@ -35,7 +35,7 @@ def test_no_contact():
 
 def test_t_max_cuts_later_contacts():
     x0, x1, tris = falling_triangle()
-    r = topoccd.query(x0, x1, tris, t_max=0.6)
+    r = topoccd.query(x0, x1, tris, tmax=0.6)
     assert r.vf.tolist() == [[3, 0]]
 
 
@@ -137,8 +137,8 @@ def test_parents_start_new_vertices_at_their_parent():
 
 def test_help_explains_the_options():
     doc = topoccd.Ccd.query.__doc__
-    for word in ("x0", "triangles", "parents", "groups", "method", "tolerance", "t_max",
-                 "min_separation", "threads", "geometry", "InputError"):
+    for word in ("x0", "triangles", "parents", "groups", "method", "tolerance", "tmax",
+                 "min_distance", "threads", "geometry", "InputError"):
         assert word in doc, word
     assert "earliest_toi" in topoccd.Report.__doc__
     assert topoccd.read_mesh.__doc__ and topoccd.read_sequence.__doc__

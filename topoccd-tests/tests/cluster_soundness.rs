@@ -442,7 +442,7 @@ fn positive_min_separation_turns_clustering_off() {
     );
     let topo = Topology::new(step.triangles(), step.vertex_count());
     let options = ClusterOptions {
-        min_separation: 1e-3,
+        min_distance: 1e-3,
         ..ClusterOptions::default()
     };
     let c = cluster(&step, &topo, &options);

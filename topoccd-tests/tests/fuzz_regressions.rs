@@ -461,7 +461,7 @@ fn mixed_scales_exhaust_the_iteration_limit_and_stay_conservative() {
     let step = Step::new(x0, x1, vec![[0, 1, 2], [0, 1, 3], [0, 1, 4]]).expect("valid step");
     let mut options = QueryOptions::default();
     options.narrow.max_iterations = 10_000;
-    options.narrow.min_separation = 1e-6;
+    options.narrow.min_distance = 1e-6;
     let mut ccd = Ccd::new();
     let brute = ccd.query(&step, Method::Brute, &options).unwrap();
     assert_eq!((brute.stats.vf_tests, brute.stats.ee_tests), (6, 6));
@@ -503,7 +503,7 @@ fn mixed_scales_exhaust_the_iteration_limit_and_stay_conservative() {
 /// elementary test cannot tell a gap of 1e-185 beside coordinates of 1 from a touch and
 /// reports a contact at toi 0; `Mode::All` never asks it, since the features' boxes over the
 /// whole step (exact) are apart. The per-step hierarchy's first pass in `Mode::Earliest`
-/// sweeps the boxes over `[0, t_max / 256]`, padded for the rounding of the positions at its
+/// sweeps the boxes over `[0, tmax / 256]`, padded for the rounding of the positions at its
 /// end, which closes the gap: it asked the elementary test and reported the pair, a contact
 /// that All does not report. Now the first pass keeps only contacts of pairs All looks at, and
 /// Earliest reports exactly All's contacts within the tolerance of the earliest.
@@ -617,7 +617,7 @@ fn earliest_may_leave_out_a_near_miss_all_reports() {
         kdop: topoccd::kdop::DopKind::K26,
         narrow: NarrowOptions {
             tolerance: 0.1,
-            min_separation: 1e-6,
+            min_distance: 1e-6,
             ..NarrowOptions::default()
         },
         ..QueryOptions::default()
@@ -745,7 +745,7 @@ fn earliest_may_leave_out_a_pair_that_grazes_at_mixed_scales() {
     // The elementary test alone cannot tell, even over [0, 1/256].
     let q = vf_query(&x0, &x1, 3, [6, 4, 0]);
     let short = NarrowOptions {
-        t_max: tau,
+        tmax: tau,
         ..NarrowOptions::default()
     };
     assert!(matches!(
@@ -822,7 +822,7 @@ fn a_far_corner_gives_geometry_without_nan() {
     let step = Step::new(x0, x1, vec![[6, 4, 0], [5, 7, 4]]).expect("valid step");
     let mut options = QueryOptions::default();
     options.narrow.tolerance = 0.1;
-    options.narrow.t_max = 1.1125369292536007e-308;
+    options.narrow.tmax = 1.1125369292536007e-308;
     options.kdop = topoccd::kdop::DopKind::K26;
     options.geometry = true;
     let mut ccd = Ccd::new();

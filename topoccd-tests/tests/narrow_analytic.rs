@@ -114,7 +114,7 @@ fn crossing_edges_offset_by_plus_minus_epsilon() {
 
 #[test]
 fn min_separation_reports_near_approach() {
-    // The vertex stops 0.01 above the plane: separated at 0, a contact with min_separation 0.02
+    // The vertex stops 0.01 above the plane: separated at 0, a contact with min_distance 0.02
     // at the time it comes within 0.02 (z(t) = 1 - 0.99 t = 0.02 -> t = 0.98 / 0.99).
     let q = vf_static(v(0.2, 0.2, 1.0), v(0.2, 0.2, 0.01));
     assert_eq!(
@@ -122,10 +122,10 @@ fn min_separation_reports_near_approach() {
         Outcome::Separated
     );
     let opts = NarrowOptions {
-        min_separation: 0.02,
+        min_distance: 0.02,
         ..NarrowOptions::default()
     };
-    let toi = vertex_face(&q, &opts).toi().expect("within min_separation");
+    let toi = vertex_face(&q, &opts).toi().expect("within min_distance");
     let exact = 0.98 / 0.99;
     assert!(near(toi, exact), "toi {toi} vs {exact}");
 }
@@ -134,12 +134,12 @@ fn min_separation_reports_near_approach() {
 fn t_max_limits_the_search() {
     let q = vf_static(v(0.2, 0.2, 1.0), v(0.2, 0.2, -1.0)); // contact at 0.5
     let early = NarrowOptions {
-        t_max: 0.4,
+        tmax: 0.4,
         ..NarrowOptions::default()
     };
     assert_eq!(vertex_face(&q, &early), Outcome::Separated);
     let late = NarrowOptions {
-        t_max: 0.6,
+        tmax: 0.6,
         ..NarrowOptions::default()
     };
     assert!(vertex_face(&q, &late).toi().is_some_and(|t| t <= 0.5));
@@ -245,12 +245,12 @@ fn options_out_of_range_are_clamped_not_panicking() {
         },
         NarrowOptions {
             tolerance: f64::NAN,
-            t_max: f64::NAN,
-            min_separation: f64::NAN,
+            tmax: f64::NAN,
+            min_distance: f64::NAN,
             max_iterations: 0,
         },
         NarrowOptions {
-            t_max: 7.0,
+            tmax: 7.0,
             tolerance: 5.0,
             ..NarrowOptions::default()
         },

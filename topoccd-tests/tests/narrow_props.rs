@@ -49,7 +49,7 @@ fn robust(kind: Kind, p: [DVec3; 8]) -> Option<Outcome> {
     let base = run(kind, p, &NarrowOptions::default());
     let size = p.iter().map(|x| x.abs().max_element()).fold(0.0, f64::max);
     let shell = NarrowOptions {
-        min_separation: 1e-6 * size,
+        min_distance: 1e-6 * size,
         ..NarrowOptions::default()
     };
     if base == Outcome::Separated && run(kind, p, &shell).is_contact() {

@@ -37,7 +37,7 @@ fn run(kind: QueryKind, options: &NarrowOptions) -> (usize, usize, Vec<String>, 
             };
             if let Outcome::Contact { toi, .. } = outcome {
                 assert!(
-                    (0.0..=options.t_max).contains(&toi),
+                    (0.0..=options.tmax).contains(&toi),
                     "toi {toi} out of range"
                 );
             }

@@ -212,7 +212,7 @@ fn options(seed: u64) -> QueryOptions {
         ..QueryOptions::default()
     };
     if seed % 3 == 2 {
-        options.narrow.min_separation = 1e-3;
+        options.narrow.min_distance = 1e-3;
         // The elementary tests slow down when the separation is large against the tolerance.
         options.narrow.tolerance = 1e-3;
     }
@@ -267,7 +267,7 @@ fn check_sequence(seed: u64) -> Seen {
         let same = k > 0 && step.triangles() == steps[k - 1].triangles();
         seen.same_steps += usize::from(same);
         let tree_misses = if same {
-            stale_tree_misses(&steps[k - 1], &oracle, all.narrow.min_separation)
+            stale_tree_misses(&steps[k - 1], &oracle, all.narrow.min_distance)
         } else {
             0
         };
@@ -375,7 +375,7 @@ fn sequences_kept_in_one_query_object_match_the_oracle_at_every_step() {
             let after = seen.refitted_after_tear[&(Method::Bvh, mode)];
             assert!(after > 0, "{what} {mode:?}: never refitted after the tear");
             // (With a minimum separation the cluster method has no certificate: no leaves.)
-            let separated = options(seed).narrow.min_separation > 0.0;
+            let separated = options(seed).narrow.min_distance > 0.0;
             let carried = seen.carried_leaves[&(Method::Cluster, mode)];
             assert!(
                 carried * 2 >= seen.same_steps || separated,

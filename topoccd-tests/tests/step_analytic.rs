@@ -58,7 +58,7 @@ fn min_separation_brings_the_contact_forward() {
     // The vertex passes z = 0.1 at t = 0.45.
     let step = falling_vertex(1.0, -1.0);
     let mut options = QueryOptions::default();
-    options.narrow.min_separation = 0.1;
+    options.narrow.min_distance = 0.1;
     for method in methods() {
         let report = Ccd::new().query(&step, method, &options).unwrap();
         let toi = report.earliest_toi().unwrap();

@@ -210,26 +210,26 @@ fn check_cluster(
 /// touch, and neither hierarchy method tests it).
 fn check_step(
     step: &Step,
-    min_separation: f64,
+    min_distance: f64,
     kinds: &[DopKind],
     exact: bool,
     ccd: &mut Ccd,
     what: &str,
 ) {
     let mut options = QueryOptions::default();
-    options.narrow.min_separation = min_separation;
-    if min_separation > 0.0 {
+    options.narrow.min_distance = min_distance;
+    if min_distance > 0.0 {
         // The elementary tests slow down when the separation is large against the tolerance.
-        options.narrow.tolerance = min_separation;
+        options.narrow.tolerance = min_distance;
     }
-    let what = format!("{what} sep {min_separation}");
+    let what = format!("{what} sep {min_distance}");
     let oracle = ccd.query(step, Method::Brute, &options).unwrap();
     assert!(oracle.contact_count() > 0, "{what}: the step must collide");
     let reference = if exact {
         oracle
     } else {
         let bvh = ccd.query(step, Method::Bvh, &options).unwrap();
-        let near_misses = assert_near_misses(step, &oracle, &bvh, min_separation, &what);
+        let near_misses = assert_near_misses(step, &oracle, &bvh, min_distance, &what);
         println!("{what}: the oracle reports {near_misses} proved near-misses");
         bvh
     };

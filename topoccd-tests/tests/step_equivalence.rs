@@ -77,15 +77,15 @@ fn min_contact(report: &Report) -> Option<Contact> {
         .min_by(Contact::earliest_order)
 }
 
-fn check_scene(kind: SceneKind, seed: u64, min_separation: f64, ccd: &mut Ccd) -> usize {
+fn check_scene(kind: SceneKind, seed: u64, min_distance: f64, ccd: &mut Ccd) -> usize {
     let step = kind.generate(size(kind), seed);
     let mut options = QueryOptions::default();
-    options.narrow.min_separation = min_separation;
-    if min_separation > 0.0 {
+    options.narrow.min_distance = min_distance;
+    if min_distance > 0.0 {
         // The elementary tests slow down when the separation is large against the tolerance.
-        options.narrow.tolerance = min_separation;
+        options.narrow.tolerance = min_distance;
     }
-    let what = format!("{} seed {seed} sep {min_separation}", kind.name());
+    let what = format!("{} seed {seed} sep {min_distance}", kind.name());
 
     let oracle = ccd.query(&step, Method::Brute, &options).unwrap();
     assert_tested_once(ccd, &oracle, &what);
@@ -290,16 +290,16 @@ fn a_sequence_of_the_same_triangles_refits_the_tree_and_matches_the_oracle() {
     assert!(collided >= 6, "too few steps collide: {collided}");
 }
 
-/// Over a shorter interval (`t_max` = 0.4) every method tests owner triangles with their
-/// k-DOPs swept over `[0, t_max]`, the per-step hierarchy's leaves: the BVH, the cluster method
+/// Over a shorter interval (`tmax` = 0.4) every method tests owner triangles with their
+/// k-DOPs swept over `[0, tmax]`, the per-step hierarchy's leaves: the BVH, the cluster method
 /// with its certificates distrusted, and the oracle report bitwise the same contacts, in both
 /// modes. Against the whole step's query: a pair it reports more than two tolerances before
-/// `t_max` is reported over the shorter interval too, within the tolerance of the same time,
-/// and nothing is reported after `t_max`.
+/// `tmax` is reported over the shorter interval too, within the tolerance of the same time,
+/// and nothing is reported after `tmax`.
 #[test]
 fn a_shorter_interval_matches_the_oracle() {
     let mut ccd = Ccd::new();
-    let t_max = 0.4;
+    let tmax = 0.4;
     let mut checked = 0;
     for kind in SceneKind::ALL {
         for seed in 0..3 {
@@ -308,7 +308,7 @@ fn a_shorter_interval_matches_the_oracle() {
             let tol = whole_options.narrow.tolerance;
             let whole = ccd.query(&step, Method::Brute, &whole_options).unwrap();
             let mut options = whole_options;
-            options.narrow.t_max = t_max;
+            options.narrow.tmax = tmax;
             for mode in [Mode::All, Mode::Earliest] {
                 options.mode = mode;
                 let what = format!("{} seed {seed} {mode:?}", kind.name());
@@ -328,12 +328,12 @@ fn a_shorter_interval_matches_the_oracle() {
                     continue;
                 }
                 for c in &oracle.vf {
-                    assert!(c.toi <= t_max, "{what}: {c:?}");
+                    assert!(c.toi <= tmax, "{what}: {c:?}");
                 }
                 for c in &oracle.ee {
-                    assert!(c.toi <= t_max, "{what}: {c:?}");
+                    assert!(c.toi <= tmax, "{what}: {c:?}");
                 }
-                for c in whole.vf.iter().filter(|c| c.toi < t_max - 2.0 * tol) {
+                for c in whole.vf.iter().filter(|c| c.toi < tmax - 2.0 * tol) {
                     let found = oracle
                         .vf
                         .iter()
@@ -344,7 +344,7 @@ fn a_shorter_interval_matches_the_oracle() {
                     );
                     checked += 1;
                 }
-                for c in whole.ee.iter().filter(|c| c.toi < t_max - 2.0 * tol) {
+                for c in whole.ee.iter().filter(|c| c.toi < tmax - 2.0 * tol) {
                     let found = oracle.ee.iter().find(|d| (d.a, d.b) == (c.a, c.b));
                     assert!(
                         found.is_some_and(|d| (d.toi - c.toi).abs() <= tol),
@@ -355,6 +355,6 @@ fn a_shorter_interval_matches_the_oracle() {
             }
         }
     }
-    println!("{checked} contacts before t_max found again");
-    assert!(checked > 100, "too few contacts before t_max: {checked}");
+    println!("{checked} contacts before tmax found again");
+    assert!(checked > 100, "too few contacts before tmax: {checked}");
 }

@@ -29,7 +29,7 @@ use crate::query::{Ccd, Contact, Method, Mode, OptionsError, QueryOptions};
 /// Options of the line-search helpers.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LineSearchOptions {
-    /// The query's options. `query.narrow.min_separation` is the minimum separation: features
+    /// The query's options. `query.narrow.min_distance` is the minimum separation: features
     /// closer than it count as touching. `query.mode` is ignored (the helpers run
     /// [`Mode::Earliest`]).
     pub query: QueryOptions,
@@ -38,7 +38,7 @@ pub struct LineSearchOptions {
     /// The fraction of the earliest time of impact that [`collision_free_stepsize`] returns,
     /// in `(0, 1]`. Default `0.8`, the IPC toolkit's conservative rescaling: the step stops
     /// short of the contact, so the next step does not start touching.
-    pub rescaling: f64,
+    pub conservative_rescaling: f64,
 }
 
 impl Default for LineSearchOptions {
@@ -46,7 +46,7 @@ impl Default for LineSearchOptions {
         Self {
             query: QueryOptions::default(),
             method: Method::Auto,
-            rescaling: 0.8,
+            conservative_rescaling: 0.8,
         }
     }
 }
@@ -56,13 +56,15 @@ impl LineSearchOptions {
     ///
     /// ```
     /// use topoccd::line_search::LineSearchOptions;
-    /// let bad = LineSearchOptions { rescaling: 1.5, ..LineSearchOptions::default() };
-    /// assert_eq!(bad.validate().unwrap_err().to_string(), "rescaling must be in (0, 1], got 1.5");
+    /// let bad = LineSearchOptions { conservative_rescaling: 1.5, ..LineSearchOptions::default() };
+    /// assert_eq!(bad.validate().unwrap_err().to_string(), "conservative_rescaling must be in (0, 1], got 1.5");
     /// ```
     pub fn validate(&self) -> Result<(), LineSearchError> {
         self.query.validate()?;
-        if !(self.rescaling > 0.0 && self.rescaling <= 1.0) {
-            return Err(LineSearchError::Rescaling(self.rescaling));
+        if !(self.conservative_rescaling > 0.0 && self.conservative_rescaling <= 1.0) {
+            return Err(LineSearchError::ConservativeRescaling(
+                self.conservative_rescaling,
+            ));
         }
         Ok(())
     }
@@ -85,16 +87,16 @@ pub enum LineSearchError {
     /// A query option out of its range.
     #[error(transparent)]
     Options(#[from] OptionsError),
-    /// [`LineSearchOptions::rescaling`] not in `(0, 1]`.
-    #[error("rescaling must be in (0, 1], got {0}")]
-    Rescaling(f64),
+    /// [`LineSearchOptions::conservative_rescaling`] not in `(0, 1]`.
+    #[error("conservative_rescaling must be in (0, 1], got {0}")]
+    ConservativeRescaling(f64),
 }
 
 /// What [`collision_free_stepsize`] returns.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepSize {
-    /// The fraction of the step the mesh may take: `rescaling` times the earliest time of
-    /// impact, or `t_max` when no features come within `min_separation` over `[0, t_max]`.
+    /// The fraction of the step the mesh may take: `conservative_rescaling` times the earliest time of
+    /// impact, or `tmax` when no features come within `min_distance` over `[0, tmax]`.
     /// `0` when features already touch at the start: nothing can move (check the start with
     /// [`check::step_intersections`](crate::check::step_intersections)).
     pub alpha: f64,
@@ -106,7 +108,7 @@ pub struct StepSize {
 /// What [`is_step_collision_free`] returns.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum StepStatus {
-    /// No two features come within `min_separation` over `[0, t_max]`.
+    /// No two features come within `min_distance` over `[0, tmax]`.
     CollisionFree,
     /// The earliest contact of the step. Its [`certainty`](Contact::certainty) is
     /// [`Certainty::Resolved`](crate::Certainty::Resolved), or says that the search gave up
@@ -122,7 +124,7 @@ impl StepStatus {
 }
 
 /// The fraction of the step from `x0` to `x1` that the mesh may take without contact: the
-/// earliest time of impact scaled by [`LineSearchOptions::rescaling`]. A fresh [`Ccd`] runs
+/// earliest time of impact scaled by [`LineSearchOptions::conservative_rescaling`]. A fresh [`Ccd`] runs
 /// the query; in a loop, use [`Ccd::collision_free_stepsize`].
 pub fn collision_free_stepsize<'a>(
     x0: impl Into<Positions<'a>>,
@@ -176,7 +178,7 @@ impl Ccd {
     ///           [0.2, 0.2, -1.0], [0.3, 0.2, 1.0], [0.2, 0.3, 1.0]];
     /// let step = Step::new(&x0, &x1, &[[0u32, 1, 2], [3, 4, 5]])?;
     /// let mut options = LineSearchOptions::default();
-    /// options.query.narrow.min_separation = 0.5;
+    /// options.query.narrow.min_distance = 0.5;
     /// let mut ccd = Ccd::new();
     /// let size = ccd.collision_free_stepsize(&step, &options)?;
     /// assert!(size.alpha <= 0.8 * 0.25 && size.alpha > 0.8 * 0.25 - 1e-6);
@@ -190,8 +192,8 @@ impl Ccd {
         options.validate()?;
         let report = self.query(step, options.method, &options.earliest())?;
         let alpha = match report.earliest {
-            Some(contact) => options.rescaling * contact.toi(),
-            None => options.query.narrow.t_max,
+            Some(contact) => options.conservative_rescaling * contact.toi(),
+            None => options.query.narrow.tmax,
         };
         Ok(StepSize {
             alpha,

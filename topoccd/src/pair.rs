@@ -4,7 +4,7 @@
 //! These are the elementary tests every [`Ccd`](crate::Ccd) query runs on its candidate pairs,
 //! for callers that keep their own candidate lists (as the IPC toolkit's `point_triangle_ccd`
 //! and `edge_edge_ccd` do). They are conservative: when the features touch in exact arithmetic
-//! at some time in `[0, t_max]`, the outcome is a contact whose time of impact is never later
+//! at some time in `[0, tmax]`, the outcome is a contact whose time of impact is never later
 //! than the first contact, and within [`NarrowOptions::tolerance`] of it unless the features
 //! come close before they touch.
 //!
@@ -155,7 +155,7 @@ impl EdgeEdge {
 }
 
 /// Continuous collision test of a vertex against a triangle (its interior, edges and corners)
-/// over `[0, options.t_max]`. Options out of their documented range are an
+/// over `[0, options.tmax]`. Options out of their documented range are an
 /// [`OptionsError`] ([`NarrowOptions::validate`]).
 ///
 /// Non-finite coordinates, or coordinates whose differences exceed `1e300`, give a contact at
@@ -165,7 +165,7 @@ impl EdgeEdge {
 /// ```
 /// use topoccd::pair::{vertex_face, VertexFace};
 /// use topoccd::NarrowOptions;
-/// // The vertex stays 1 above the triangle's plane: no contact, unless `min_separation`
+/// // The vertex stays 1 above the triangle's plane: no contact, unless `min_distance`
 /// // counts that distance as touching.
 /// let q = VertexFace {
 ///     v_t0: [0.2, 0.2, 1.0], v_t1: [0.3, 0.2, 1.0],
@@ -174,7 +174,7 @@ impl EdgeEdge {
 ///     ..Default::default()
 /// };
 /// assert!(!vertex_face(&q, &NarrowOptions::default())?.is_contact());
-/// let near = NarrowOptions { min_separation: 1.0, ..NarrowOptions::default() };
+/// let near = NarrowOptions { min_distance: 1.0, ..NarrowOptions::default() };
 /// assert_eq!(vertex_face(&q, &near)?.toi(), Some(0.0));
 /// # Ok::<(), topoccd::OptionsError>(())
 /// ```
@@ -184,7 +184,7 @@ pub fn vertex_face(query: &VertexFace, options: &NarrowOptions) -> Result<Outcom
 }
 
 /// Continuous collision test of two edges (their interiors and end points) over
-/// `[0, options.t_max]`; otherwise as [`vertex_face`].
+/// `[0, options.tmax]`; otherwise as [`vertex_face`].
 ///
 /// ```
 /// use topoccd::pair::{edge_edge, EdgeEdge};

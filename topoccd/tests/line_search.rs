@@ -51,9 +51,9 @@ fn the_step_size_gives_a_step_without_contact_on_cloth_funnel() {
     };
     let step = Step::new(&x0, &x1, &triangles).expect("valid step");
     let mut ccd = Ccd::new();
-    for min_separation in [0.0, 1e-8] {
+    for min_distance in [0.0, 1e-8] {
         let mut options = LineSearchOptions::default();
-        options.query.narrow.min_separation = min_separation;
+        options.query.narrow.min_distance = min_distance;
         let size = ccd
             .collision_free_stepsize(&step, &options)
             .expect("valid options");
@@ -62,7 +62,7 @@ fn the_step_size_gives_a_step_without_contact_on_cloth_funnel() {
         // The reported time is no later than the exact first contact, and within the
         // tolerance of it without a separation (rounding aside: the data gives 7 digits).
         assert!(earliest.toi() <= FUNNEL_EARLIEST + 1e-7, "{earliest:?}");
-        if min_separation == 0.0 {
+        if min_distance == 0.0 {
             assert!(
                 earliest.toi() >= FUNNEL_EARLIEST - 1e-6 - 1e-7,
                 "{earliest:?}"
@@ -71,7 +71,7 @@ fn the_step_size_gives_a_step_without_contact_on_cloth_funnel() {
         assert_eq!(size.alpha, 0.8 * earliest.toi());
         assert!(
             size.alpha > 0.0,
-            "features within {min_separation} at the start"
+            "features within {min_distance} at the start"
         );
 
         // The whole step collides; the shortened step does not, in either helper or a query.
@@ -90,7 +90,7 @@ fn the_step_size_gives_a_step_without_contact_on_cloth_funnel() {
         assert_eq!(
             status,
             StepStatus::CollisionFree,
-            "min_separation {min_separation}"
+            "min_distance {min_distance}"
         );
         let all = QueryOptions {
             narrow: options.query.narrow,
@@ -98,7 +98,7 @@ fn the_step_size_gives_a_step_without_contact_on_cloth_funnel() {
         };
         for method in [Method::Bvh, Method::Brute] {
             let report = ccd.query(&short, method, &all).expect("valid options");
-            assert_eq!(report.contact_count(), 0, "{method:?}, {min_separation}");
+            assert_eq!(report.contact_count(), 0, "{method:?}, {min_distance}");
         }
     }
 }
@@ -116,10 +116,10 @@ fn a_step_without_contact_may_be_taken_whole() {
         .collision_free_stepsize(&step, &options)
         .expect("valid options");
     assert_eq!((size.alpha, size.earliest), (1.0, None));
-    let t_max = LineSearchOptions {
+    let tmax = LineSearchOptions {
         query: QueryOptions {
             narrow: topoccd::NarrowOptions {
-                t_max: 0.5,
+                tmax: 0.5,
                 ..Default::default()
             },
             ..QueryOptions::default()
@@ -127,9 +127,9 @@ fn a_step_without_contact_may_be_taken_whole() {
         ..options
     };
     let size = Ccd::new()
-        .collision_free_stepsize(&step, &t_max)
+        .collision_free_stepsize(&step, &tmax)
         .expect("valid");
-    assert_eq!(size.alpha, 0.5, "only [0, t_max] was searched");
+    assert_eq!(size.alpha, 0.5, "only [0, tmax] was searched");
 }
 
 #[test]
@@ -137,12 +137,12 @@ fn bad_rescaling_and_bad_input_are_refused() {
     use topoccd::line_search::{collision_free_stepsize, LineSearchError};
     let x = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
     let zero = LineSearchOptions {
-        rescaling: 0.0,
+        conservative_rescaling: 0.0,
         ..LineSearchOptions::default()
     };
     assert!(matches!(
         collision_free_stepsize(&x, &x, &[[0u32, 1, 2]], &zero),
-        Err(LineSearchError::Rescaling(_))
+        Err(LineSearchError::ConservativeRescaling(_))
     ));
     let err = collision_free_stepsize(&x, &x, &[[0u32, 1, 5]], &LineSearchOptions::default())
         .unwrap_err();

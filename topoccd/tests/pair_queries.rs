@@ -1,6 +1,6 @@
 //! Conformance of the public per-pair tests (`topoccd::pair`) on the Sample-Queries data
 //! (`../shared/data/queries`, exact ground truth): no false negative, every time of impact in
-//! `[0, t_max]`, and the false positives held to Tight-Inclusion's count on the same files.
+//! `[0, tmax]`, and the false positives held to Tight-Inclusion's count on the same files.
 
 use std::path::{Path, PathBuf};
 
@@ -111,7 +111,7 @@ fn run(dir: &Path, kind: QueryKind, options: &NarrowOptions) -> (usize, usize, V
             .expect("valid options");
             if let Outcome::Contact { toi, .. } = outcome {
                 assert!(
-                    (0.0..=options.t_max).contains(&toi),
+                    (0.0..=options.tmax).contains(&toi),
                     "toi {toi} out of range"
                 );
             }
@@ -172,12 +172,12 @@ fn public_pair_tests_miss_no_touching_query() {
 fn invalid_options_are_refused() {
     let q = VertexFace::default();
     let bad = NarrowOptions {
-        t_max: 0.0,
+        tmax: 0.0,
         ..NarrowOptions::default()
     };
     assert_eq!(
         vertex_face(&q, &bad).unwrap_err().to_string(),
-        "t_max must be in (0, 1], got 0"
+        "tmax must be in (0, 1], got 0"
     );
     let bad = NarrowOptions {
         max_iterations: 0,

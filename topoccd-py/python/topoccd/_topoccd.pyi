@@ -59,7 +59,7 @@ class Report:
     vf: npt.NDArray[np.int64]
     """``(N, 2)`` colliding vertex-face pairs ``(vertex, face)``, sorted."""
     vf_toi: npt.NDArray[np.float64]
-    """``(N,)`` times of impact in ``[0, t_max]``."""
+    """``(N,)`` times of impact in ``[0, tmax]``."""
     vf_certainty: npt.NDArray[np.uint8]
     """``(N,)`` 0 resolved, 1 iteration limit, 2 invalid input."""
     ee: npt.NDArray[np.int64]
@@ -108,8 +108,8 @@ class Ccd:
         method: _Method = "auto",
         mode: _Mode = "all",
         tolerance: float = 1e-6,
-        min_separation: float = 0.0,
-        t_max: float = 1.0,
+        min_distance: float = 0.0,
+        tmax: float = 1.0,
         max_iterations: int = 1_000_000,
         k: int = 18,
         growth: Optional[_Growth] = None,

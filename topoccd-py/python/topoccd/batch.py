@@ -50,8 +50,8 @@ QUERY_OPTIONS = (
     "method",
     "mode",
     "tolerance",
-    "min_separation",
-    "t_max",
+    "min_distance",
+    "tmax",
     "max_iterations",
     "k",
     "growth",
@@ -370,8 +370,8 @@ def run_sequence(
     method: str = "auto",
     mode: str = "all",
     tolerance: float = 1e-6,
-    min_separation: float = 0.0,
-    t_max: float = 1.0,
+    min_distance: float = 0.0,
+    tmax: float = 1.0,
     max_iterations: int = 1_000_000,
     k: int = 18,
     growth: Optional[str] = None,
@@ -400,7 +400,7 @@ def run_sequence(
             count), at most ``MAX_STEPS_PER_TASK`` (16) a task. The results do not depend
             on it.
         progress: show a progress bar (tqdm if installed, else a counter on stderr).
-        method, mode, tolerance, min_separation, t_max, max_iterations, k, growth,
+        method, mode, tolerance, min_distance, tmax, max_iterations, k, growth,
             crack_filter, max_contacts, timeout: as in :meth:`topoccd.Ccd.query` (a step that
             times out is a failed step).
 
@@ -420,8 +420,8 @@ def run_sequence(
         "method": method,
         "mode": mode,
         "tolerance": tolerance,
-        "min_separation": min_separation,
-        "t_max": t_max,
+        "min_distance": min_distance,
+        "tmax": tmax,
         "max_iterations": max_iterations,
         "k": k,
         "growth": growth,

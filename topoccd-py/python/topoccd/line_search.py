@@ -15,7 +15,7 @@ __all__ = ["collision_free_stepsize", "is_step_collision_free"]
 def _earliest(x0, x1, triangles, ccd, min_distance, **options):
     ccd = Ccd() if ccd is None else ccd
     return ccd.query(
-        x0, x1, triangles, mode="earliest", min_separation=min_distance, **options
+        x0, x1, triangles, mode="earliest", min_distance=min_distance, **options
     )
 
 
@@ -25,37 +25,37 @@ def collision_free_stepsize(
     triangles,
     *,
     min_distance: float = 0.0,
-    rescaling: float = 0.8,
+    conservative_rescaling: float = 0.8,
     ccd: Optional[Ccd] = None,
     parents=None,
     groups=None,
     method: str = "auto",
     tolerance: float = 1e-6,
-    t_max: float = 1.0,
+    tmax: float = 1.0,
     max_iterations: int = 1_000_000,
     threads: Optional[int] = None,
 ) -> float:
     """The fraction of the step from ``x0`` to ``x1`` that the mesh may take without contact.
 
-    It is ``rescaling`` times the earliest time of impact (features closer than
-    ``min_distance`` count as touching), or ``t_max`` when nothing comes that close over
-    ``[0, t_max]``. It is 0 when features already touch at the start: check the start with
+    It is ``conservative_rescaling`` times the earliest time of impact (features closer than
+    ``min_distance`` count as touching), or ``tmax`` when nothing comes that close over
+    ``[0, tmax]``. It is 0 when features already touch at the start: check the start with
     :func:`topoccd.intersecting_triangles`.
 
     Args:
-        x0, x1, triangles, parents, groups, method, tolerance, t_max, max_iterations,
+        x0, x1, triangles, parents, groups, method, tolerance, tmax, max_iterations,
             threads: as in :meth:`topoccd.Ccd.query`.
         min_distance: the minimum separation, in coordinate units, >= 0.
-        rescaling: the fraction of the earliest time returned, in (0, 1]. Default 0.8, the
+        conservative_rescaling: the fraction of the earliest time returned, in (0, 1]. Default 0.8, the
             IPC toolkit's conservative rescaling: the step stops short of the contact.
         ccd: a :class:`topoccd.Ccd` to run the query (a fresh one by default).
 
     Returns:
-        float: the step fraction, in ``[0, t_max]``.
+        float: the step fraction, in ``[0, tmax]``.
 
     Raises:
         InputError, OptionsError: as :meth:`topoccd.Ccd.query`; OptionsError also for a
-        ``rescaling`` out of range.
+        ``conservative_rescaling`` out of range.
 
     Example: a triangle falls through a fixed one; first contact at t=0.5.
         >>> import numpy as np, topoccd
@@ -66,8 +66,8 @@ def collision_free_stepsize(
         >>> round(alpha, 4)
         0.4
     """
-    if not 0.0 < rescaling <= 1.0:
-        raise OptionsError(f"rescaling must be in (0, 1], got {rescaling}")
+    if not 0.0 < conservative_rescaling <= 1.0:
+        raise OptionsError(f"conservative_rescaling must be in (0, 1], got {conservative_rescaling}")
     report = _earliest(
         x0,
         x1,
@@ -78,13 +78,13 @@ def collision_free_stepsize(
         groups=groups,
         method=method,
         tolerance=tolerance,
-        t_max=t_max,
+        tmax=tmax,
         max_iterations=max_iterations,
         threads=threads,
     )
     if report.earliest_toi is None:
-        return float(t_max)
-    return rescaling * report.earliest_toi
+        return float(tmax)
+    return conservative_rescaling * report.earliest_toi
 
 
 def is_step_collision_free(
@@ -98,12 +98,12 @@ def is_step_collision_free(
     groups=None,
     method: str = "auto",
     tolerance: float = 1e-6,
-    t_max: float = 1.0,
+    tmax: float = 1.0,
     max_iterations: int = 1_000_000,
     threads: Optional[int] = None,
 ) -> bool:
     """``True`` when no two features come within ``min_distance`` of each other over
-    ``[0, t_max]`` of the step from ``x0`` to ``x1``; ``False`` when some may (a contact,
+    ``[0, tmax]`` of the step from ``x0`` to ``x1``; ``False`` when some may (a contact,
     including one the search gave up on and reported to stay safe).
 
     For the contact itself, run ``Ccd.query(..., mode="earliest")``: its ``earliest`` names
@@ -116,7 +116,7 @@ def is_step_collision_free(
         >>> x0 = np.vstack([fixed, falling]); x1 = np.vstack([fixed, falling - [0, 0, 2]])
         >>> topoccd.is_step_collision_free(x0, x1, [[0, 1, 2], [3, 4, 5]])
         False
-        >>> topoccd.is_step_collision_free(x0, x1, [[0, 1, 2], [3, 4, 5]], t_max=0.4)
+        >>> topoccd.is_step_collision_free(x0, x1, [[0, 1, 2], [3, 4, 5]], tmax=0.4)
         True
     """
     report = _earliest(
@@ -129,7 +129,7 @@ def is_step_collision_free(
         groups=groups,
         method=method,
         tolerance=tolerance,
-        t_max=t_max,
+        tmax=tmax,
         max_iterations=max_iterations,
         threads=threads,
     )

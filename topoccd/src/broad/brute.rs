@@ -1,4 +1,4 @@
-//! The brute-force oracle: every feature pair whose swept boxes come within `min_separation`,
+//! The brute-force oracle: every feature pair whose swept boxes come within `min_distance`,
 //! found by sort and sweep along x, then kept if the swept k-DOPs of the pair's owner
 //! triangles overlap (the test every other method makes on its way down; see the
 //! [broad phases](super)).
@@ -109,7 +109,7 @@ pub(crate) fn candidates<const H: usize>(
     let start = Instant::now();
     let (features, filter, sep) = (input.features, input.filter, input.filter.sep);
     let tris = input.step.triangles();
-    triangle_volumes(input.step, (filter.t_max(), sep), volumes);
+    triangle_volumes(input.step, (filter.tmax(), sep), volumes);
     // Owner triangles: the incident triangle of lowest index (as in the ownership scheme).
     let topo = &features.topo;
     let owner_of_vertex = |v: u32| topo.triangles_of(v)[0];

@@ -13,7 +13,7 @@
 //! triangles stay apart along the direction between their mean points, or share a vertex whose
 //! star is certified free of self-contact), their boxes swept over the whole step come
 //! within the minimum separation, and the k-DOPs of `v`'s owner triangle and of `f` swept
-//! over the times searched, `[0, t_max]`, overlap (each inflated by the separation); an
+//! over the times searched, `[0, tmax]`, overlap (each inflated by the separation); an
 //! edge-edge pair likewise with its two owner triangles. The per-step
 //! hierarchy finds exactly these (its traversal reports every overlapping triangle pair); the
 //! oracle tests the k-DOPs of the owners explicitly; the cluster method finds them all except
@@ -219,16 +219,16 @@ pub(crate) trait BroadPhase {
     ) -> BroadStats;
 }
 
-/// The k-DOP of every triangle swept over `[0, t_max]` (the whole step for `t_max >= 1`),
+/// The k-DOP of every triangle swept over `[0, tmax]` (the whole step for `tmax >= 1`),
 /// inflated by `inflation`, into `out`. Every method tests its owner triangles with these
 /// volumes (the per-step hierarchy's leaves are the same, [`triangle_volume`]), so the
 /// methods look at the same feature pairs.
 pub(crate) fn triangle_volumes<const H: usize>(
     step: &Step<'_>,
-    (t_max, inflation): (f64, f64),
+    (tmax, inflation): (f64, f64),
     out: &mut Vec<Kdop<H>>,
 ) {
-    let volume = triangle_volume(step, t_max, inflation);
+    let volume = triangle_volume(step, tmax, inflation);
     out.clear();
     // On the current rayon pool, in order.
     out.par_extend(
@@ -239,48 +239,48 @@ pub(crate) fn triangle_volumes<const H: usize>(
     );
 }
 
-/// The k-DOP swept by triangle `t` over `[0, t_max]` (the whole step for `t_max >= 1`),
+/// The k-DOP swept by triangle `t` over `[0, tmax]` (the whole step for `tmax >= 1`),
 /// inflated by `inflation`, as a function of `t`.
 pub(crate) fn triangle_volume<'a, const H: usize>(
     step: &'a Step<'_>,
-    t_max: f64,
+    tmax: f64,
     inflation: f64,
 ) -> impl Fn(u32) -> Kdop<H> + Sync + Send + Copy + 'a {
     let (x0, x1, tris) = (step.pos0(), step.pos1(), step.triangles());
     move |t| {
         let [a, b, c] = tris[t as usize].map(|i| i as usize);
         let (t0, t1) = ([x0[a], x0[b], x0[c]], [x1[a], x1[b], x1[c]]);
-        Kdop::swept_triangle_until(&t0, &t1, t_max, inflation)
+        Kdop::swept_triangle_until(&t0, &t1, tmax, inflation)
     }
 }
 
-/// Each vertex's part of the triangles' swept volumes over `[0, t_max]`
+/// Each vertex's part of the triangles' swept volumes over `[0, tmax]`
 /// ([`Kdop::swept_point_until`]), into `out`: projected once per vertex rather than once per
 /// incident triangle.
 pub(crate) fn corner_volumes<const H: usize>(
     step: &Step<'_>,
-    t_max: f64,
+    tmax: f64,
     out: &mut Vec<(Kdop<H>, DVec3)>,
 ) {
     let ends = step.pos0().par_iter().zip(step.pos1());
     out.clear();
     out.par_extend(
         ends.with_min_len(1 << 12)
-            .map(|(&a, &b)| Kdop::swept_point_until(a, b, t_max)),
+            .map(|(&a, &b)| Kdop::swept_point_until(a, b, tmax)),
     );
 }
 
-/// [`triangle_volume`] from the vertices' [`corner_volumes`] over the same `t_max`: the same
+/// [`triangle_volume`] from the vertices' [`corner_volumes`] over the same `tmax`: the same
 /// volumes.
 pub(crate) fn triangle_volume_from<'a, const H: usize>(
     step: &'a Step<'_>,
     corners: &'a [(Kdop<H>, DVec3)],
-    t_max: f64,
+    tmax: f64,
     inflation: f64,
 ) -> impl Fn(u32) -> Kdop<H> + Sync + Send + Copy + 'a {
     let tris = step.triangles();
     move |t| {
         let c = tris[t as usize].map(|v| corners[v as usize]);
-        Kdop::swept_triangle_from(&c, t_max, inflation)
+        Kdop::swept_triangle_from(&c, tmax, inflation)
     }
 }

@@ -112,7 +112,7 @@ impl<const H: usize> Kdop<H> {
 
     /// The swept volume of a triangle moving linearly from `t0` to `t1` during the step: the
     /// k-DOP of its six positions, inflated by `inflation` (a distance in the coordinates'
-    /// units, `>= 0`, usually the `min_separation`) and padded outward by a few units of
+    /// units, `>= 0`, usually the `min_distance`) and padded outward by a few units of
     /// rounding of the projections. A linearly moving triangle stays inside the convex hull of
     /// its six positions, so this volume contains it at every time in `[0, 1]`.
     ///
@@ -142,10 +142,10 @@ impl<const H: usize> Kdop<H> {
     }
 
     /// The swept volume of a triangle moving linearly from `t0` (time 0) to `t1` (time 1),
-    /// over the times `[0, t_max]` only: the k-DOP of its positions at 0 and at `t_max`,
+    /// over the times `[0, tmax]` only: the k-DOP of its positions at 0 and at `tmax`,
     /// inflated by `inflation` and padded against the rounding of the interpolation and the
-    /// projections. For a query that already knows a contact at `t_max` and only looks for
-    /// earlier ones. `t_max` is clamped to `[0, 1]`; at 1 this is
+    /// projections. For a query that already knows a contact at `tmax` and only looks for
+    /// earlier ones. `tmax` is clamped to `[0, 1]`; at 1 this is
     /// [`Kdop::swept_triangle`].
     ///
     /// ```
@@ -160,14 +160,14 @@ impl<const H: usize> Kdop<H> {
     pub fn swept_triangle_until(
         t0: &[DVec3; 3],
         t1: &[DVec3; 3],
-        t_max: f64,
+        tmax: f64,
         inflation: f64,
     ) -> Self {
-        // Not `!(t_max < 1.0)`-style tricks: a NaN `t_max` gives the whole step.
-        if t_max.is_nan() || t_max >= 1.0 {
+        // Not `!(tmax < 1.0)`-style tricks: a NaN `tmax` gives the whole step.
+        if tmax.is_nan() || tmax >= 1.0 {
             return Self::swept_triangle(t0, t1, inflation);
         }
-        let t = t_max.max(0.0);
+        let t = tmax.max(0.0);
         let mut out = Self::EMPTY;
         let mut m = DVec3::ZERO;
         for k in 0..3 {
@@ -186,7 +186,7 @@ impl<const H: usize> Kdop<H> {
     }
 
     /// The part of [`Kdop::swept_triangle_until`] that one corner contributes: the k-DOP of the
-    /// point's positions at 0 and at `t_max` (at 1 for `t_max >= 1` or NaN), not padded, and
+    /// point's positions at 0 and at `tmax` (at 1 for `tmax >= 1` or NaN), not padded, and
     /// the largest absolute coordinates of its positions at 0 and 1. A mesh's vertices are
     /// shared by about six triangles each: projecting each once and merging three per
     /// triangle ([`Kdop::swept_triangle_from`]) gives the same volumes for less work.
@@ -196,18 +196,18 @@ impl<const H: usize> Kdop<H> {
     /// use topoccd::math::DVec3;
     /// let t0 = [DVec3::ZERO, DVec3::X, DVec3::Y];
     /// let t1 = t0.map(|p| p + DVec3::Z);
-    /// for t_max in [0.3, 1.0] {
-    ///     let corners = [0, 1, 2].map(|k| Kdop::<9>::swept_point_until(t0[k], t1[k], t_max));
-    ///     let from = Kdop::swept_triangle_from(&corners, t_max, 0.1);
-    ///     assert_eq!(from, Kdop::swept_triangle_until(&t0, &t1, t_max, 0.1));
+    /// for tmax in [0.3, 1.0] {
+    ///     let corners = [0, 1, 2].map(|k| Kdop::<9>::swept_point_until(t0[k], t1[k], tmax));
+    ///     let from = Kdop::swept_triangle_from(&corners, tmax, 0.1);
+    ///     assert_eq!(from, Kdop::swept_triangle_until(&t0, &t1, tmax, 0.1));
     /// }
     /// ```
     #[inline]
-    pub fn swept_point_until(a: DVec3, b: DVec3, t_max: f64) -> (Self, DVec3) {
-        let end = if t_max.is_nan() || t_max >= 1.0 {
+    pub fn swept_point_until(a: DVec3, b: DVec3, tmax: f64) -> (Self, DVec3) {
+        let end = if tmax.is_nan() || tmax >= 1.0 {
             b
         } else {
-            a + (b - a) * t_max.max(0.0)
+            a + (b - a) * tmax.max(0.0)
         };
         let mut out = Self::from_point(a);
         out.add_point(end);
@@ -215,15 +215,15 @@ impl<const H: usize> Kdop<H> {
     }
 
     /// [`Kdop::swept_triangle_until`] from its corners' [`Kdop::swept_point_until`] over the
-    /// same `t_max`: the same volume (min and max are exact, so the order of merging does not
+    /// same `tmax`: the same volume (min and max are exact, so the order of merging does not
     /// matter).
     #[inline]
-    pub fn swept_triangle_from(corners: &[(Self, DVec3); 3], t_max: f64, inflation: f64) -> Self {
+    pub fn swept_triangle_from(corners: &[(Self, DVec3); 3], tmax: f64, inflation: f64) -> Self {
         let [(a, ma), (b, mb), (c, mc)] = corners;
         let mut out = a.merge(b).merge(c);
         let m = ma.max(*mb).max(*mc);
         // The paddings of `swept_triangle` and `swept_triangle_until`.
-        let units = if t_max.is_nan() || t_max >= 1.0 { 4.0 } else { 32.0 };
+        let units = if tmax.is_nan() || tmax >= 1.0 { 4.0 } else { 32.0 };
         let pad = units * UNIT_ROUNDOFF * (m.x + m.y + m.z);
         out.inflate_padded(inflation, pad);
         out
@@ -375,11 +375,11 @@ mod tests {
             let mut p = || DVec3::new(rng.random_range(-scale..scale), rng.random_range(-scale..scale), rng.random_range(-scale..scale));
             let t0 = [p(), p(), p()];
             let t1 = [p(), p(), p()];
-            let t_max = [0.0, 1.0 / 256.0, 0.37, 1.0, 2.0][round % 5];
+            let tmax = [0.0, 1.0 / 256.0, 0.37, 1.0, 2.0][round % 5];
             let inflation = [0.0, 1e-3][round % 2];
-            let corners = [0, 1, 2].map(|k| Kdop::<13>::swept_point_until(t0[k], t1[k], t_max));
-            let from = Kdop::swept_triangle_from(&corners, t_max, inflation);
-            let direct = Kdop::<13>::swept_triangle_until(&t0, &t1, t_max, inflation);
+            let corners = [0, 1, 2].map(|k| Kdop::<13>::swept_point_until(t0[k], t1[k], tmax));
+            let from = Kdop::swept_triangle_from(&corners, tmax, inflation);
+            let direct = Kdop::<13>::swept_triangle_until(&t0, &t1, tmax, inflation);
             // Equal, up to the sign of a zero (min and max of +0 and -0).
             for i in 0..13 {
                 assert!(from.lo[i] == direct.lo[i] && from.hi[i] == direct.hi[i], "round {round}");
@@ -387,8 +387,8 @@ mod tests {
         }
     }
 
-    /// The volume over `[0, t_max]` contains the triangle at every time in it, is smaller than
-    /// the whole step's, and is the whole step's at `t_max = 1`.
+    /// The volume over `[0, tmax]` contains the triangle at every time in it, is smaller than
+    /// the whole step's, and is the whole step's at `tmax = 1`.
     #[test]
     fn swept_until_contains_the_triangle_before_t_max() {
         use rand::{Rng, SeedableRng};
@@ -411,15 +411,15 @@ mod tests {
                 Kdop::<9>::swept_triangle_until(&t0, &t1, f64::NAN, 0.0),
                 whole
             );
-            let t_max = (round as f64 / 300.0).powi(3);
-            let until = Kdop::<9>::swept_triangle_until(&t0, &t1, t_max, 0.0);
+            let tmax = (round as f64 / 300.0).powi(3);
+            let until = Kdop::<9>::swept_triangle_until(&t0, &t1, tmax, 0.0);
             assert!(until.hi[0] - until.lo[0] <= whole.hi[0] - whole.lo[0] + 1e-9 * scale);
             for k in 0..20 {
-                let t = t_max * k as f64 / 19.0;
+                let t = tmax * k as f64 / 19.0;
                 for (u, v) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (0.3, 0.3)] {
                     let at = |i: usize| t0[i] + (t1[i] - t0[i]) * t;
                     let q = at(0) + (at(1) - at(0)) * u + (at(2) - at(0)) * v;
-                    assert!(until.contains_point(q), "round {round} t {t} of {t_max}");
+                    assert!(until.contains_point(q), "round {round} t {t} of {tmax}");
                 }
             }
         }

@@ -55,17 +55,17 @@ impl SweptBox {
         }
     }
 
-    /// The box of a vertex moving from `a` to `b`, over `[0, t_max]` (the whole step for
-    /// `t_max >= 1`), as [`FeatureBoxes::sweep`] computes it: see there.
+    /// The box of a vertex moving from `a` to `b`, over `[0, tmax]` (the whole step for
+    /// `tmax >= 1`), as [`FeatureBoxes::sweep`] computes it: see there.
     #[inline]
-    pub fn vertex_until(a: DVec3, b: DVec3, t_max: f64) -> Self {
-        if t_max.is_nan() || t_max >= 1.0 {
+    pub fn vertex_until(a: DVec3, b: DVec3, tmax: f64) -> Self {
+        if tmax.is_nan() || tmax >= 1.0 {
             return Self {
                 lo: a.min(b),
                 hi: a.max(b),
             };
         }
-        let c = lerp(a, b, t_max.max(0.0));
+        let c = lerp(a, b, tmax.max(0.0));
         let pad = 8.0 * UNIT_ROUNDOFF * a.abs().max(b.abs());
         Self {
             lo: a.min(c) - pad,
@@ -90,7 +90,7 @@ impl SweptBox {
 /// depend on the thread count).
 const PAR_LEN: usize = 1 << 13;
 
-/// The boxes swept by the vertices and the faces over `[0, t_max]`, the whole step or its
+/// The boxes swept by the vertices and the faces over `[0, tmax]`, the whole step or its
 /// start. An edge's box is the union of its vertices' ([`FeatureBoxes::edge`]), computed where
 /// it is needed rather than stored (edges are the most numerous features).
 #[derive(Clone, Debug, Default)]
@@ -102,17 +102,17 @@ pub struct FeatureBoxes {
 }
 
 impl FeatureBoxes {
-    /// Recomputes the boxes swept over `[0, t_max]` (the whole step for `t_max >= 1` or NaN).
-    /// Over the whole step a box is exact (min and max do not round). Over `[0, t_max]` it
-    /// holds the positions at 0 and at `t_max`, the latter interpolated as `a + (b - a) t_max`
+    /// Recomputes the boxes swept over `[0, tmax]` (the whole step for `tmax >= 1` or NaN).
+    /// Over the whole step a box is exact (min and max do not round). Over `[0, tmax]` it
+    /// holds the positions at 0 and at `tmax`, the latter interpolated as `a + (b - a) tmax`
     /// with three roundings, at most `5 u max(|a|, |b|)` per coordinate, so it is padded by
     /// `8 u max(|a|, |b|)`.
-    pub fn sweep(&mut self, step: &Step, t_max: f64) {
+    pub fn sweep(&mut self, step: &Step, tmax: f64) {
         let (x0, x1) = (step.pos0(), step.pos1());
         let ends = x0.par_iter().zip(x1).with_min_len(PAR_LEN);
         self.vertex.clear();
         self.vertex
-            .par_extend(ends.map(|(&a, &b)| SweptBox::vertex_until(a, b, t_max)));
+            .par_extend(ends.map(|(&a, &b)| SweptBox::vertex_until(a, b, tmax)));
         let vb = &self.vertex;
         self.face.clear();
         self.face
@@ -173,13 +173,13 @@ impl Features {
             .is_some_and(|(t, n)| *n == step.vertex_count() && t[..] == *step.triangles())
     }
 
-    /// Recomputes everything for `step`: the boxes always (swept over `[0, t_max]`, the whole
-    /// step for `t_max >= 1`), the topology and the ownership only when `same_topology` is
+    /// Recomputes everything for `step`: the boxes always (swept over `[0, tmax]`, the whole
+    /// step for `tmax >= 1`), the topology and the ownership only when `same_topology` is
     /// false (the caller's [`Features::same_topology`]; a simulator's everyday step keeps its
     /// triangles, and an exact comparison of them costs far less than the edges' derivation).
-    pub fn update(&mut self, step: &Step, same_topology: bool, t_max: f64) {
+    pub fn update(&mut self, step: &Step, same_topology: bool, tmax: f64) {
         let tris = step.triangles();
-        self.boxes.sweep(step, t_max);
+        self.boxes.sweep(step, tmax);
         if same_topology {
             debug_assert!(self.same_topology(step));
             return;

@@ -11,7 +11,7 @@
 //!    of the other;
 //! 5. the features' owner triangles (see `features`) share no vertex and stay farther apart
 //!    than the minimum separation along the direction between their mean points, over the
-//!    times searched `[0, t_max]` ([`PairFilter::unshared_apart`]). Each feature lies in its
+//!    times searched `[0, tmax]` ([`PairFilter::unshared_apart`]). Each feature lies in its
 //!    owner, so no pair of their features can come that close either: the rule drops no
 //!    contact, and it drops at once every pair of two triangles that merely pass near each
 //!    other, before their features are looked at;
@@ -36,7 +36,7 @@ pub(crate) struct PairFilter<'s> {
     pub sep: f64,
     /// Rule 5: the end of the times searched, the positions at t=0 and t=1, and the largest
     /// absolute coordinate among them.
-    t_max: f64,
+    tmax: f64,
     positions: (&'s [DVec3], &'s [DVec3]),
     coord: f64,
     /// Each vertex's representative (its parent for a new vertex of the step, else itself);
@@ -66,7 +66,7 @@ impl<'s> PairFilter<'s> {
     pub fn new(
         step: &'s Step<'_>,
         sep: f64,
-        t_max: f64,
+        tmax: f64,
         crack_filter: bool,
         canon: &'s mut Vec<u32>,
         stars: Option<StarView<'s>>,
@@ -84,7 +84,7 @@ impl<'s> PairFilter<'s> {
         };
         Self {
             sep,
-            t_max,
+            tmax,
             positions: (step.pos0(), step.pos1()),
             coord: (step.pos0().iter().chain(step.pos1())).fold(0.0, |m, &p| m.max(max_abs(p))),
             canon,
@@ -96,8 +96,8 @@ impl<'s> PairFilter<'s> {
 
     /// The end of the times searched.
     #[inline]
-    pub fn t_max(&self) -> f64 {
-        self.t_max
+    pub fn tmax(&self) -> f64 {
+        self.tmax
     }
 
     /// The largest absolute coordinate of the step's positions at t=0 and t=1.
@@ -127,7 +127,7 @@ impl<'s> PairFilter<'s> {
 
     /// Rules 5 and 6: whether no feature of the triangle with corners `a` is a candidate
     /// against a feature of the triangle with corners `b`, because they share no vertex and
-    /// stay apart along the direction between their mean points during `[0, t_max]`, or share
+    /// stay apart along the direction between their mean points during `[0, tmax]`, or share
     /// a vertex whose star is certified.
     #[inline]
     pub fn owners_dropped(&self, a: [u32; 3], b: [u32; 3]) -> bool {
@@ -150,10 +150,10 @@ impl<'s> PairFilter<'s> {
     }
 
     /// Rule 5 for triangles known to share no vertex: whether they stay apart along the
-    /// direction between their mean points during `[0, t_max]`.
+    /// direction between their mean points during `[0, tmax]`.
     #[inline]
     pub fn unshared_apart(&self, a: [u32; 3], b: [u32; 3]) -> bool {
-        triangles_separated(self.positions, a, b, self.sep, self.t_max, self.coord)
+        triangles_separated(self.positions, a, b, self.sep, self.tmax, self.coord)
     }
 
     fn check(&self, a: &[u32], b: &[u32]) -> bool {

@@ -28,7 +28,7 @@
 //!    rigorous comparisons of its cosine, and the bounds must add up to less than `4 pi`.
 //!
 //! By the disk theorem the star's projection along `V` is then injective at every time of the
-//! step. Certifying over the whole step covers any `[0, t_max]`. The certificate says nothing
+//! step. Certifying over the whole step covers any `[0, tmax]`. The certificate says nothing
 //! about distances, so the rule applies only without a minimum separation.
 
 use std::sync::atomic::{AtomicU8, Ordering};

@@ -68,7 +68,7 @@ impl EdgeEdge {
     }
 }
 
-/// Continuous collision test of two edges (end points included) over `[0, options.t_max]`.
+/// Continuous collision test of two edges (end points included) over `[0, options.tmax]`.
 ///
 /// ```
 /// use topoccd::math::DVec3;
@@ -87,7 +87,7 @@ pub fn edge_edge(query: &EdgeEdge, options: &NarrowOptions) -> Outcome {
     solver::solve(&solver::Problem::edge_edge(query), options)
 }
 
-/// [`edge_edge`] for a pair proved apart by more than `min_separation` during
+/// [`edge_edge`] for a pair proved apart by more than `min_distance` during
 /// `[0, t_start]` (see [`vertex_face_from`](super::vertex_face::vertex_face_from)).
 pub(crate) fn edge_edge_from(query: &EdgeEdge, options: &NarrowOptions, t_start: f64) -> Outcome {
     solver::solve_counted_from(&solver::Problem::edge_edge(query), options, t_start).0

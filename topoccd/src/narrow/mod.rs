@@ -2,7 +2,7 @@
 //! triangle ([`vertex_face()`]) and an edge against an edge ([`edge_edge()`]).
 //!
 //! Both are conservative: if the two features touch (in exact arithmetic) at some time in
-//! `[0, t_max]`, the answer is [`Outcome::Contact`], with a time of impact no later than the true
+//! `[0, tmax]`, the answer is [`Outcome::Contact`], with a time of impact no later than the true
 //! first contact. See [`solver`] for the method and its guarantees.
 
 pub mod bernstein;
@@ -41,9 +41,9 @@ pub enum Certainty {
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Outcome {
-    /// The features stay farther apart than `min_separation` during `[0, t_max]`.
+    /// The features stay farther apart than `min_distance` during `[0, tmax]`.
     Separated,
-    /// The features (may) touch. `toi` is in `[0, t_max]` and never later than the first contact.
+    /// The features (may) touch. `toi` is in `[0, tmax]` and never later than the first contact.
     Contact {
         /// Time of impact, in the step's time units (`0` = start, `1` = end of the step).
         toi: f64,

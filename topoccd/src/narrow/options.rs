@@ -7,7 +7,7 @@ pub struct NarrowOptions {
     /// Resolution of the search, absolute, in time units and in the features' own parameters
     /// (barycentric / edge coordinates), in `(0, 1)`. The reported time of impact is never
     /// later than the true first contact, and at most this much earlier unless the features
-    /// come close before they touch: closer than `min_separation` plus `sqrt(3) / 2` times
+    /// come close before they touch: closer than `min_distance` plus `sqrt(3) / 2` times
     /// this much times their relative displacement over the step (the sum, over the three
     /// difference vectors of the elementary test, of their largest coordinate change), plus
     /// the rounding of their coordinates, which, with coordinates of 1e300 beside coordinates
@@ -20,9 +20,9 @@ pub struct NarrowOptions {
     pub max_iterations: u32,
     /// Distance, in the coordinates' units, at or below which the features count as touching.
     /// `>= 0`. Default `0`.
-    pub min_separation: f64,
+    pub min_distance: f64,
     /// End of the time interval searched, in time units, in `(0, 1]`. Default `1`.
-    pub t_max: f64,
+    pub tmax: f64,
 }
 
 impl Default for NarrowOptions {
@@ -30,8 +30,8 @@ impl Default for NarrowOptions {
         Self {
             tolerance: 1e-6,
             max_iterations: 1_000_000,
-            min_separation: 0.0,
-            t_max: 1.0,
+            min_distance: 0.0,
+            tmax: 1.0,
         }
     }
 }

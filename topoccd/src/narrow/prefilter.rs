@@ -4,7 +4,7 @@
 //! deforming non-penetration filter (Tang et al. 2010), which proves a pair separated when the
 //! vertex stays strictly on one side of the face's plane (or one edge on one side of the plane
 //! through the other edge parallel to both) during the whole step, farther than
-//! `min_separation`. (Over a short start of the step, the filter's first test goes before the
+//! `min_distance`. (Over a short start of the step, the filter's first test goes before the
 //! direction's; see `separated`.) A traversal task runs these two first tests on four pairs at
 //! once (`first_tests_x4`, each pair's verdict bit for bit its own), and where the filter does
 //! not find a pair apart it says from when the elementary test must search (`unresolved`).
@@ -16,14 +16,14 @@
 //! Bernstein coefficients on `[0, 1]` are sums of triple products of the end values. A cubic
 //! lies between its smallest and largest Bernstein coefficient, and `|n(t)|` is at most the
 //! largest norm of the Bernstein coefficients of the quadratic `n`. So if every coefficient of
-//! `f` exceeds `min_separation * N` (or every one is below `-min_separation * N`), the plane
-//! (or line) distance stays above `min_separation`, and so does the distance between the
+//! `f` exceeds `min_distance * N` (or every one is below `-min_distance * N`), the plane
+//! (or line) distance stays above `min_distance`, and so does the distance between the
 //! features, which lie in that plane (on those lines).
 //!
 //! Rounding: each triple product of computed differences is within `54 u P A B` of the exact
 //! one (`u = 2^-53`; `P, A, B` the largest coordinates of `p, a, b`); the filter demands a
 //! margin of `256 u P A B`, and pads `N` likewise, so it never rejects a pair that comes within
-//! `min_separation` in exact arithmetic. It rejects only; a pair it passes goes to the solver.
+//! `min_distance` in exact arithmetic. It rejects only; a pair it passes goes to the solver.
 
 use crate::math::{lerp, DVec3, UNDERFLOW_ERROR, UNIT_ROUNDOFF};
 use super::extremes::{lower3, raise3, raise_abs};
@@ -621,8 +621,8 @@ mod tests {
         let cases = [(0.0, 1.0), (0.05, 1.0), (0.0, 0.3), (0.05, 0.01)];
         cases.into_iter().map(|(sep, t_end)| {
             let options = NarrowOptions {
-                min_separation: sep,
-                t_max: t_end,
+                min_distance: sep,
+                tmax: t_end,
                 ..NarrowOptions::default()
             };
             (sep, t_end, options)
@@ -705,8 +705,8 @@ mod tests {
                     if start > 0.0 {
                         later += 1;
                         let options = NarrowOptions {
-                            min_separation: sep,
-                            t_max: start,
+                            min_distance: sep,
+                            tmax: start,
                             ..NarrowOptions::default()
                         };
                         assert_apart(pts, is_vf, sep, start, &options);

@@ -1,8 +1,8 @@
 //! The inclusion-based root finder shared by the vertex-face and edge-edge tests.
 //!
 //! # The problem
-//! Both tests ask whether a function `F(t, u, v)` from the box `[0, t_max] x [0, 1] x [0, 1]` to
-//! 3-space has a zero (or a point within `min_separation` of zero), and for the smallest such `t`.
+//! Both tests ask whether a function `F(t, u, v)` from the box `[0, tmax] x [0, 1] x [0, 1]` to
+//! 3-space has a zero (or a point within `min_distance` of zero), and for the smallest such `t`.
 //! `F` is the vector between the two closest candidates:
 //!
 //! - vertex-face: `F = v(t) - x(t, u, v)` where `x(t, u, v) = f0 + u (f1 - f0) + u v (f2 - f1)`
@@ -15,7 +15,7 @@
 //! and `P, A, B` linear in `t`: `F` is multilinear (degree one in each of `t`, `u`, `v`). A
 //! multilinear function on a box takes every value as a convex combination of its eight corner
 //! values, so the image of a box lies in the convex hull of the images of its corners. If a plane
-//! separates that hull from the ball of radius `min_separation` around the origin, the box holds
+//! separates that hull from the ball of radius `min_distance` around the origin, the box holds
 //! no contact.
 //!
 //! # The search
@@ -28,11 +28,11 @@
 //! points, [`closest`]). The search is then a bisection in t alone.
 //!
 //! A box is *excluded* when one of these directions separates its corner images from the ball of
-//! radius `min_separation`: the three coordinate axes, the closest points' direction, the normal
+//! radius `min_distance`: the three coordinate axes, the closest points' direction, the normal
 //! `A x B` at both ends of the box's time interval (the face normal for vertex-face, the common
 //! normal of the edges for edge-edge), and, for the coplanarity of the four points that any
 //! contact needs, the Bernstein coefficients of the coplanarity cubic `P . (A x B)` on the box's
-//! time interval (with `min_separation = 0`). Where that cubic changes sign, the box is split
+//! time interval (with `min_distance = 0`). Where that cubic changes sign, the box is split
 //! around its predicted crossing (the Illinois method) into an earlier box, a slab of width
 //! `tolerance` and a later box; otherwise in half. A box that cannot be excluded is split in t until its width is at most `tolerance`; it is then a
 //! *contact box*.
@@ -59,7 +59,7 @@
 //! The corner values are computed in `f64` and may be wrong by rounding. Each difference vector
 //! (`P`, `A`, `B` at t=0 and t=1) is one rounded subtraction of input coordinates, so it is exact
 //! to a relative `u = 2^-53`. Two bounds of the rounding error are used, and a box is excluded only
-//! when the separation exceeds `min_separation` plus the bound, so no exclusion is wrong in exact
+//! when the separation exceeds `min_distance` plus the bound, so no exclusion is wrong in exact
 //! arithmetic and the test never misses a contact:
 //! - a static bound, the fast path: following every operation (a lerp in `t`, two scaled
 //!   additions) bounds the error of each computed corner coordinate by `33 u M`, where `M` is the
@@ -81,7 +81,7 @@
 //! `sqrt(3) w S_t / 2` of the image at mid time (`S_t` bounds each coordinate's rate, so the
 //! Euclidean distance takes `sqrt(3)`), whose projections on the exact closest direction are all
 //! at least the features' distance. So when `d` is that direction, the features come within
-//! `B = min_separation + sqrt(3) tolerance S_t / 2 + rounding` of each other at a time in
+//! `B = min_distance + sqrt(3) tolerance S_t / 2 + rounding` of each other at a time in
 //! `[T, T + tolerance]`. With the default tolerance that is about a millionth of the features'
 //! relative displacement over the step. This bounds the false positives, and also how early a
 //! reported time can be: when two features graze (come within `B` well before they touch), the
@@ -99,7 +99,7 @@
 //! a test.) Where rounding dominates the features' gaps (coordinates of 1e300 beside
 //! coordinates of 1), `B`'s rounding term is what it is, and the bound holds only with the
 //! rounding of the closest points too.
-//! (For degenerate features, the bound is `sqrt(3) (min_separation + tolerance (S_t + S_u + S_v)
+//! (For degenerate features, the bound is `sqrt(3) (min_distance + tolerance (S_t + S_u + S_v)
 //! + rounding)`, `S_u + S_v` being at most twice the features' size.)
 //!
 //! # Iteration limit
@@ -283,11 +283,11 @@ pub fn solve_counted(problem: &Problem, options: &NarrowOptions) -> (Outcome, u3
     solve_counted_from(problem, options, 0.0)
 }
 
-/// [`solve_counted`] over `[t_start, t_max]` only, for a caller that has proved the features
-/// apart by more than `min_separation` during `[0, t_start]` (the prefilter's pieces): the
-/// search starts from the box `[t_start, t_max] x [0, 1]^2`, and the answer is the same kind
+/// [`solve_counted`] over `[t_start, tmax]` only, for a caller that has proved the features
+/// apart by more than `min_distance` during `[0, t_start]` (the prefilter's pieces): the
+/// search starts from the box `[t_start, tmax] x [0, 1]^2`, and the answer is the same kind
 /// (never later than the first contact, which is not before `t_start`; separated when
-/// `t_start > 0` reaches `t_max`).
+/// `t_start > 0` reaches `tmax`).
 pub(crate) fn solve_counted_from(
     problem: &Problem,
     options: &NarrowOptions,
@@ -300,8 +300,8 @@ pub(crate) fn solve_counted_from(
         };
         return (outcome, 0);
     }
-    let (search, t_max) = Search::new(problem, options);
-    if t_start > 0.0 && t_start >= t_max {
+    let (search, tmax) = Search::new(problem, options);
+    if t_start > 0.0 && t_start >= tmax {
         // Apart during the whole interval.
         return (Outcome::Separated, 0);
     }
@@ -319,25 +319,25 @@ pub(crate) fn solve_counted_from(
     // every later box is clipped to end there, or dropped if it starts there or later.
     STACK.with_borrow_mut(|stack| {
         stack.clear();
-        search.run(stack, [t_start.clamp(0.0, t_max), t_max], max_iterations)
+        search.run(stack, [t_start.clamp(0.0, tmax), tmax], max_iterations)
     })
 }
 
 impl<'a> Search<'a> {
     /// The search's constants for a problem with finite input, and the end of its interval.
     fn new(problem: &'a Problem, options: &NarrowOptions) -> (Self, f64) {
-        let t_max = if options.t_max.is_nan() {
+        let tmax = if options.tmax.is_nan() {
             1.0
         } else {
-            options.t_max.clamp(0.0, 1.0)
+            options.tmax.clamp(0.0, 1.0)
         };
         let tol = if options.tolerance > 0.0 {
             options.tolerance.min(1.0)
         } else {
             NarrowOptions::default().tolerance
         };
-        let sep = if options.min_separation > 0.0 && options.min_separation.is_finite() {
-            options.min_separation
+        let sep = if options.min_distance > 0.0 && options.min_distance.is_finite() {
+            options.min_distance
         } else {
             0.0
         };
@@ -370,7 +370,7 @@ impl<'a> Search<'a> {
             size_a,
             size_b,
         };
-        (search, t_max)
+        (search, tmax)
     }
 }
 
@@ -467,7 +467,7 @@ impl Search<'_> {
         let whole = cell.u == [0.0, 1.0] && cell.v == [0.0, 1.0];
         let ends = self.ends(cell.t);
         // Contact needs the four points coplanar: where the coplanarity cubic keeps one sign over
-        // the box's time interval, there is none (for min_separation = 0). This excludes about
+        // the box's time interval, there is none (for min_distance = 0). This excludes about
         // half the boxes on a cloth step, so it runs before the closest points are computed.
         // Its end coefficients are the cubic's values at the ends, which the crossing
         // prediction below reuses.
@@ -539,7 +539,7 @@ impl Search<'_> {
 
     /// Whether a contact box spanning the whole feature domain, not separated along `d`
     /// (`F` at the features' closest points at its mid time, as computed), keeps the promise of
-    /// the module documentation: the features come within `min_separation` plus the box's
+    /// the module documentation: the features come within `min_distance` plus the box's
     /// blur `sqrt(3) w S_t / 2` plus rounding of each other at its mid time, `|d|` being at
     /// least their distance (up to its rounding). False when the closest points were computed
     /// badly: then `|d|` overstates how close the features come.
@@ -827,7 +827,7 @@ impl Search<'_> {
     }
 
     /// Whether a direction separates the corner images, each known to within its error bound,
-    /// from the ball of radius `min_separation` around the origin.
+    /// from the ball of radius `min_distance` around the origin.
     fn separated(
         &self,
         corners: &[DVec3; 8],
@@ -910,7 +910,7 @@ impl Search<'_> {
     }
 
     /// Whether all corner projections on `n`, less their error bounds, exceed
-    /// `min_separation |n|` (on the positive side, or on either side if `both_sides`);
+    /// `min_distance |n|` (on the positive side, or on either side if `both_sides`);
     /// [`Separation::Ambiguous`] if only the computed values, without their error bounds, do.
     fn separated_along(
         &self,
@@ -924,7 +924,7 @@ impl Search<'_> {
         if n1 == 0.0 || !n1.is_finite() {
             return Separation::No;
         }
-        // |n|_2 rounded up generously; the margin must not shrink below min_separation |n|_2.
+        // |n|_2 rounded up generously; the margin must not shrink below min_distance |n|_2.
         // (Without a separation it is 0, as the product would be, for any `n` whose length
         // cannot overflow.)
         let margin = if self.sep == 0.0 && n1 < 1e150 {

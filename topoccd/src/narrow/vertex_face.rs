@@ -49,7 +49,7 @@ impl VertexFace {
 }
 
 /// Continuous collision test of a vertex against a triangle (the triangle's interior, edges and
-/// corners included) over `[0, options.t_max]`.
+/// corners included) over `[0, options.tmax]`.
 ///
 /// ```
 /// use topoccd::math::DVec3;
@@ -68,8 +68,8 @@ pub fn vertex_face(query: &VertexFace, options: &NarrowOptions) -> Outcome {
     solver::solve(&solver::Problem::vertex_face(query), options)
 }
 
-/// [`vertex_face`] for a pair proved apart by more than `min_separation` during
-/// `[0, t_start]`: searched over `[t_start, t_max]` only ([`solver::solve_counted_from`]).
+/// [`vertex_face`] for a pair proved apart by more than `min_distance` during
+/// `[0, t_start]`: searched over `[t_start, tmax]` only ([`solver::solve_counted_from`]).
 pub(crate) fn vertex_face_from(query: &VertexFace, options: &NarrowOptions, t_start: f64) -> Outcome {
     solver::solve_counted_from(&solver::Problem::vertex_face(query), options, t_start).0
 }

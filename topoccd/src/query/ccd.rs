@@ -67,8 +67,8 @@ impl Ccd {
     /// ([`QueryOptions::validate`]).
     ///
     /// Every vertex-face pair and every pair of edges that share no vertex and pass the step's
-    /// pair filter (see [`Step`]), and come within `options.narrow.min_separation` during
-    /// `[0, options.narrow.t_max]`, is reported with the elementary tests' conservative time of
+    /// pair filter (see [`Step`]), and come within `options.narrow.min_distance` during
+    /// `[0, options.narrow.tmax]`, is reported with the elementary tests' conservative time of
     /// impact and its [`Certainty`], in [`Mode::All`](super::Mode::All); only the earliest
     /// pair(s) in [`Mode::Earliest`](super::Mode::Earliest). Each feature pair is tested at
     /// most once. The result does not depend on the method, the thread count or earlier
@@ -190,7 +190,7 @@ impl Ccd {
             options.deadline,
             Some(self.cancel.clone()),
         ));
-        let sep = options.narrow.min_separation;
+        let sep = options.narrow.min_distance;
         // The triangles of the last step again (a simulator's everyday step): the topology is
         // kept, and the per-step hierarchy refitted.
         let same = self.features.same_topology(step);
@@ -201,7 +201,7 @@ impl Ccd {
         let filter = PairFilter::new(
             step,
             sep,
-            options.narrow.t_max,
+            options.narrow.tmax,
             options.crack_filter,
             &mut self.canon,
             stars_on.then(|| self.stars.view(step, &self.features.topo)),

@@ -415,11 +415,11 @@ impl Keeper {
 /// [`Ccd`](super::Ccd)).
 pub(crate) const EARLY: f64 = 256.0;
 
-/// The end `tau = t_max / EARLY` of the per-step hierarchy's first pass in
+/// The end `tau = tmax / EARLY` of the per-step hierarchy's first pass in
 /// [`Mode::Earliest`], `None` when the interval is too short to split (`tau` within twice the
 /// tolerance).
 pub(crate) fn first_pass_tau(options: &QueryOptions) -> Option<f64> {
-    let tau = options.narrow.t_max / EARLY;
+    let tau = options.narrow.tmax / EARLY;
     (tau > 2.0 * options.narrow.tolerance).then_some(tau)
 }
 
@@ -512,7 +512,7 @@ impl<'a, 's> FirstPass<'a, 's> {
                 box_end: tau,
                 volume_end: tau,
                 kdop: DopKind::K26,
-                sep: options.narrow.min_separation,
+                sep: options.narrow.min_distance,
             },
         })
     }
@@ -549,7 +549,7 @@ impl<'a, 's> FirstPass<'a, 's> {
 /// it reports the pair, conservatively, at a time it cannot rule out. `Mode::All` never looks
 /// at that pair. So the first pass keeps a contact only when the pair is also a candidate of
 /// the whole step, as [`Mode::All`] finds them (the pair filter being the same): its owner
-/// triangles' k-DOPs swept over `[0, t_max]` (the per-step hierarchy's leaves in `Mode::All`)
+/// triangles' k-DOPs swept over `[0, tmax]` (the per-step hierarchy's leaves in `Mode::All`)
 /// overlap, and its features' boxes swept over the whole step come within the minimum
 /// separation. Then Earliest reports only pairs All reports. The check costs a few volumes
 /// per contact of the first pass, nothing per candidate.
@@ -566,9 +566,9 @@ impl<'a, 's> WholeStep<'a, 's> {
                 step,
                 topo,
                 box_end: 1.0,
-                volume_end: options.narrow.t_max,
+                volume_end: options.narrow.tmax,
                 kdop: options.kdop,
-                sep: options.narrow.min_separation,
+                sep: options.narrow.min_distance,
             },
         }
     }
@@ -622,8 +622,8 @@ fn ee_query(step: &Step, edges: &[[u32; 2]], [e, f]: [u32; 2]) -> EdgeEdge {
 fn vf_contact(ctx: &Context, pair: [u32; 2], limit: f64) -> Option<VfContact> {
     let options = ctx.options;
     let q = vf_query(ctx.step, pair);
-    let t_end = limit.min(options.narrow.t_max);
-    let start = vf_unresolved(&q, options.narrow.min_separation, t_end, ctx.coord)?;
+    let t_end = limit.min(options.narrow.tmax);
+    let start = vf_unresolved(&q, options.narrow.min_distance, t_end, ctx.coord)?;
     vf_solved(ctx, &q, pair, (limit, start))
 }
 
@@ -643,7 +643,7 @@ fn vf_solved(
         Some(fp) => fp.raise(s, || *apart.get_or_init(|| fp.vf_apart(pair))),
         None => s,
     };
-    let whole = || vf_unresolved(q, options.narrow.min_separation, options.narrow.t_max, coord);
+    let whole = || vf_unresolved(q, options.narrow.min_distance, options.narrow.tmax, coord);
     let whole = || whole().map(raise);
     let solve = |o: &NarrowOptions, start| vertex_face_from(q, o, start);
     let (toi, certainty) = pruned(&options.narrow, limit, raise(start), whole, solve)?;
@@ -663,8 +663,8 @@ fn vf_solved(
 fn ee_contact(ctx: &Context, pair: [u32; 2], limit: f64) -> Option<EeContact> {
     let options = ctx.options;
     let q = ee_query(ctx.step, ctx.edges, pair);
-    let t_end = limit.min(options.narrow.t_max);
-    let start = ee_unresolved(&q, options.narrow.min_separation, t_end, ctx.coord)?;
+    let t_end = limit.min(options.narrow.tmax);
+    let start = ee_unresolved(&q, options.narrow.min_distance, t_end, ctx.coord)?;
     ee_solved(ctx, &q, pair, (limit, start))
 }
 
@@ -681,7 +681,7 @@ fn ee_solved(
         Some(fp) => fp.raise(s, || *apart.get_or_init(|| fp.ee_apart([e, f]))),
         None => s,
     };
-    let whole = || ee_unresolved(q, options.narrow.min_separation, options.narrow.t_max, coord);
+    let whole = || ee_unresolved(q, options.narrow.min_distance, options.narrow.tmax, coord);
     let whole = || whole().map(raise);
     let solve = |o: &NarrowOptions, start| edge_edge_from(q, o, start);
     let (toi, certainty) = pruned(&options.narrow, limit, raise(start), whole, solve)?;
@@ -708,7 +708,7 @@ fn ee_solved(
 #[inline(always)]
 fn solve_in_fours<Q, C>(
     pairs: &[[u32; 2]],
-    t_max: f64,
+    tmax: f64,
     (limit, room, limits): (&mut f64, &mut usize, &Limits),
     out: &mut Vec<C>,
     corners: impl Fn([u32; 2]) -> [u32; 4],
@@ -733,7 +733,7 @@ fn solve_in_fours<Q, C>(
         }
         // The limit the four's first tests ran with.
         let tested = *limit;
-        let t_end = tested.min(t_max);
+        let t_end = tested.min(tmax);
         let four = [four[0], four[1], four[2], four[3]];
         let passed = first(&four.map(&corners), t_end);
         for (i, pair) in four.into_iter().enumerate() {
@@ -850,11 +850,11 @@ impl Context<'_, '_> {
     /// [`Context::solve`] for vertex-face candidates.
     fn solve_vf(&self, pairs: &[[u32; 2]], limit: &mut f64, found: &mut Found) {
         let (step, options, coord) = (self.step, self.options, self.coord);
-        let (sep, t_max) = (options.narrow.min_separation, options.narrow.t_max);
+        let (sep, tmax) = (options.narrow.min_distance, options.narrow.tmax);
         let (x, tris) = ((step.pos0(), step.pos1()), step.triangles());
         solve_in_fours(
             pairs,
-            t_max,
+            tmax,
             (limit, &mut found.room, self.limits),
             &mut found.vf,
             |[v, f]| {
@@ -876,11 +876,11 @@ impl Context<'_, '_> {
     /// [`Context::solve`] for edge-edge candidates.
     fn solve_ee(&self, pairs: &[[u32; 2]], limit: &mut f64, found: &mut Found) {
         let (step, edges, options, coord) = (self.step, self.edges, self.options, self.coord);
-        let (sep, t_max) = (options.narrow.min_separation, options.narrow.t_max);
+        let (sep, tmax) = (options.narrow.min_distance, options.narrow.tmax);
         let x = (step.pos0(), step.pos1());
         solve_in_fours(
             pairs,
-            t_max,
+            tmax,
             (limit, &mut found.room, self.limits),
             &mut found.ee,
             |[e, f]| {
@@ -1015,7 +1015,7 @@ pub(crate) fn finish(found: &mut Found, options: &QueryOptions) -> Option<Contac
     earliest
 }
 
-/// The time of impact and certainty over `[0, full.t_max]`, or `None` when the pair is
+/// The time of impact and certainty over `[0, full.tmax]`, or `None` when the pair is
 /// separated or has no contact before `limit`: solved first over the shorter interval up to
 /// `limit`, and again over the full interval only if that finds a contact. `solve(options,
 /// start)` searches from `start`, until which the pair is known apart: the prefilter's
@@ -1034,7 +1034,7 @@ fn pruned(
         Outcome::Separated => None,
         Outcome::Contact { toi, certainty } => Some((toi, certainty)),
     };
-    if limit >= full.t_max {
+    if limit >= full.tmax {
         return contact(solve(full, start));
     }
     if start > 0.0 && start >= limit {
@@ -1042,7 +1042,7 @@ fn pruned(
         return None;
     }
     let short = NarrowOptions {
-        t_max: limit,
+        tmax: limit,
         ..*full
     };
     contact(solve(&short, start))?;

@@ -38,7 +38,7 @@ pub enum Mode {
 #[non_exhaustive]
 pub enum Method {
     /// The oracle: every vertex-face and edge-edge pair whose swept axis-aligned boxes come
-    /// within `min_separation`, found by sort and sweep along x.
+    /// within `min_distance`, found by sort and sweep along x.
     Brute,
     /// A k-DOP bounding volume hierarchy over the triangles' swept volumes, built anew every
     /// step (the paper's baseline, as in Self-CCD).
@@ -140,7 +140,7 @@ impl std::fmt::Display for ClusterGrowth {
 /// let mut options = QueryOptions::default();
 /// assert_eq!(options.kdop, DopKind::K18);
 /// options.mode = Mode::Earliest;
-/// options.narrow.min_separation = 1e-4;
+/// options.narrow.min_distance = 1e-4;
 /// assert!(options.validate().is_ok());
 /// options.narrow.tolerance = 0.0;
 /// assert_eq!(
@@ -151,8 +151,8 @@ impl std::fmt::Display for ClusterGrowth {
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct QueryOptions {
-    /// Options of the elementary tests. `min_separation` also inflates every bounding volume;
-    /// `t_max` bounds the times searched (contacts after it are not reported).
+    /// Options of the elementary tests. `min_distance` also inflates every bounding volume;
+    /// `tmax` bounds the times searched (contacts after it are not reported).
     pub narrow: NarrowOptions,
     /// Which k-DOP bounds the triangles in [`Method::Bvh`]. Default 18, as in the paper.
     pub kdop: DopKind,
@@ -217,12 +217,12 @@ pub enum OptionsError {
     /// `max_iterations` is 0.
     #[error("max_iterations must be at least 1, got 0")]
     MaxIterations,
-    /// `min_separation` negative or not finite.
-    #[error("min_separation must be finite and >= 0, got {0}")]
-    MinSeparation(f64),
-    /// `t_max` not in `(0, 1]`.
-    #[error("t_max must be in (0, 1], got {0}")]
-    TMax(f64),
+    /// `min_distance` negative or not finite.
+    #[error("min_distance must be finite and >= 0, got {0}")]
+    MinDistance(f64),
+    /// `tmax` not in `(0, 1]`.
+    #[error("tmax must be in (0, 1], got {0}")]
+    Tmax(f64),
     /// [`Ccd::for_each_contact`](crate::Ccd::for_each_contact) asked for
     /// [`Mode::Earliest`], whose pairs are known only at the end.
     #[error("mode Earliest cannot stream its contacts (its pairs are known only at the end); use Ccd::query")]
@@ -255,11 +255,11 @@ impl NarrowOptions {
         if n.max_iterations == 0 {
             return Err(OptionsError::MaxIterations);
         }
-        if !(n.min_separation >= 0.0 && n.min_separation.is_finite()) {
-            return Err(OptionsError::MinSeparation(n.min_separation));
+        if !(n.min_distance >= 0.0 && n.min_distance.is_finite()) {
+            return Err(OptionsError::MinDistance(n.min_distance));
         }
-        if !(n.t_max > 0.0 && n.t_max <= 1.0) {
-            return Err(OptionsError::TMax(n.t_max));
+        if !(n.tmax > 0.0 && n.tmax <= 1.0) {
+            return Err(OptionsError::Tmax(n.tmax));
         }
         Ok(())
     }

@@ -14,7 +14,7 @@ pub struct VfContact {
     pub vertex: u32,
     /// The triangle's index in [`Step::triangles`](crate::Step::triangles).
     pub face: u32,
-    /// Time of impact in `[0, t_max]`, no later than the first contact.
+    /// Time of impact in `[0, tmax]`, no later than the first contact.
     pub toi: f64,
     /// Whether the contact was isolated or the search gave up conservatively.
     pub certainty: Certainty,
@@ -66,7 +66,7 @@ pub struct EeContact {
     pub a: [u32; 2],
     /// The second edge.
     pub b: [u32; 2],
-    /// Time of impact in `[0, t_max]`, no later than the first contact.
+    /// Time of impact in `[0, tmax]`, no later than the first contact.
     pub toi: f64,
     /// Whether the contact was isolated or the search gave up conservatively.
     pub certainty: Certainty,

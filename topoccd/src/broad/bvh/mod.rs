@@ -155,8 +155,8 @@ fn spread<const H: usize>(bvh: &Bvh<CompactKdop<H>>) -> f64 {
 }
 
 impl<const H: usize> PerStepBvh<H> {
-    /// Fits the hierarchy to the volumes swept by the step's triangles over `[0, t_max]` (the
-    /// whole step for `t_max >= 1`), inflated by `sep`. It needs the positions and triangles
+    /// Fits the hierarchy to the volumes swept by the step's triangles over `[0, tmax]` (the
+    /// whole step for `tmax >= 1`), inflated by `sep`. It needs the positions and triangles
     /// only, not the step's topology.
     ///
     /// With `same_triangles` (the step has the very triangles of the last step this was
@@ -168,14 +168,14 @@ impl<const H: usize> PerStepBvh<H> {
     pub fn build(
         &mut self,
         step: &Step,
-        (t_max, sep): (f64, f64),
+        (tmax, sep): (f64, f64),
         same_triangles: bool,
         ws: &mut BvhWorkspace,
     ) {
-        self.sweep_leaves(step, t_max, sep);
+        self.sweep_leaves(step, tmax, sep);
         let leaves = &self.leaf_volumes;
         let volume = move |t: u32| CompactKdop::outward(&leaves[t as usize]);
-        self.swept = (t_max, sep);
+        self.swept = (tmax, sep);
         self.marked = false;
         let tris = step.triangles();
         // A tree over as many triangles, swept the same way, is refitted: over the very same
@@ -205,8 +205,8 @@ impl<const H: usize> PerStepBvh<H> {
         self.front_valid = false;
         self.front_refused = false;
         let (x0, x1) = (step.pos0(), step.pos1());
-        // A leaf stands for its triangle's box at 0 and at `t_max` when splitting.
-        let t_end = t_max.clamp(0.0, 1.0);
+        // A leaf stands for its triangle's box at 0 and at `tmax` when splitting.
+        let t_end = tmax.clamp(0.0, 1.0);
         let center = |t: usize| {
             let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
             for &v in &tris[t] {
@@ -339,7 +339,7 @@ impl<const H: usize> PerStepBvh<H> {
         }
     }
 
-    /// Refits the hierarchy to the volumes swept over the times searched, `[0, t_max]` (same
+    /// Refits the hierarchy to the volumes swept over the times searched, `[0, tmax]` (same
     /// tree, linear time): the leaves a build for those times has.
     pub fn refit_until_t_max(&mut self, input: &BroadInput<'_, '_>) {
         // The tree is about to stop being as built: measure its fit first.
@@ -348,18 +348,18 @@ impl<const H: usize> PerStepBvh<H> {
                 shape.spread = Some(spread(&self.bvh));
             }
         }
-        let (sep, t_max) = (input.filter.sep, input.filter.t_max());
-        self.swept = (t_max, sep);
-        self.sweep_leaves(input.step, t_max, sep);
+        let (sep, tmax) = (input.filter.sep, input.filter.tmax());
+        self.swept = (tmax, sep);
+        self.sweep_leaves(input.step, tmax, sep);
         let leaves = &self.leaf_volumes;
         self.bvh
             .refit(move |t| CompactKdop::outward(&leaves[t as usize]));
     }
 
-    /// The triangles' volumes swept over `[0, t_max]`, inflated by `sep`, into `leaf_volumes`.
-    fn sweep_leaves(&mut self, step: &Step, t_max: f64, sep: f64) {
-        corner_volumes(step, t_max, &mut self.corner_volumes);
-        let volume = triangle_volume_from(step, &self.corner_volumes, t_max, sep);
+    /// The triangles' volumes swept over `[0, tmax]`, inflated by `sep`, into `leaf_volumes`.
+    fn sweep_leaves(&mut self, step: &Step, tmax: f64, sep: f64) {
+        corner_volumes(step, tmax, &mut self.corner_volumes);
+        let volume = triangle_volume_from(step, &self.corner_volumes, tmax, sep);
         (0..step.triangles().len() as u32)
             .into_par_iter()
             .with_min_len(1 << 12)
@@ -370,8 +370,8 @@ impl<const H: usize> PerStepBvh<H> {
     /// Checks the hierarchy of the last step, `step`, against its leaves: the triangles'
     /// volumes swept over the times it was last fitted to.
     pub fn validate(&self, step: &Step) -> Result<(), BvhError> {
-        let (t_max, sep) = self.swept;
-        let volume = triangle_volume::<H>(step, t_max, sep);
+        let (tmax, sep) = self.swept;
+        let volume = triangle_volume::<H>(step, tmax, sep);
         let leaves: Vec<Leaf<CompactKdop<H>>> = (0..step.triangles().len() as u32)
             .map(|t| Leaf {
                 id: t,

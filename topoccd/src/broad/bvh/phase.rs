@@ -65,7 +65,7 @@ macro_rules! with_tree {
 
 impl BvhPhase {
     /// Fits the tree of `options.kdop` to the step (see [`PerStepBvh::build`]): over the start
-    /// of the step when this query makes a first pass, else over `[0, t_max]`. `same_triangles`:
+    /// of the step when this query makes a first pass, else over `[0, tmax]`. `same_triangles`:
     /// the last query built this very tree over the same triangles. Returns the end of the
     /// features' boxes the query needs: the first pass's, or the whole step (1).
     pub fn build(
@@ -77,8 +77,8 @@ impl BvhPhase {
     ) {
         self.first_end = first_pass_end(options, !self.late);
         let end = (
-            self.first_end.unwrap_or(options.narrow.t_max),
-            options.narrow.min_separation,
+            self.first_end.unwrap_or(options.narrow.tmax),
+            options.narrow.min_distance,
         );
         with_tree!(self, options.kdop, |t| t.build(step, end, same_triangles, ws))
     }
@@ -157,7 +157,7 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// every thread).
 ///
 /// In [`Mode::Earliest`], with `first_look` = `Some((tau, whole))`, `tau` from
-/// [`first_pass_end`] (`tau = t_max / EARLY`), a first pass uses triangle volumes and feature
+/// [`first_pass_end`] (`tau = tmax / EARLY`), a first pass uses triangle volumes and feature
 /// boxes (the features' own, swept by the caller over `[0, tau]`) and solves every
 /// candidate over `[0, tau]` first. If it finds contacts whose earliest time `b` has
 /// `b + 2 tolerance <= tau`, the answer is complete: a pair reported within the tolerance of
@@ -166,7 +166,7 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// rounding keeps it from separating the features) and the first pass tested it. The first
 /// pass keeps only contacts of pairs that a query in [`Mode::All`] looks at
 /// ([`WholeStep`]), so that Earliest reports only All's pairs. Otherwise the hierarchy is
-/// refitted to the volumes swept over `[0, t_max]`, its leaves in `Mode::All`, the features'
+/// refitted to the volumes swept over `[0, tmax]`, its leaves in `Mode::All`, the features'
 /// boxes over the whole step are swept into `late_boxes`, and the hierarchy is traversed
 /// again, pruned with whatever the first pass found; pairs found twice are reported once.
 /// The first pass pays
@@ -176,9 +176,9 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// beyond its first batch), and [`Ccd`](crate::Ccd) tries it only while the last Earliest
 /// query's contact came early (`early`); the answer is the same either way (the second pass
 /// alone is complete). Also returns whether this step's earliest contact came late (after
-/// `t_max / EARLY`, or none), with one pass or two, and whether a first pass was made and
+/// `tmax / EARLY`, or none), with one pass or two, and whether a first pass was made and
 /// did not give the answer. `tree` must have been built for this
-/// step, over `[0, tau]` for two passes, else over `[0, t_max]`.
+/// step, over `[0, tau]` for two passes, else over `[0, tmax]`.
 fn bvh_query<const H: usize>(
     tree: &mut PerStepBvh<H>,
     passes: &Passes<'_, '_, '_>,
@@ -191,7 +191,7 @@ fn bvh_query<const H: usize>(
     let stop_first = first_look.is_some_and(|(_, whole)| !whole);
     let (input, ctx) = (passes.input, passes.ctx);
     // Whether or not there is a first pass, a contact is late after the first `1 / EARLY`.
-    let tau = ctx.options.narrow.t_max / EARLY;
+    let tau = ctx.options.narrow.tmax / EARLY;
     let two_pass = first_end.is_some();
     let end = first_end.unwrap_or(f64::INFINITY);
     let mut build = 0.0;

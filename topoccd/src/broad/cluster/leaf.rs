@@ -159,7 +159,7 @@ pub(super) fn grow_leaves(
         scratch.position.clear();
         scratch.position.resize(n, 0);
     }
-    let mut grow = options.min_separation == 0.0;
+    let mut grow = options.min_distance == 0.0;
     scratch.centre_prefix.clear();
     let mut next_kept = 0;
     for seed in 0..n as u32 {

@@ -113,14 +113,14 @@ pub(super) fn merge_leaves(
     out.intermediate_of_leaf.clear();
     out.intermediate_of_leaf.resize(leaves, UNASSIGNED);
     let merging =
-        options.merge && options.min_separation == 0.0 && options.max_intermediate_leaves > 1;
+        options.merge && options.min_distance == 0.0 && options.max_intermediate_leaves > 1;
     let (offsets, adjacent) = if merging {
         leaf_adjacency(topo, &out.leaf_of_triangle, leaves)
     } else {
         (vec![0; leaves + 1], Vec::new())
     };
     let geometry = if merging {
-        leaf_geometry(step, out, options.min_separation)
+        leaf_geometry(step, out, options.min_distance)
     } else {
         Vec::new()
     };

@@ -6,7 +6,7 @@
 //! For every intermediate cluster (and so every leaf cluster), no two of its features (vertices,
 //! edges, faces of its triangles) that share no vertex touch at any time `t` in `[0, 1]`, in exact
 //! arithmetic, with vertices moving linearly from `x0` to `x1`. Floating point only ever makes
-//! the construction refuse a ring or a merge. With [`ClusterOptions::min_separation`] `> 0` the
+//! the construction refuse a ring or a merge. With [`ClusterOptions::min_distance`] `> 0` the
 //! certificates below say nothing about distances, so every leaf is then a single triangle and
 //! every intermediate cluster a single leaf (a triangle's own features all share a vertex).
 //!

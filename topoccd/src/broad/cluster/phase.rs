@@ -79,7 +79,7 @@ impl ClusterPhase {
         runner: &mut impl PairRunner,
     ) -> (BroadStats, ClusterFigures) {
         let options = ClusterOptions {
-            min_separation: input.filter.sep,
+            min_distance: input.filter.sep,
             phi_filter: paper_growth,
             ..ClusterOptions::default()
         };
@@ -200,7 +200,7 @@ fn run<const H: usize, R: PairRunner>(
     };
     let step = input.step;
     cluster_into_beside(step, topo, options, cluster_ws, clustering, ahead, |leaves, grown| {
-        tree.sweep(step, (input.filter.t_max(), input.filter.sep));
+        tree.sweep(step, (input.filter.tmax(), input.filter.sep));
         tree.build_ahead(leaves, grown);
     });
     let c = &clustering.stats;

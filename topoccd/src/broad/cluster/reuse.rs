@@ -108,7 +108,7 @@ fn fingerprint(step: &Step) -> u64 {
 /// Whether `options` let a step start from the last step's leaves.
 fn reusable(options: &ClusterOptions) -> bool {
     options.reuse
-        && options.min_separation == 0.0
+        && options.min_distance == 0.0
         && !options.phi_filter
         && options.rings == RingGrowth::Partial
 }

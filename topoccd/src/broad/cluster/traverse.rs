@@ -44,7 +44,7 @@
 //! intermediate cluster, as is the face `f`; and the two share no vertex (pairs that do are
 //! never candidates). The clustering's theorem ([`cluster`](super)): no two features of
 //! one intermediate cluster that share no vertex touch at any time in `[0, 1]`, which contains
-//! the searched `[0, t_max]`. The same holds for two edges. With a minimum separation `> 0` the
+//! the searched `[0, tmax]`. The same holds for two edges. With a minimum separation `> 0` the
 //! theorem says nothing about distances, and the clustering then makes every leaf a single
 //! triangle and every intermediate cluster a single leaf: all of its features share a vertex, so
 //! nothing is skipped that the other methods would test.

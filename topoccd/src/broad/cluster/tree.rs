@@ -75,11 +75,11 @@ pub(crate) struct ClusterTree<const H: usize> {
 }
 
 impl<const H: usize> ClusterTree<H> {
-    /// Computes the volumes of the step's triangles swept over `[0, t_max]`, inflated by
+    /// Computes the volumes of the step's triangles swept over `[0, tmax]`, inflated by
     /// `inflation`, on the rayon pool. They do not depend on the clustering, so this may run
     /// while it grows.
-    pub fn sweep(&mut self, step: &Step, (t_max, inflation): (f64, f64)) {
-        triangle_volumes(step, (t_max, inflation), &mut self.tri);
+    pub fn sweep(&mut self, step: &Step, (tmax, inflation): (f64, f64)) {
+        triangle_volumes(step, (tmax, inflation), &mut self.tri);
     }
 
     /// Builds, ahead of need, the hierarchy over the triangles of each leaf cluster received

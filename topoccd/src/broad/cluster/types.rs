@@ -11,7 +11,7 @@ pub struct ClusterOptions {
     /// [`NarrowOptions`](crate::narrow::NarrowOptions). `>= 0`. The certificates hold for
     /// contact only, so any value `> 0` turns clustering off (single-triangle leaves, single-leaf
     /// intermediate clusters). Default `0`.
-    pub min_separation: f64,
+    pub min_distance: f64,
     /// Most de Casteljau subdivisions per polynomial sign test when its coefficients are
     /// inconclusive, `0..=8` sensibly (cost up to `2^subdivisions` per test). Default `2`.
     pub subdivisions: u32,
@@ -73,7 +73,7 @@ pub enum RingGrowth {
 impl Default for ClusterOptions {
     fn default() -> Self {
         Self {
-            min_separation: 0.0,
+            min_distance: 0.0,
             subdivisions: 2,
             merge: true,
             max_intermediate_leaves: 128,
@@ -95,7 +95,7 @@ pub enum GrowthStop {
     Phi,
     /// The patch with the next ring (or the seed itself) failed the disk certificate.
     Certificate(DiskFailure),
-    /// Growth is off ([`ClusterOptions::min_separation`] `> 0`).
+    /// Growth is off ([`ClusterOptions::min_distance`] `> 0`).
     Disabled,
 }
 
