@@ -32,7 +32,8 @@
 //! ```
 //!
 //! Inside, the folders follow the data: `mesh` (input model, topology, features, pair
-//! filter) → `narrow` (elementary tests, prefilter, Bernstein bounds) → `kdop` and `bvh`
+//! filter) → `narrow` (elementary tests, prefilter, Bernstein bounds) → `contact` (the narrow
+//! phase's driver: candidates to contacts, options, limits, report) → `kdop` and `bvh`
 //! (bounding volumes) → `broad` (brute force, per-step hierarchy, clusters) → `query` →
 //! [`io`]. Only the types re-exported here are public; the crate feature `internals` exposes the
 //! rest, hidden and unstable, to the crate's own tests and the workspace's generators.
@@ -51,7 +52,7 @@ macro_rules! internal {
     )*};
 }
 
-internal!(broad, bvh, kdop, math, mesh, narrow, query);
+internal!(broad, bvh, contact, kdop, math, mesh, narrow, query);
 
 pub mod check;
 pub mod io;

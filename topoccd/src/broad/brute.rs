@@ -10,7 +10,7 @@ use super::{triangle_volumes, BroadInput, BroadPhase, BroadStats, Candidates, Si
 use crate::bvh::BvhWorkspace;
 use crate::kdop::{DopKind, Kdop};
 use crate::mesh::features::SweptBox;
-use crate::query::narrow_phase::{Found, Keeper};
+use crate::contact::driver::{Found, Keeper};
 
 /// The oracle as a broad phase: a sequential sweep whose buffer of candidates is solved in
 /// parallel whenever it is full. It keeps nothing from one step to the next.

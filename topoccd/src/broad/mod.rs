@@ -34,6 +34,8 @@ use std::ops::ControlFlow;
 
 use rayon::prelude::*;
 
+pub(crate) use crate::contact::{triangle_volume, Candidates};
+
 use crate::bvh::{BvhWorkspace, ParOptions};
 use crate::kdop::Kdop;
 use crate::math::DVec3;
@@ -46,25 +48,6 @@ pub(crate) struct BroadInput<'a, 's> {
     pub step: &'a Step<'s>,
     pub features: &'a Features,
     pub filter: &'a PairFilter<'a>,
-}
-
-/// Candidate feature pairs: `[vertex, face]` and `[e, f]` (indices into the step's sorted
-/// edges, `e < f`).
-#[derive(Clone, Debug, Default)]
-pub(crate) struct Candidates {
-    pub vf: Vec<[u32; 2]>,
-    pub ee: Vec<[u32; 2]>,
-}
-
-impl Candidates {
-    pub fn clear(&mut self) {
-        self.vf.clear();
-        self.ee.clear();
-    }
-
-    pub fn len(&self) -> usize {
-        self.vf.len() + self.ee.len()
-    }
 }
 
 /// Most candidate pairs a buffer holds before it is handed to the narrow phase: memory stays
@@ -237,21 +220,6 @@ pub(crate) fn triangle_volumes<const H: usize>(
             .with_min_len(1 << 12)
             .map(volume),
     );
-}
-
-/// The k-DOP swept by triangle `t` over `[0, tmax]` (the whole step for `tmax >= 1`),
-/// inflated by `inflation`, as a function of `t`.
-pub(crate) fn triangle_volume<'a, const H: usize>(
-    step: &'a Step<'_>,
-    tmax: f64,
-    inflation: f64,
-) -> impl Fn(u32) -> Kdop<H> + Sync + Send + Copy + 'a {
-    let (x0, x1, tris) = (step.pos0(), step.pos1(), step.triangles());
-    move |t| {
-        let [a, b, c] = tris[t as usize].map(|i| i as usize);
-        let (t0, t1) = ([x0[a], x0[b], x0[c]], [x1[a], x1[b], x1[c]]);
-        Kdop::swept_triangle_until(&t0, &t1, tmax, inflation)
-    }
 }
 
 /// Each vertex's part of the triangles' swept volumes over `[0, tmax]`

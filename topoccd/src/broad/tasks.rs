@@ -11,9 +11,9 @@ use std::sync::Arc;
 use super::{BroadInput, Candidates, PairRunner, TaskPairs};
 use crate::bvh::{BvhWorkspace, ParOptions};
 use crate::mesh::features::FeatureBoxes;
-use crate::query::limits::Limits;
-use crate::query::narrow_phase::{lower, Context, Found, Keeper, Progress};
-use crate::query::Mode;
+use crate::contact::limits::Limits;
+use crate::contact::driver::{lower, Context, Found, Keeper, Progress};
+use crate::contact::Mode;
 
 /// What a broad phase's passes read: the step, the narrow phase's context, the query's limits
 /// and how the tasks buffer their candidates.

@@ -5,9 +5,9 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::limits::{CancelToken, Limits, Phase, StopReason, Truncation};
-use super::narrow_phase::{self, Context, FirstPass, Found, Stream};
-use super::report::{Contact, Report, Seconds, Stats};
+use crate::contact::limits::{CancelToken, Limits, Phase, StopReason, Truncation};
+use crate::contact::driver::{self as narrow_phase, Context, FirstPass, Found, Stream};
+use crate::contact::report::{Contact, Report, Seconds, Stats};
 use super::{Method, OptionsError, QueryOptions};
 use crate::broad::brute::Brute;
 use crate::broad::bvh::BvhPhase;

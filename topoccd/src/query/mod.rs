@@ -6,7 +6,8 @@
 //!    and the hierarchy of the method ([`Method::Bvh`], [`Method::Cluster`]);
 //! 2. *traverse*: the candidate feature pairs, which the broad phase's tasks solve in bounded
 //!    buffers as they come (the broad phases and their passes live in [`broad`](crate::broad)
-//!    behind one interface; this module orchestrates);
+//!    behind one interface, and hand the candidates down to the narrow phase's driver in
+//!    [`contact`](crate::contact); this module orchestrates);
 //! 3. *narrow*: the elementary tests over the candidates (inside the traversal's tasks, and the
 //!    report's sorting and selection).
 //!
@@ -17,18 +18,15 @@
 //! again on every step, never trusted.
 
 mod ccd;
-mod geometry;
-pub(crate) mod limits;
-pub(crate) mod narrow_phase;
-mod options;
-mod report;
 
 #[cfg(feature = "internals")]
 pub use ccd::CandidatePairs;
 pub use ccd::{query, Ccd};
-pub use limits::{CancelToken, Phase, StopReason, Truncation};
-pub use options::{ClusterGrowth, Method, Mode, OptionsError, QueryOptions, AUTO_CLUSTER_TRIANGLES};
-pub use report::{
+pub use crate::contact::{CancelToken, Phase, StopReason, Truncation};
+pub use crate::contact::{
+    ClusterGrowth, Method, Mode, OptionsError, QueryOptions, AUTO_CLUSTER_TRIANGLES,
+};
+pub use crate::contact::{
     Certainty, ClusterFigures, Contact, EeContact, EeGeometry, Report, Seconds, Stats, VfContact,
     VfGeometry,
 };

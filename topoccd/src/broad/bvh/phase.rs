@@ -12,8 +12,8 @@ use crate::kdop::DopKind;
 use crate::mesh::features::FeatureBoxes;
 use crate::mesh::star::StarView;
 use crate::mesh::{Step, Topology};
-use crate::query::narrow_phase::{first_pass_tau, lower, Context, Found, WholeStep, EARLY};
-use crate::query::{Mode, QueryOptions};
+use crate::contact::driver::{first_pass_tau, lower, Context, Found, WholeStep, EARLY};
+use crate::contact::{Mode, QueryOptions};
 
 /// The per-step hierarchy's state across steps: one tree per k-DOP kind (the kind of the last
 /// query's), the features' boxes of an Earliest query's second pass, and whether the last
@@ -162,7 +162,7 @@ fn first_pass_end(options: &QueryOptions, early: bool) -> Option<f64> {
 /// candidate over `[0, tau]` first. If it finds contacts whose earliest time `b` has
 /// `b + 2 tolerance <= tau`, the answer is complete: a pair reported within the tolerance of
 /// `b` is reported before `tau`, so its volumes over `[0, tau]` overlap (the narrow phase of
-/// every method searches a pair they prove apart from `tau` only, [`FirstPass`](crate::query::narrow_phase::FirstPass), even where
+/// every method searches a pair they prove apart from `tau` only, [`FirstPass`](crate::contact::driver::FirstPass), even where
 /// rounding keeps it from separating the features) and the first pass tested it. The first
 /// pass keeps only contacts of pairs that a query in [`Mode::All`] looks at
 /// ([`WholeStep`]), so that Earliest reports only All's pairs. Otherwise the hierarchy is

@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use crate::broad::tasks::{Out, Passes, Runner};
 use crate::broad::{BroadInput, BroadPhase, BroadStats, PairRunner, Stopper};
-use crate::query::ClusterGrowth;
+use crate::contact::ClusterGrowth;
 use crate::bvh::{BvhError, BvhWorkspace};
 use crate::kdop::DopKind;
 

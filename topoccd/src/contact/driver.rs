@@ -9,7 +9,7 @@ use super::geometry;
 use super::limits::{Limits, StopReason};
 use super::report::{Contact, EeContact, VfContact};
 use super::{Mode, QueryOptions};
-use crate::broad::{triangle_volume, Candidates};
+use super::{triangle_volume, Candidates};
 use crate::kdop::DopKind;
 use crate::mesh::features::SweptBox;
 use crate::mesh::{Step, Topology};
@@ -258,7 +258,7 @@ impl Found {
     }
 }
 
-/// The consumer of a streaming query ([`Ccd::for_each_contact`](super::Ccd::for_each_contact)):
+/// The consumer of a streaming query ([`Ccd::for_each_contact`](crate::Ccd::for_each_contact)):
 /// every contact is handed to `each` on the thread that found it.
 pub(crate) struct Stream<'f> {
     pub each: &'f (dyn Fn(&Contact) + Sync),
@@ -412,7 +412,7 @@ impl Keeper {
 
 /// In [`Mode::Earliest`], the per-step hierarchy first looks at the first `1 / EARLY` of the
 /// interval only (its volumes swept over that start are much smaller; see
-/// [`Ccd`](super::Ccd)).
+/// [`Ccd`](crate::Ccd)).
 pub(crate) const EARLY: f64 = 256.0;
 
 /// The end `tau = tmax / EARLY` of the per-step hierarchy's first pass in
