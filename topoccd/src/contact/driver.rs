@@ -5,7 +5,6 @@ use std::ops::ControlFlow;
 
 use rayon::prelude::*;
 
-use super::geometry;
 use super::limits::{Limits, StopReason};
 use super::report::{Contact, EeContact, VfContact};
 use super::{Mode, QueryOptions};
@@ -13,13 +12,10 @@ use super::{triangle_volume, Candidates};
 use crate::kdop::DopKind;
 use crate::mesh::features::SweptBox;
 use crate::mesh::{Step, Topology};
-use crate::narrow::prefilter::{
-    ee_rest_unresolved, ee_unresolved, first_tests_x4, vf_rest_unresolved, vf_unresolved, Firsts,
-    Rest,
-};
-use crate::narrow::{
-    edge_edge_from, vertex_face_from, Certainty, EdgeEdge, NarrowOptions, Outcome, VertexFace,
-};
+use super::edge_edge::{ee_contact, ee_query, ee_solved};
+use super::vertex_face::{vf_contact, vf_query, vf_solved};
+use crate::narrow::prefilter::{ee_rest_unresolved, first_tests_x4, vf_rest_unresolved, Firsts, Rest};
+use crate::narrow::{Certainty, NarrowOptions, Outcome};
 
 /// Pairs solved between two updates of the best time in [`Mode::Earliest`]. Fixed, so that
 /// what is pruned does not depend on the thread count.
@@ -520,7 +516,7 @@ impl<'a, 's> FirstPass<'a, 's> {
     /// `start` (a time until which the pair is known apart), raised to `tau` when the first
     /// pass's volumes prove the pair apart until then (`apart`, asked only if it matters).
     #[inline]
-    fn raise(&self, start: f64, apart: impl FnOnce() -> bool) -> f64 {
+    pub(super) fn raise(&self, start: f64, apart: impl FnOnce() -> bool) -> f64 {
         let tau = self.view.box_end;
         if start < tau && apart() {
             tau
@@ -530,12 +526,12 @@ impl<'a, 's> FirstPass<'a, 's> {
     }
 
     /// Whether the first pass leaves out the vertex-face pair `[v, f]`.
-    fn vf_apart(&self, pair: [u32; 2]) -> bool {
+    pub(super) fn vf_apart(&self, pair: [u32; 2]) -> bool {
         !self.view.vf_looked_at(pair)
     }
 
     /// Whether the first pass leaves out the edge-edge pair `[e, f]` (indices into the edges).
-    fn ee_apart(&self, pair: [u32; 2]) -> bool {
+    pub(super) fn ee_apart(&self, pair: [u32; 2]) -> bool {
         !self.view.ee_looked_at(pair)
     }
 }
@@ -574,127 +570,14 @@ impl<'a, 's> WholeStep<'a, 's> {
     }
 
     /// Whether [`Mode::All`] looks at the vertex-face pair `[v, f]`.
-    fn vf_candidate(&self, pair: [u32; 2]) -> bool {
+    pub(super) fn vf_candidate(&self, pair: [u32; 2]) -> bool {
         self.view.vf_looked_at(pair)
     }
 
     /// Whether [`Mode::All`] looks at the edge-edge pair `[e, f]` (indices into the edges).
-    fn ee_candidate(&self, pair: [u32; 2]) -> bool {
+    pub(super) fn ee_candidate(&self, pair: [u32; 2]) -> bool {
         self.view.ee_looked_at(pair)
     }
-}
-
-fn vf_query(step: &Step, [v, f]: [u32; 2]) -> VertexFace {
-    let (x0, x1) = (step.pos0(), step.pos1());
-    let [f0, f1, f2] = step.triangles()[f as usize].map(|i| i as usize);
-    let v = v as usize;
-    VertexFace {
-        v_t0: x0[v],
-        f0_t0: x0[f0],
-        f1_t0: x0[f1],
-        f2_t0: x0[f2],
-        v_t1: x1[v],
-        f0_t1: x1[f0],
-        f1_t1: x1[f1],
-        f2_t1: x1[f2],
-    }
-}
-
-fn ee_query(step: &Step, edges: &[[u32; 2]], [e, f]: [u32; 2]) -> EdgeEdge {
-    let ([a0, a1], [b0, b1]) = (edges[e as usize], edges[f as usize]);
-    debug_assert!([a0, a1] < [b0, b1]);
-    let (x0, x1) = (step.pos0(), step.pos1());
-    let [a0, a1, b0, b1] = [a0, a1, b0, b1].map(|i| i as usize);
-    EdgeEdge {
-        ea0_t0: x0[a0],
-        ea1_t0: x0[a1],
-        eb0_t0: x0[b0],
-        eb1_t0: x0[b1],
-        ea0_t1: x1[a0],
-        ea1_t1: x1[a1],
-        eb0_t1: x1[b0],
-        eb1_t1: x1[b1],
-    }
-}
-
-/// One candidate's elementary test, its prefilter first: `limit` is the end of the interval
-/// that can still matter (see [`pruned`]).
-fn vf_contact(ctx: &Context, pair: [u32; 2], limit: f64) -> Option<VfContact> {
-    let options = ctx.options;
-    let q = vf_query(ctx.step, pair);
-    let t_end = limit.min(options.narrow.tmax);
-    let start = vf_unresolved(&q, options.narrow.min_distance, t_end, ctx.coord)?;
-    vf_solved(ctx, &q, pair, (limit, start))
-}
-
-/// The elementary test of a candidate that its prefilter over `[0, limit]` passed, proved
-/// apart until `start`. A pair the first pass leaves out is searched from its end
-/// ([`Context::first`]); in the first pass, a contact of a pair the whole step leaves out is
-/// dropped ([`Context::whole`]).
-fn vf_solved(
-    ctx: &Context,
-    q: &VertexFace,
-    pair: [u32; 2],
-    (limit, start): (f64, f64),
-) -> Option<VfContact> {
-    let (options, coord) = (ctx.options, ctx.coord);
-    let apart = std::cell::OnceCell::new();
-    let raise = |s: f64| match &ctx.first {
-        Some(fp) => fp.raise(s, || *apart.get_or_init(|| fp.vf_apart(pair))),
-        None => s,
-    };
-    let whole = || vf_unresolved(q, options.narrow.min_distance, options.narrow.tmax, coord);
-    let whole = || whole().map(raise);
-    let solve = |o: &NarrowOptions, start| vertex_face_from(q, o, start);
-    let (toi, certainty) = pruned(&options.narrow, limit, raise(start), whole, solve)?;
-    if ctx.whole.is_some_and(|w| !w.vf_candidate(pair)) {
-        return None;
-    }
-    Some(VfContact {
-        vertex: pair[0],
-        face: pair[1],
-        toi,
-        certainty,
-        geometry: options.geometry.then(|| geometry::vertex_face(q, toi)),
-    })
-}
-
-/// [`vf_contact`] for an edge-edge pair (indices into [`Context::edges`]).
-fn ee_contact(ctx: &Context, pair: [u32; 2], limit: f64) -> Option<EeContact> {
-    let options = ctx.options;
-    let q = ee_query(ctx.step, ctx.edges, pair);
-    let t_end = limit.min(options.narrow.tmax);
-    let start = ee_unresolved(&q, options.narrow.min_distance, t_end, ctx.coord)?;
-    ee_solved(ctx, &q, pair, (limit, start))
-}
-
-/// [`vf_solved`] for an edge-edge pair.
-fn ee_solved(
-    ctx: &Context,
-    q: &EdgeEdge,
-    [e, f]: [u32; 2],
-    (limit, start): (f64, f64),
-) -> Option<EeContact> {
-    let (options, coord, edges) = (ctx.options, ctx.coord, ctx.edges);
-    let apart = std::cell::OnceCell::new();
-    let raise = |s: f64| match &ctx.first {
-        Some(fp) => fp.raise(s, || *apart.get_or_init(|| fp.ee_apart([e, f]))),
-        None => s,
-    };
-    let whole = || ee_unresolved(q, options.narrow.min_distance, options.narrow.tmax, coord);
-    let whole = || whole().map(raise);
-    let solve = |o: &NarrowOptions, start| edge_edge_from(q, o, start);
-    let (toi, certainty) = pruned(&options.narrow, limit, raise(start), whole, solve)?;
-    if ctx.whole.is_some_and(|w| !w.ee_candidate([e, f])) {
-        return None;
-    }
-    Some(EeContact {
-        a: edges[e as usize],
-        b: edges[f as usize],
-        toi,
-        certainty,
-        geometry: options.geometry.then(|| geometry::edge_edge(q, toi)),
-    })
 }
 
 /// Solves `pairs` in order, four at a time through the batched prefilter (`first` on the
@@ -1023,7 +906,7 @@ pub(crate) fn finish(found: &mut Found, options: &QueryOptions) -> Option<Contac
 /// (the prefilter over the whole interval), so that the time found is the one a query without
 /// a limit finds.
 #[inline]
-fn pruned(
+pub(super) fn pruned(
     full: &NarrowOptions,
     limit: f64,
     start: f64,

@@ -5,15 +5,19 @@
 //!
 //! - `candidates`: the buffers of candidate pairs and the owner triangles' swept volumes;
 //! - `driver`: batches, modes, limits, the first pass's rules, the report's order;
+//! - `vertex_face`, `edge_edge`: each primitive kind's part (its query, prefilter, elementary
+//!   test and contact), one file per kind;
 //! - `options`, `limits`, `report`, `geometry`: what a query reads and fills (re-exported by
 //!   `query`, which is where the public API names them).
 
 mod candidates;
 pub(crate) mod driver;
+mod edge_edge;
 pub(crate) mod geometry;
 pub(crate) mod limits;
 pub(crate) mod options;
 pub(crate) mod report;
+mod vertex_face;
 
 pub(crate) use candidates::{triangle_volume, Candidates};
 pub use limits::{CancelToken, Phase, StopReason, Truncation};
