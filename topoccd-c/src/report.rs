@@ -375,6 +375,9 @@ impl ReportBuffers {
                 topoccd_contact_kind::Ee,
                 report.ee.binary_search_by(|x| (x.a, x.b).cmp(&(c.a, c.b))),
             ),
+            // A step of the C API carries no free edges or points, so it has no contacts of
+            // these kinds.
+            Some(Contact::Ve(_) | Contact::Vv(_)) => (topoccd_contact_kind::None, Ok(0)),
         };
         debug_assert!(found.is_ok(), "the earliest contact is not in the report");
         self.view = topoccd_report {

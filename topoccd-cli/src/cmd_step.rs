@@ -244,6 +244,10 @@ impl<'r> StepOut<'r> {
             Some(Contact::Ee(c)) => {
                 format!(" (edge {}-{} - edge {}-{})", c.a[0], c.a[1], c.b[0], c.b[1])
             }
+            Some(Contact::Ve(c)) => {
+                format!(" (vertex {} - edge {}-{})", c.vertex, c.edge[0], c.edge[1])
+            }
+            Some(Contact::Vv(c)) => format!(" (vertex {} - vertex {})", c.a, c.b),
             None => String::new(),
         };
         let truncated = match self.truncated {
@@ -484,9 +488,21 @@ pub fn rename(report: &mut Report, vertex_ids: Option<&[u32]>, triangle_ids: Opt
     };
     report.vf.iter_mut().for_each(vf);
     report.ee.iter_mut().for_each(ee);
+    for c in &mut report.ve {
+        c.vertex = v(c.vertex);
+        c.edge = c.edge.map(v);
+    }
+    for c in &mut report.vv {
+        [c.a, c.b] = [v(c.a), v(c.b)];
+    }
     match &mut report.earliest {
         Some(Contact::Vf(c)) => vf(c),
         Some(Contact::Ee(c)) => ee(c),
+        Some(Contact::Ve(c)) => {
+            c.vertex = v(c.vertex);
+            c.edge = c.edge.map(v);
+        }
+        Some(Contact::Vv(c)) => [c.a, c.b] = [v(c.a), v(c.b)],
         None => {}
     }
 }

@@ -249,6 +249,8 @@ fn earliest(py: Python<'_>, c: Option<&Contact>) -> PyResult<Option<Py<PyTuple>>
     let t = match c {
         Contact::Vf(v) => ("vf", v.vertex, v.face, v.toi).into_pyobject(py)?,
         Contact::Ee(e) => ("ee", e.a[0], e.a[1], e.b[0], e.b[1], e.toi).into_pyobject(py)?,
+        Contact::Ve(e) => ("ve", e.vertex, e.edge[0], e.edge[1], e.toi).into_pyobject(py)?,
+        Contact::Vv(e) => ("vv", e.a, e.b, e.toi).into_pyobject(py)?,
     };
     Ok(Some(t.unbind()))
 }

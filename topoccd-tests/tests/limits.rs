@@ -310,6 +310,8 @@ fn streaming_hands_over_every_contact_once() {
                 match c {
                     Contact::Vf(c) => streamed.vf.push(c),
                     Contact::Ee(c) => streamed.ee.push(c),
+                    Contact::Ve(c) => streamed.ve.push(c),
+                    Contact::Vv(c) => streamed.vv.push(c),
                 }
             }
             streamed.vf.sort_by_key(|c| (c.vertex, c.face));

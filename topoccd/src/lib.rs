@@ -64,8 +64,8 @@ pub use mesh::{CanCollide, Frame, Positions, Step, StepError, Triangles};
 pub use narrow::NarrowOptions;
 pub use query::{
     query, Ccd, Certainty, ClusterFigures, ClusterGrowth, Contact, EeContact, EeGeometry, Method,
-    Mode, OptionsError, QueryOptions, Report, Seconds, Stats, VfContact, VfGeometry,
-    AUTO_CLUSTER_TRIANGLES,
+    Mode, OptionsError, QueryOptions, Report, Seconds, Stats, VeContact, VfContact, VfGeometry,
+    VvContact, AUTO_CLUSTER_TRIANGLES,
 };
 pub use query::{CancelToken, Phase, StopReason, Truncation};
 

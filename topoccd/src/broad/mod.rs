@@ -27,6 +27,7 @@
 
 pub(crate) mod brute;
 pub(crate) mod bvh;
+pub(crate) mod codim;
 pub mod cluster;
 pub(crate) mod tasks;
 

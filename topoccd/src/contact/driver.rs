@@ -210,7 +210,7 @@ impl Found {
     /// stream's).
     fn keep_earliest(&mut self, task: &mut Found) {
         let contacts = (task.vf.iter().map(|&c| Contact::Vf(c)))
-            .chain(task.ee.iter().map(|&c| Contact::Ee(c)));
+            .chain(task.ee.iter().map(|&c| Contact::from(c)));
         if let Some(c) = contacts.min_by(Contact::earliest_order) {
             let earlier = |s: &Contact| c.earliest_order(s) == std::cmp::Ordering::Less;
             if self.streamed.as_ref().is_none_or(earlier) {
@@ -235,7 +235,7 @@ impl Found {
     /// Hands what is held to the stream, if there is one, and forgets it.
     pub fn deliver(&mut self, ctx: &Context) {
         let Some(stream) = ctx.stream else { return };
-        let contacts = (self.vf.drain(..).map(Contact::Vf)).chain(self.ee.drain(..).map(Contact::Ee));
+        let contacts = (self.vf.drain(..).map(Contact::Vf)).chain(self.ee.drain(..).map(Contact::from));
         for c in contacts {
             if !stream.take_one(ctx.limits) {
                 break;
@@ -888,7 +888,7 @@ pub(crate) fn finish(found: &mut Found, options: &QueryOptions) -> Option<Contac
         .vf
         .iter()
         .map(|&c| Contact::Vf(c))
-        .chain(found.ee.iter().map(|&c| Contact::Ee(c)))
+        .chain(found.ee.iter().map(|&c| Contact::from(c)))
         .min_by(Contact::earliest_order);
     if options.mode == Mode::Earliest {
         let cut = earliest.map_or(f64::NEG_INFINITY, |c| c.toi() + options.narrow.tolerance);

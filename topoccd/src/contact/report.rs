@@ -6,6 +6,9 @@ use std::cmp::Ordering;
 pub use crate::broad::cluster::phase::ClusterFigures;
 pub use crate::narrow::Certainty;
 
+use super::vertex_edge::{self, VeContact};
+use super::vertex_vertex::{self, VvContact};
+
 /// A vertex that (may) touch a triangle during the step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -82,6 +85,24 @@ pub enum Contact {
     Vf(VfContact),
     /// An edge-edge contact.
     Ee(EeContact),
+    /// A vertex-edge contact (a free point and a free edge).
+    Ve(VeContact),
+    /// A vertex-vertex contact (two free points).
+    Vv(VvContact),
+}
+
+impl From<EeContact> for Contact {
+    /// The contact of the driver's edge-edge pair `c`, of its kind: an edge of length zero
+    /// `[p, p]` is the free point `p`.
+    fn from(c: EeContact) -> Self {
+        if let Some(v) = vertex_vertex::from_edge_edge(&c) {
+            Contact::Vv(v)
+        } else if let Some(v) = vertex_edge::from_edge_edge(&c) {
+            Contact::Ve(v)
+        } else {
+            Contact::Ee(c)
+        }
+    }
 }
 
 impl Contact {
@@ -90,6 +111,8 @@ impl Contact {
         match self {
             Contact::Vf(c) => c.toi,
             Contact::Ee(c) => c.toi,
+            Contact::Ve(c) => c.toi,
+            Contact::Vv(c) => c.toi,
         }
     }
 
@@ -98,20 +121,34 @@ impl Contact {
         match self {
             Contact::Vf(c) => c.certainty,
             Contact::Ee(c) => c.certainty,
+            Contact::Ve(c) => c.certainty,
+            Contact::Vv(c) => c.certainty,
         }
     }
 
     /// The order that picks the earliest contact: by time of impact, then vertex-face before
-    /// edge-edge, then by `(vertex, face)` or `(a, b)`.
+    /// edge-edge before vertex-edge before vertex-vertex, then by `(vertex, face)`, `(a, b)`,
+    /// `(vertex, edge)` or `(a, b)`.
     pub fn earliest_order(&self, other: &Self) -> Ordering {
         self.toi()
             .total_cmp(&other.toi())
             .then_with(|| match (self, other) {
                 (Contact::Vf(x), Contact::Vf(y)) => (x.vertex, x.face).cmp(&(y.vertex, y.face)),
                 (Contact::Ee(x), Contact::Ee(y)) => (x.a, x.b).cmp(&(y.a, y.b)),
-                (Contact::Vf(_), Contact::Ee(_)) => Ordering::Less,
-                (Contact::Ee(_), Contact::Vf(_)) => Ordering::Greater,
+                (Contact::Ve(x), Contact::Ve(y)) => (x.vertex, x.edge).cmp(&(y.vertex, y.edge)),
+                (Contact::Vv(x), Contact::Vv(y)) => (x.a, x.b).cmp(&(y.a, y.b)),
+                _ => self.kind().cmp(&other.kind()),
             })
+    }
+
+    /// The kind's rank in [`Contact::earliest_order`].
+    fn kind(&self) -> u8 {
+        match self {
+            Contact::Vf(_) => 0,
+            Contact::Ee(_) => 1,
+            Contact::Ve(_) => 2,
+            Contact::Vv(_) => 3,
+        }
     }
 }
 
@@ -181,6 +218,22 @@ pub struct Report {
     /// [`Mode::Earliest`](crate::Mode::Earliest), only those whose time of impact is within the
     /// tolerance of the earliest.
     pub ee: Vec<EeContact>,
+    /// Colliding vertex-edge pairs, sorted by `(vertex, edge)`: a free point (a vertex in no
+    /// triangle and no edge) and a free edge (of [`Step::with_edges`](crate::Step::with_edges),
+    /// in no triangle). In [`Mode::Earliest`](crate::Mode::Earliest), as [`Report::vf`].
+    ///
+    /// With free edges and points, these and [`Report::vv`] complete the vertex-face and
+    /// edge-edge pairs (a free vertex against every face, a free edge against every edge):
+    /// the distance of two primitives (triangles, segments, points; closed convex polytopes)
+    /// is reached at a vertex of one against the other or at an edge of each, so a point and a
+    /// triangle meet as a vertex-face pair, a segment and a triangle as vertex-face pairs of
+    /// the segment's ends or edge-edge pairs with the triangle's edges, two segments as an
+    /// edge-edge pair; only a point against a segment, and two points, need pairs of their
+    /// own.
+    pub ve: Vec<VeContact>,
+    /// Colliding vertex-vertex pairs, sorted by `(a, b)`: two free points. In
+    /// [`Mode::Earliest`](crate::Mode::Earliest), as [`Report::vf`].
+    pub vv: Vec<VvContact>,
     /// The earliest contact (the first in [`Contact::earliest_order`]), or `None` when nothing
     /// collides.
     pub earliest: Option<Contact>,
@@ -204,8 +257,27 @@ impl Report {
         self.earliest.map(|c| c.toi())
     }
 
-    /// Number of colliding pairs of both kinds.
+    /// Number of colliding pairs of all kinds.
     pub fn contact_count(&self) -> usize {
-        self.vf.len() + self.ee.len()
+        self.vf.len() + self.ee.len() + self.ve.len() + self.vv.len()
     }
+}
+
+/// Splits the driver's edge-edge contacts (sorted by `(a, b)`) into the report's edge-edge,
+/// vertex-edge and vertex-vertex contacts, each sorted ([`Contact::from`]).
+pub(crate) fn split_points(ee: &mut Vec<EeContact>) -> (Vec<VeContact>, Vec<VvContact>) {
+    let (mut ve, mut vv) = (Vec::new(), Vec::new());
+    ee.retain(|c| match Contact::from(*c) {
+        Contact::Ve(v) => {
+            ve.push(v);
+            false
+        }
+        Contact::Vv(v) => {
+            vv.push(v);
+            false
+        }
+        _ => true,
+    });
+    ve.sort_unstable_by_key(|c| (c.vertex, c.edge));
+    (ve, vv)
 }

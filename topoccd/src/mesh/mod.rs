@@ -2,6 +2,7 @@
 //! ([`Step`]), its connectivity ([`Topology`]), its features with their swept boxes and owners
 //! (`features`), and the pair filter every broad phase applies (`filter`).
 
+pub(crate) mod codim;
 pub(crate) mod features;
 pub(crate) mod filter;
 pub(crate) mod star;

@@ -107,6 +107,24 @@ pub enum StepError {
         /// What is wrong with it.
         reason: &'static str,
     },
+    /// An edge of [`Step::with_edges`] names a vertex that does not exist.
+    #[error("edge {edge} names vertex {index}, but there are only {vertices} vertices")]
+    EdgeIndexOutOfRange {
+        /// Index of the edge.
+        edge: usize,
+        /// The offending vertex index.
+        index: u64,
+        /// Number of vertices.
+        vertices: usize,
+    },
+    /// An edge of [`Step::with_edges`] joins a vertex to itself.
+    #[error("edge {edge} joins vertex {vertex} to itself")]
+    DegenerateEdge {
+        /// Index of the edge.
+        edge: usize,
+        /// The repeated vertex.
+        vertex: u32,
+    },
     /// The group ids do not give one id per vertex.
     #[error("{groups} group ids for {vertices} vertices (one per vertex expected)")]
     GroupsLength {
@@ -317,7 +335,8 @@ impl<'a> From<&'a Vec<[usize; 3]>> for Triangles<'a> {
 pub type CanCollide<'a> = &'a (dyn Fn(u32, u32) -> bool + Sync);
 
 /// The validated input of one step. Vertices move linearly from their position at t=0 to
-/// their position at t=1. Vertices no triangle references are allowed and ignored.
+/// their position at t=1. Vertices no triangle references are allowed and ignored, unless the
+/// step has edges ([`Step::with_edges`]: free edges and free points, codimensional geometry).
 ///
 /// Pairs of features that share a vertex are never tested. Beyond that, a step may say which
 /// pairs cannot collide:
@@ -340,6 +359,8 @@ pub struct Step<'a> {
     parents: Vec<[u32; 2]>,
     groups: Option<&'a [u32]>,
     can_collide: Option<CanCollide<'a>>,
+    /// The edges of [`Step::with_edges`], if set: codimensional geometry is on.
+    edges: Option<&'a [[u32; 2]]>,
 }
 
 impl std::fmt::Debug for Step<'_> {
@@ -350,6 +371,7 @@ impl std::fmt::Debug for Step<'_> {
             .field("parents", &self.parents.len())
             .field("groups", &self.groups.is_some())
             .field("can_collide", &self.can_collide.is_some())
+            .field("edges", &self.edges.map(<[_]>::len))
             .finish()
     }
 }
@@ -363,6 +385,7 @@ impl Default for Step<'_> {
             parents: Vec::new(),
             groups: None,
             can_collide: None,
+            edges: None,
         }
     }
 }
@@ -531,6 +554,7 @@ impl<'a> Step<'a> {
             parents,
             groups: None,
             can_collide: None,
+            edges: None,
         })
     }
 
@@ -572,6 +596,58 @@ impl<'a> Step<'a> {
     pub fn with_can_collide(mut self, can_collide: CanCollide<'a>) -> Self {
         self.can_collide = Some(can_collide);
         self
+    }
+
+    /// Sets the step's edges for codimensional geometry (rods, hair, yarn, particles): edges
+    /// `[i, j]` that belong to no triangle (free edges) are then tested too, and every vertex
+    /// in no triangle and no edge is a free point. Edges that are also edges of a triangle
+    /// (as the IPC toolkit's edge lists hold them) are allowed and count once, as the
+    /// triangle's; repeated edges count once. Without this call (the default), vertices that no
+    /// triangle references are ignored. Pass an empty list to make such vertices points without
+    /// free edges.
+    ///
+    /// A query then covers, besides vertex-face and edge-edge pairs of the triangles, the
+    /// vertex-face pairs of free vertices, the edge-edge pairs of free edges, and the
+    /// vertex-edge ([`Report::ve`](crate::Report::ve)) and vertex-vertex
+    /// ([`Report::vv`](crate::Report::vv)) pairs of free points: every pair of primitives that
+    /// can touch (see [`Report::ve`](crate::Report::ve) for why no other is needed). An edge
+    /// naming a vertex out of range, or joining a vertex to itself, is an error naming it.
+    ///
+    /// ```
+    /// use topoccd::{query, Method, QueryOptions, Step};
+    /// // A rod (the free edge 0-1) lies along x; a particle (vertex 2) falls across it.
+    /// let x0 = [[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.3, 0.0, 1.0]];
+    /// let x1 = [[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.3, 0.0, -1.0]];
+    /// let no_triangles: [[u32; 3]; 0] = [];
+    /// let step = Step::new(&x0, &x1, &no_triangles)?.with_edges(&[[0, 1]])?;
+    /// let report = query(&step, Method::Bvh, &QueryOptions::default())?;
+    /// assert_eq!((report.ve[0].vertex, report.ve[0].edge), (2, [0, 1]));
+    /// assert!(report.ve[0].toi <= 0.5 && report.ve[0].toi > 0.5 - 1e-6);
+    /// let err = Step::new(&x0, &x1, &no_triangles)?.with_edges(&[[0, 3]]).unwrap_err();
+    /// assert_eq!(err.to_string(), "edge 0 names vertex 3, but there are only 3 vertices");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn with_edges(mut self, edges: &'a [[u32; 2]]) -> Result<Self, StepError> {
+        let vertices = self.x1.len();
+        for (edge, &[a, b]) in edges.iter().enumerate() {
+            if let Some(&index) = [a, b].iter().find(|&&i| i as usize >= vertices) {
+                return Err(StepError::EdgeIndexOutOfRange {
+                    edge,
+                    index: index.into(),
+                    vertices,
+                });
+            }
+            if a == b {
+                return Err(StepError::DegenerateEdge { edge, vertex: a });
+            }
+        }
+        self.edges = Some(edges);
+        Ok(self)
+    }
+
+    /// The edges of [`Step::with_edges`], if set.
+    pub fn edges(&self) -> Option<&'a [[u32; 2]]> {
+        self.edges
     }
 
     /// Positions at t=0 (for new vertices of a topology change, their parent's).

@@ -13,12 +13,16 @@ mod lanes;
 mod options;
 pub mod prefilter;
 pub mod solver;
+mod vertex_edge;
 mod vertex_face;
+mod vertex_vertex;
 
 pub use edge_edge::{edge_edge, EdgeEdge};
 pub(crate) use edge_edge::edge_edge_from;
 pub use options::NarrowOptions;
+pub use vertex_edge::{vertex_edge, VertexEdge};
 pub use vertex_face::{vertex_face, VertexFace};
+pub use vertex_vertex::{vertex_vertex, VertexVertex};
 pub(crate) use vertex_face::vertex_face_from;
 
 /// How sure a reported contact is.

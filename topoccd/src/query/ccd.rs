@@ -13,7 +13,10 @@ use crate::broad::brute::Brute;
 use crate::broad::bvh::BvhPhase;
 use crate::broad::cluster::phase::ClusterPhase;
 use crate::broad::tasks::{Out, Passes, Totals, TASK_CHUNK};
-use crate::broad::{BroadInput, BroadPhase, BroadStats, Candidates, CHUNK};
+use crate::broad::codim::combined_edges;
+use crate::broad::{self, BroadInput, BroadPhase, BroadStats, Candidates, CHUNK};
+use crate::contact::report::split_points;
+use crate::mesh::codim::Codim;
 use crate::bvh::BvhWorkspace;
 use crate::kdop::DopKind;
 use crate::mesh::features::Features;
@@ -50,6 +53,8 @@ pub struct Ccd {
     last_tree: Option<(Method, DopKind)>,
     /// Stops the queries from another thread ([`Ccd::cancel_token`]).
     cancel: CancelToken,
+    /// With free edges or points: the driver's edges (`broad::codim::combined_edges`).
+    codim_edges: Vec<[u32; 2]>,
 }
 
 impl Ccd {
@@ -255,6 +260,25 @@ impl Ccd {
         if built && method != Method::Brute {
             self.last_tree = Some((method, options.kdop));
         }
+        // Free edges and points: their pairs, after the triangles', the same for every method.
+        let codim = Codim::new(step, &self.features.topo).filter(|c| !c.is_empty());
+        let mut broad = broad;
+        if let Some(codim) = codim.as_ref().filter(|_| built && !limits.poll(true)) {
+            let mesh = self.features.topo.edges.len();
+            combined_edges(&self.features.topo.edges, codim, &mut self.codim_edges);
+            let ctx = Context {
+                edges: &self.codim_edges,
+                first: None,
+                whole: None,
+                ..ctx
+            };
+            let chunk = if self.limits.1 == 0 { CHUNK } else { self.limits.1 };
+            let more = broad::codim::run(&input, codim, (&ctx, mesh), chunk, &mut found, &mut totals);
+            broad.bv_tests += more.bv_tests;
+            broad.build += more.build;
+            broad.traverse += more.traverse;
+            broad.narrow += more.narrow;
+        }
         let BroadStats {
             bv_tests,
             build,
@@ -296,9 +320,16 @@ impl Ccd {
                 .iter()
                 .filter(|c| c.certainty != Certainty::Resolved)
                 .count();
+        let (ve, vv) = if codim.is_some() {
+            split_points(&mut found.ee)
+        } else {
+            Default::default()
+        };
         Ok(Report {
             vf: found.vf,
             ee: found.ee,
+            ve,
+            vv,
             earliest,
             unresolved,
             truncated,

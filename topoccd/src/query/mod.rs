@@ -27,6 +27,6 @@ pub use crate::contact::{
     ClusterGrowth, Method, Mode, OptionsError, QueryOptions, AUTO_CLUSTER_TRIANGLES,
 };
 pub use crate::contact::{
-    Certainty, ClusterFigures, Contact, EeContact, EeGeometry, Report, Seconds, Stats, VfContact,
-    VfGeometry,
+    Certainty, ClusterFigures, Contact, EeContact, EeGeometry, Report, Seconds, Stats, VeContact,
+    VfContact, VfGeometry, VvContact,
 };
