@@ -1,4 +1,5 @@
-//! `topoccd gen SCENE OUT_DIR`: writes a generated frame sequence of one of the paper scenes.
+//! `topoccd gen SCENE OUT_DIR`: writes a generated frame sequence of one of the paper scenes,
+//! or of a scene with free edges and points (`hair`, `funnel-particles`).
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -6,14 +7,25 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use topoccd::io::sequence::write_frame;
+use topoccd::{Ccd, Method, QueryOptions, Step};
+use topoccd_scenes::codim::{codim_frames, CodimScene};
 use topoccd_scenes::paper::{generate, GenOptions, GenSummary, PaperScene};
+
+/// A scene `topoccd gen` writes.
+#[derive(Clone, Copy, Debug)]
+enum Scene {
+    Paper(PaperScene),
+    Codim(CodimScene),
+}
 
 /// Arguments of `topoccd gen`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// The scene: nidus, nidus-cut, airbag, lion, bunny-dragon or crash.
+    /// The scene: nidus, nidus-cut, airbag, lion, bunny-dragon or crash; or, with free edges
+    /// and points (written as PLY `edge` elements and vertices in no face): hair (a twisting
+    /// bundle of hair strands) or funnel-particles (particles poured into a funnel).
     #[arg(value_parser = parse_scene)]
-    scene: PaperScene,
+    scene: Scene,
     /// Folder to write the frames to (0000.ply, 0001.ply, ... and .parents files); created if
     /// missing, refused if it exists and is not empty.
     out_dir: PathBuf,
@@ -31,9 +43,14 @@ pub struct Args {
     json: bool,
 }
 
-fn parse_scene(s: &str) -> Result<PaperScene, String> {
-    PaperScene::from_name(s).ok_or_else(|| {
-        let names: Vec<&str> = PaperScene::ALL.iter().map(|s| s.name()).collect();
+fn parse_scene(s: &str) -> Result<Scene, String> {
+    if let Some(c) = CodimScene::from_name(s) {
+        return Ok(Scene::Codim(c));
+    }
+    PaperScene::from_name(s).map(Scene::Paper).ok_or_else(|| {
+        let names: Vec<&str> = (PaperScene::ALL.iter().map(|s| s.name()))
+            .chain(CodimScene::ALL.iter().map(|s| s.name()))
+            .collect();
         format!("unknown scene {s:?}; the scenes are {}", names.join(", "))
     })
 }
@@ -66,6 +83,10 @@ pub fn run(args: &Args) -> Result<()> {
         bail!("--frames must be at least 2, got {}", args.frames);
     }
     prepare(&args.out_dir)?;
+    let scene = match args.scene {
+        Scene::Paper(scene) => scene,
+        Scene::Codim(scene) => return run_codim(scene, args),
+    };
     let options = GenOptions {
         scale: args.scale,
         frames: args.frames,
@@ -78,8 +99,8 @@ pub fn run(args: &Args) -> Result<()> {
         )
         .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
-    bar.set_prefix(args.scene.name());
-    let summary = generate(args.scene, &options, |k, mesh, parents| {
+    bar.set_prefix(scene.name());
+    let summary = generate(scene, &options, |k, mesh, parents| {
         let written = write_frame(&args.out_dir, k, mesh, parents);
         bar.set_message(format!("({} triangles)", mesh.triangles.len()));
         bar.inc(1);
@@ -91,6 +112,49 @@ pub fn run(args: &Args) -> Result<()> {
         println!("{}", serde_json::to_string(&summary)?);
     } else {
         println!("{}", summary_line(&summary, &args.out_dir));
+    }
+    Ok(())
+}
+
+/// `topoccd gen` of a scene with free edges and points: its frames (`--scale` does not apply),
+/// and a summary line with each step's contacts of every kind.
+fn run_codim(scene: CodimScene, args: &Args) -> Result<()> {
+    let frames = codim_frames(scene, args.frames, args.seed);
+    let mut ccd = Ccd::new();
+    let mut contacts = Vec::new();
+    for (k, mesh) in frames.iter().enumerate() {
+        write_frame(&args.out_dir, k, mesh, &[])
+            .with_context(|| format!("writing {}", args.out_dir.display()))?;
+        if let Some(next) = frames.get(k + 1) {
+            let step = Step::new(&mesh.positions, &next.positions, &mesh.triangles)?
+                .with_edges(&mesh.edges)?;
+            let r = ccd.query(&step, Method::Bvh, &QueryOptions::default())?;
+            contacts.push([r.vf.len(), r.ee.len(), r.ve.len(), r.vv.len()]);
+        }
+    }
+    let first = &frames[0];
+    if args.json {
+        let summary = serde_json::json!({
+            "scene": scene.name(),
+            "frames": frames.len(),
+            "vertices": first.positions.len(),
+            "triangles": first.triangles.len(),
+            "edges": first.edges.len(),
+            "contacts": contacts,
+        });
+        println!("{summary}");
+    } else {
+        println!(
+            "{}: {} frames in {}; {} vertices, {} triangles, {} free edges; contacts per step \
+             [vf, ee, ve, vv]: {:?}",
+            scene.name(),
+            frames.len(),
+            args.out_dir.display(),
+            first.positions.len(),
+            first.triangles.len(),
+            first.edges.len(),
+            contacts
+        );
     }
     Ok(())
 }

@@ -19,6 +19,7 @@
 //! assert_eq!(same.x1(), step.x1());
 //! ```
 
+pub mod codim;
 mod objects;
 pub mod paper;
 mod sheets;

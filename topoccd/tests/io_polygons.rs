@@ -179,26 +179,20 @@ fn self_intersecting_polygons_are_split_and_reported() {
 }
 
 #[test]
-fn obj_line_and_point_statements_are_skipped_and_counted() {
-    // Issue 12: "OBJ `l` and `p` lines are hard errors".
+fn obj_line_and_point_statements_are_read_or_skipped_and_counted() {
+    // Issue 12: "OBJ `l` and `p` lines are hard errors". Issue 42: `l` lines are free edges.
     let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3 1\np 1\nf 1 2 3\np 2 3\nl 3 1\n";
     let mesh = read_obj_from(text.as_bytes(), Path::new("lines.obj")).expect("l and p");
     assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
+    assert_eq!(mesh.edges, vec![[0, 1], [1, 2], [2, 0], [2, 0]]);
     assert_eq!(mesh.face_origin, None);
     assert_eq!(
         mesh.notes,
-        vec![
-            MeshNote::Skipped {
-                keyword: "l".into(),
-                count: 3,
-                first_line: 4
-            },
-            MeshNote::Skipped {
-                keyword: "p".into(),
-                count: 2,
-                first_line: 6
-            },
-        ]
+        vec![MeshNote::Skipped {
+            keyword: "p".into(),
+            count: 2,
+            first_line: 6
+        },]
     );
     assert_eq!(
         mesh.notes[0].to_string(),

@@ -18,6 +18,11 @@ pub struct Mesh {
     pub positions: Vec<[f64; 3]>,
     /// Triangles as 0-based vertex indices, in the order of the file.
     pub triangles: Vec<[u32; 3]>,
+    /// Edges that belong to no face, as 0-based vertex index pairs in the order of the file
+    /// (PLY `edge` elements with `vertex1` and `vertex2`, OBJ `l` polylines split into their
+    /// segments): rods, hair, yarn. Give them to [`Step::with_edges`](crate::Step::with_edges);
+    /// vertices in no triangle and no edge are then free points.
+    pub edges: Vec<[u32; 2]>,
     /// `None` when triangle `t` is face `t` of the file (every face was a triangle); otherwise
     /// `face_origin[t]` names the face of the file that triangle `t` belongs to (same length as
     /// [`Mesh::triangles`]). See [`Mesh::origin`].
@@ -169,6 +174,7 @@ impl Mesh {
         Self {
             positions,
             triangles,
+            edges: Vec::new(),
             face_origin: None,
             notes: Vec::new(),
         }
@@ -202,7 +208,7 @@ pub enum MeshFormat {
     /// Stanford PLY: ASCII or binary (either byte order) on reading; binary little-endian with
     /// `double` coordinates on writing.
     Ply,
-    /// Wavefront OBJ (text); only `v` and `f` statements carry data.
+    /// Wavefront OBJ (text); `v`, `f` and `l` statements carry data.
     Obj,
     /// STL, ASCII or binary (read only): a triangle soup, welded on reading.
     Stl,

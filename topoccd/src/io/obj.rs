@@ -1,5 +1,5 @@
-//! Wavefront OBJ meshes: a small hand parser (only `v` and `f` carry data; polygons are split
-//! into triangles) and a writer whose coordinates round-trip exactly.
+//! Wavefront OBJ meshes: a small hand parser (`v`, `f` and `l` carry data; polygons are split
+//! into triangles, polylines into edges) and a writer whose coordinates round-trip exactly.
 
 use super::faces::FaceList;
 use super::{IoError, Location, Mesh, MeshNote};
@@ -10,9 +10,9 @@ use std::path::Path;
 /// Statements that are recognised and skipped.
 const IGNORED: [&str; 8] = ["vn", "vt", "vp", "o", "g", "s", "usemtl", "mtllib"];
 
-/// Statements that carry geometry other than faces (polylines, points): skipped, counted and
-/// reported in [`Mesh::notes`].
-const COUNTED: [&str; 2] = ["l", "p"];
+/// Statements that carry geometry other than faces and polylines (points): skipped, counted
+/// and reported in [`Mesh::notes`].
+const COUNTED: [&str; 1] = ["p"];
 
 /// Reads an OBJ mesh from a file. See [`read_obj_from`] for what is accepted.
 ///
@@ -35,8 +35,9 @@ pub fn read_obj(path: &Path) -> Result<Mesh, IoError> {
 /// checked for syntax only. A face of more than three corners is split into triangles (a fan
 /// if it is convex, ear clipping otherwise: see
 /// [`triangulate_polygon`](super::triangulate_polygon)), and [`Mesh::face_origin`] maps each
-/// triangle back to its `f` statement (counted from 0). `l` (polylines) and `p` (points) are
-/// skipped and counted in [`Mesh::notes`]; `vn`, `vt`, `vp`, `o`, `g`, `s`, `usemtl`, `mtllib`,
+/// triangle back to its `f` statement (counted from 0). `l a b c ...` (a polyline of two or
+/// more vertices, each written `a` or `a/t`) is read as its segments into [`Mesh::edges`] (free
+/// edges: rods, hair); `p` (points) is skipped and counted in [`Mesh::notes`]; `vn`, `vt`, `vp`, `o`, `g`, `s`, `usemtl`, `mtllib`,
 /// comments (`#` to the end of the line) and blank lines are skipped silently; any other
 /// statement is an error, as is a face of fewer than three corners. Errors name the line,
 /// counted from 1.
@@ -48,10 +49,13 @@ pub fn read_obj(path: &Path) -> Result<Mesh, IoError> {
 /// let mesh = read_obj_from(text.as_bytes(), Path::new("tri.obj"))?;
 /// assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
 /// assert_eq!(mesh.face_origin, None);
-/// let quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nl 1 2\n";
+/// let quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nl 1 3 -1\np 2\n";
 /// let mesh = read_obj_from(quad.as_bytes(), Path::new("quad.obj"))?;
 /// assert_eq!(mesh.triangles, vec![[0, 1, 2], [0, 2, 3]]);
-/// assert!(matches!(&mesh.notes[1], MeshNote::Skipped { count: 1, first_line: 6, .. }));
+/// assert_eq!(mesh.edges, vec![[0, 2], [2, 3]]);
+/// assert!(matches!(&mesh.notes[1], MeshNote::Skipped { count: 1, first_line: 7, .. }));
+/// let err = read_obj_from("v 0 0 0\nl 1\n".as_bytes(), Path::new("l.obj")).unwrap_err();
+/// assert_eq!(err.to_string(), "l.obj: line 2: a polyline needs two or more vertices, found 1");
 /// let err = read_obj_from("v 0 0 0\nv 1 0 0\nf 1 2\n".as_bytes(), Path::new("edge.obj"))
 ///     .unwrap_err();
 /// assert!(matches!(err, IoError::NotTriangle { location: Location::Line(3), vertices: 2, .. }));
@@ -120,6 +124,7 @@ impl ObjParser<'_> {
             None => Ok(()),
             Some("v") => self.vertex(tokens),
             Some("f") => self.face(tokens),
+            Some("l") => self.polyline(tokens),
             Some(keyword) if IGNORED.contains(&keyword) => Ok(()),
             Some(keyword) if COUNTED.contains(&keyword) => {
                 let k = COUNTED.iter().position(|&c| c == keyword).unwrap_or(0);
@@ -131,7 +136,7 @@ impl ObjParser<'_> {
                 Ok(())
             }
             Some(other) => Err(self.syntax(format!(
-                "unsupported statement '{other}' (only v and f are read; {}, {} are skipped)",
+                "unsupported statement '{other}' (only v, f and l are read; {}, {} are skipped)",
                 COUNTED.join(", "),
                 IGNORED.join(", ")
             ))),
@@ -172,9 +177,19 @@ impl ObjParser<'_> {
                 vertices: corners.len(),
             });
         }
+        self.resolve(&corners)?;
+        self.corners = corners;
+        self.faces.polygon(&self.resolved);
+        Ok(())
+    }
+
+    /// The corners as written (1-based, or negative: relative), resolved to 0-based vertex
+    /// indices into `resolved`; indices past the vertices defined so far are checked at the
+    /// end.
+    fn resolve(&mut self, corners: &[i64]) -> Result<(), IoError> {
         let defined = self.mesh.positions.len();
         self.resolved.clear();
-        for &index in &corners {
+        for &index in corners {
             let resolved = match index {
                 i if i > 0 => i - 1,
                 i => defined as i64 + i, // negative: relative; 0 stays invalid below
@@ -196,8 +211,27 @@ impl ObjParser<'_> {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// A polyline `l a b c ...` (two or more vertices, each `a` or `a/t`): its segments, into
+    /// [`Mesh::edges`].
+    fn polyline<'t>(&mut self, tokens: impl Iterator<Item = &'t str>) -> Result<(), IoError> {
+        let mut corners = std::mem::take(&mut self.corners);
+        corners.clear();
+        for token in tokens {
+            corners.push(self.corner(token)?);
+        }
+        if corners.len() < 2 {
+            return Err(self.syntax(format!(
+                "a polyline needs two or more vertices, found {}",
+                corners.len()
+            )));
+        }
+        self.resolve(&corners)?;
         self.corners = corners;
-        self.faces.polygon(&self.resolved);
+        let ids = &self.resolved;
+        self.mesh.edges.extend(ids.windows(2).map(|w| [w[0], w[1]]));
         Ok(())
     }
 
@@ -303,10 +337,13 @@ pub fn write_obj_to(output: impl Write, mesh: &Mesh, name: &Path) -> Result<(), 
         // `{:?}` prints the shortest decimal that parses back to the same f64.
         writeln!(out, "v {:?} {:?} {:?}", p[0], p[1], p[2]).map_err(write_error)?;
     }
+    let one_based = |i: u32| u64::from(i) + 1;
     for &[a, b, c] in &mesh.triangles {
-        let one_based = |i: u32| u64::from(i) + 1;
         writeln!(out, "f {} {} {}", one_based(a), one_based(b), one_based(c))
             .map_err(write_error)?;
+    }
+    for &[a, b] in &mesh.edges {
+        writeln!(out, "l {} {}", one_based(a), one_based(b)).map_err(write_error)?;
     }
     out.flush().map_err(write_error)
 }

@@ -154,6 +154,66 @@ impl PropertyAccess for PlyFace {
     }
 }
 
+/// The two vertex indices of one `edge` element (`vertex1`, `vertex2`: any integer type).
+#[derive(Default)]
+pub(super) struct PlyEdge([Option<i64>; 2]);
+
+impl PlyEdge {
+    fn set(&mut self, name: &str, value: i64) -> PropertyAccessResult {
+        let end = match name {
+            "vertex1" => 0,
+            "vertex2" => 1,
+            _ => return PropertyAccessResult::Ignored,
+        };
+        self.0[end] = Some(value);
+        PropertyAccessResult::Set
+    }
+
+    /// The edge's two vertices, checked against the vertex count.
+    pub(super) fn ends(
+        &self,
+        location: &dyn Fn() -> Location,
+        vertices: usize,
+        name: &Path,
+    ) -> Result<[u32; 2], IoError> {
+        let [Some(a), Some(b)] = self.0 else {
+            return Err(IoError::PlyElement {
+                path: name.to_path_buf(),
+                location: location(),
+                message: "an edge needs the integer properties 'vertex1' and 'vertex2'".into(),
+            });
+        };
+        Ok([
+            check_index(a, location, vertices, name)?,
+            check_index(b, location, vertices, name)?,
+        ])
+    }
+}
+
+impl PropertyAccess for PlyEdge {
+    fn new() -> Self {
+        Self::default()
+    }
+    fn set_char(&mut self, name: &str, value: i8) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_uchar(&mut self, name: &str, value: u8) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_short(&mut self, name: &str, value: i16) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_ushort(&mut self, name: &str, value: u16) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_int(&mut self, name: &str, value: i32) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_uint(&mut self, name: &str, value: u32) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+}
+
 /// An element we do not need: every property is read and dropped.
 pub(super) struct Skip;
 

@@ -4,7 +4,7 @@
 //! so that they name the file and the element.
 
 use super::faces::FaceList;
-use super::ply_elements::{PlyFace, PlyVertex, Skip, INDEX_LISTS};
+use super::ply_elements::{PlyEdge, PlyFace, PlyVertex, Skip, INDEX_LISTS};
 use super::{IoError, Location, Mesh};
 use ply_rs_bw::parser::{ParseError, Parser, Reader};
 use ply_rs_bw::ply::{ElementDef, Encoding, Header, PropertyAccess, PropertyType, ScalarType};
@@ -134,6 +134,7 @@ fn read_ply_sized(reader: impl Read, name: &Path, size: Option<u64>) -> Result<M
     let mut positions = Vec::new();
     let mut faces = FaceList::default();
     let mut ids = Vec::new();
+    let mut edges = Vec::new();
     for def in header.elements.values().take(needed_elements(&header)) {
         match def.name.as_str() {
             "vertex" => {
@@ -157,6 +158,12 @@ fn read_ply_sized(reader: impl Read, name: &Path, size: Option<u64>) -> Result<M
                     Ok(())
                 })?;
             }
+            "edge" => {
+                elements.read(&mut input, def, |location, e: PlyEdge| {
+                    edges.push(e.ends(location, vertex_count, name)?);
+                    Ok(())
+                })?;
+            }
             _ => elements.read(&mut input, def, |_, _: Skip| Ok(()))?,
         }
     }
@@ -166,6 +173,7 @@ fn read_ply_sized(reader: impl Read, name: &Path, size: Option<u64>) -> Result<M
     Ok(Mesh {
         positions,
         triangles,
+        edges,
         face_origin,
         notes,
     })
@@ -203,7 +211,9 @@ fn needed_elements(header: &Header) -> usize {
     header
         .elements
         .values()
-        .rposition(|def| def.name == "vertex" || FACE_ELEMENTS.contains(&def.name.as_str()))
+        .rposition(|def| {
+            def.name == "vertex" || def.name == "edge" || FACE_ELEMENTS.contains(&def.name.as_str())
+        })
         .map_or(0, |last| last + 1)
 }
 
@@ -379,6 +389,7 @@ fn check_layout(header: &Header, name: &Path) -> Result<usize, IoError> {
     }
     let has_faces = FACE_ELEMENTS
         .iter()
+        .chain(&["edge"])
         .any(|e| header.elements.contains_key(*e));
     if vertex.count > 0 && !has_faces {
         return Err(IoError::NoFaces {

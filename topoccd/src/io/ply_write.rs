@@ -53,9 +53,17 @@ pub fn write_ply_to(output: impl Write, mesh: &Mesh, name: &Path) -> Result<(), 
          property double z\n\
          element face {}\n\
          property list uchar int vertex_indices\n\
-         end_header\n",
+         {}end_header\n",
         mesh.positions.len(),
-        mesh.triangles.len()
+        mesh.triangles.len(),
+        if mesh.edges.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "element edge {}\nproperty int vertex1\nproperty int vertex2\n",
+                mesh.edges.len()
+            )
+        }
     );
     let write_error = |e| IoError::os(name, "write", e);
     out.write_all(header.as_bytes()).map_err(write_error)?;
@@ -72,6 +80,12 @@ pub fn write_ply_to(output: impl Write, mesh: &Mesh, name: &Path) -> Result<(), 
             // `check_indices` guarantees that every index fits in an `int`.
             chunk.copy_from_slice(&i.to_le_bytes());
         }
+        out.write_all(&record).map_err(write_error)?;
+    }
+    for &[a, b] in &mesh.edges {
+        let mut record = [0u8; 8];
+        record[..4].copy_from_slice(&a.to_le_bytes());
+        record[4..].copy_from_slice(&b.to_le_bytes());
         out.write_all(&record).map_err(write_error)?;
     }
     out.flush().map_err(write_error)
@@ -92,6 +106,12 @@ fn check_indices(mesh: &Mesh, name: &Path) -> Result<(), IoError> {
                 "triangle {triangle} has vertex index {index}, more than a PLY int can hold"
             ),
         }),
-        None => Ok(()),
+        None => match mesh.edges.iter().position(|e| e.iter().any(|&i| i > limit)) {
+            Some(edge) => Err(IoError::Unrepresentable {
+                path: name.to_path_buf(),
+                message: format!("edge {edge} has a vertex index more than a PLY int can hold"),
+            }),
+            None => Ok(()),
+        },
     }
 }

@@ -285,6 +285,7 @@ fn weld_soup(corners: &[[f64; 3]]) -> Mesh {
     Mesh {
         positions,
         triangles,
+        edges: Vec::new(),
         face_origin: (dropped > 0).then_some(origin),
         notes,
     }

@@ -198,9 +198,14 @@ pub fn weld(mesh: &Mesh) -> (Mesh, Vec<u32>) {
             dropped,
         });
     }
+    let edges = (mesh.edges.iter())
+        .map(|e| e.map(|v| map[v as usize]))
+        .filter(|e| e[0] != e[1])
+        .collect();
     let welded = Mesh {
         positions,
         triangles,
+        edges,
         face_origin,
         notes,
     };

@@ -77,7 +77,9 @@ impl Ccd {
     /// impact and its [`Certainty`], in [`Mode::All`](super::Mode::All); only the earliest
     /// pair(s) in [`Mode::Earliest`](super::Mode::Earliest). Each feature pair is tested at
     /// most once. The result does not depend on the method, the thread count or earlier
-    /// queries.
+    /// queries. A step with edges ([`Step::with_edges`]) adds the pairs of its free edges and
+    /// points ([`Report::ve`], [`Report::vv`]): every method finds them with the same sort and
+    /// sweep, after its triangle work.
     ///
     /// ```
     /// use topoccd::{Ccd, Method, QueryOptions, Step};

@@ -1,0 +1,167 @@
+//! Scenes with codimensional geometry: free edges (rods, hair) and free points (particles),
+//! as frame sequences of [`Mesh`]es whose [`Mesh::edges`] hold the free edges. Seeded: the
+//! same arguments give the same frames, bit for bit.
+//!
+//! - [`CodimScene::HairBundle`]: a bundle of hair strands (polylines of free edges) hanging in
+//!   a ring, twisting about the bundle's axis, so that strands cross each other (edge-edge
+//!   pairs of free edges), over a still floor of two triangles that their tips sweep through;
+//! - [`CodimScene::FunnelParticles`]: particles (free points) poured into a funnel (a cone of
+//!   triangles): they fall under gravity from random places above it, through its wall
+//!   (vertex-face pairs) and past each other.
+//!
+//! ```
+//! use topoccd_scenes::codim::{codim_frames, CodimScene};
+//! let frames = codim_frames(CodimScene::HairBundle, 4, 1);
+//! assert_eq!(frames.len(), 4);
+//! assert!(!frames[0].edges.is_empty());
+//! let step = topoccd::Step::new(&frames[0].positions, &frames[1].positions, &frames[0].triangles)?
+//!     .with_edges(&frames[0].edges)?;
+//! let report = topoccd::query(&step, topoccd::Method::Bvh, &Default::default())?;
+//! # let _ = report;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::f64::consts::TAU;
+use topoccd::io::Mesh;
+
+/// The codimensional scenes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CodimScene {
+    /// Hair strands twisting in a bundle over a floor.
+    HairBundle,
+    /// Particles poured into a funnel.
+    FunnelParticles,
+}
+
+impl CodimScene {
+    /// All scenes.
+    pub const ALL: [CodimScene; 2] = [CodimScene::HairBundle, CodimScene::FunnelParticles];
+
+    /// The scene's name: `hair` or `funnel-particles`.
+    pub fn name(self) -> &'static str {
+        match self {
+            CodimScene::HairBundle => "hair",
+            CodimScene::FunnelParticles => "funnel-particles",
+        }
+    }
+
+    /// The scene of a name of [`CodimScene::name`].
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|s| s.name() == name)
+    }
+}
+
+/// The `frames` frames (at least 2) of `scene` with random numbers from `seed`. Every frame
+/// has the same triangles and edges; the positions move.
+pub fn codim_frames(scene: CodimScene, frames: usize, seed: u64) -> Vec<Mesh> {
+    let frames = frames.max(2);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    match scene {
+        CodimScene::HairBundle => hair_bundle(frames, &mut rng),
+        CodimScene::FunnelParticles => funnel_particles(frames, &mut rng),
+    }
+}
+
+/// Strands of this many vertices.
+const STRAND_VERTICES: usize = 12;
+/// Strands in the bundle.
+const STRANDS: usize = 24;
+
+fn hair_bundle(frames: usize, rng: &mut ChaCha8Rng) -> Vec<Mesh> {
+    // Roots on a ring of radius 0.2 at z = 1, with a little jitter; strands 1 long.
+    let roots: Vec<(f64, f64)> = (0..STRANDS)
+        .map(|s| {
+            let angle = TAU * s as f64 / STRANDS as f64 + rng.random_range(-0.05..0.05);
+            (angle, 0.2 + rng.random_range(-0.03..0.03))
+        })
+        .collect();
+    let floor = [
+        [-1.0, -1.0, 0.1],
+        [1.0, -1.0, 0.1],
+        [1.0, 1.0, 0.1],
+        [-1.0, 1.0, 0.1],
+    ];
+    let mut edges = Vec::new();
+    for s in 0..STRANDS {
+        for k in 0..STRAND_VERTICES - 1 {
+            let v = (4 + s * STRAND_VERTICES + k) as u32;
+            edges.push([v, v + 1]);
+        }
+    }
+    (0..frames)
+        .map(|f| {
+            let t = f as f64 / (frames - 1) as f64;
+            let mut positions = floor.to_vec();
+            for &(angle, radius) in &roots {
+                for k in 0..STRAND_VERTICES {
+                    let h = k as f64 / (STRAND_VERTICES - 1) as f64;
+                    // The twist grows down the strand and with time: lower parts turn further,
+                    // and the strands' radii shrink, so neighbours cross.
+                    let turn = angle + 2.5 * t * h * h;
+                    let r = radius * (1.0 - 0.6 * t * h);
+                    let sag = 1.0 - 1.05 * h + 0.2 * t * h * h;
+                    positions.push([r * turn.cos(), r * turn.sin(), sag]);
+                }
+            }
+            Mesh {
+                positions,
+                triangles: vec![[0, 1, 2], [0, 2, 3]],
+                edges: edges.clone(),
+                ..Mesh::default()
+            }
+        })
+        .collect()
+}
+
+/// Particles poured.
+const PARTICLES: usize = 400;
+/// Segments around the funnel.
+const FUNNEL_SEGMENTS: usize = 32;
+
+fn funnel_particles(frames: usize, rng: &mut ChaCha8Rng) -> Vec<Mesh> {
+    // A cone from radius 1 at z = 1 down to radius 0.15 at z = 0, in three rings.
+    let rings = [(1.0, 1.0), (0.55, 0.5), (0.15, 0.0)];
+    let mut funnel = Vec::new();
+    for &(r, z) in &rings {
+        for k in 0..FUNNEL_SEGMENTS {
+            let a = TAU * k as f64 / FUNNEL_SEGMENTS as f64;
+            funnel.push([r * a.cos(), r * a.sin(), z]);
+        }
+    }
+    let id = |ring: usize, k: usize| (ring * FUNNEL_SEGMENTS + k % FUNNEL_SEGMENTS) as u32;
+    let mut triangles = Vec::new();
+    for ring in 0..rings.len() - 1 {
+        for k in 0..FUNNEL_SEGMENTS {
+            triangles.push([id(ring, k), id(ring + 1, k), id(ring + 1, k + 1)]);
+            triangles.push([id(ring, k), id(ring + 1, k + 1), id(ring, k + 1)]);
+        }
+    }
+    // Each particle: a start above the funnel, a sideways velocity, and a delay.
+    let particles: Vec<([f64; 3], [f64; 2], f64)> = (0..PARTICLES)
+        .map(|_| {
+            let a = rng.random_range(0.0..TAU);
+            let r = 0.9 * rng.random_range(0.0f64..1.0).sqrt();
+            let start = [r * a.cos(), r * a.sin(), 1.2 + rng.random_range(0.0..0.6)];
+            let drift = [rng.random_range(-0.4..0.4), rng.random_range(-0.4..0.4)];
+            (start, drift, rng.random_range(0.0..0.3))
+        })
+        .collect();
+    (0..frames)
+        .map(|f| {
+            let t = f as f64 / (frames - 1) as f64;
+            let mut positions = funnel.clone();
+            for &([x, y, z], [dx, dy], delay) in &particles {
+                let s = (t - delay).max(0.0);
+                positions.push([x + dx * s, y + dy * s, z - 0.5 * 4.0 * s * s]);
+            }
+            Mesh {
+                positions,
+                triangles: triangles.clone(),
+                edges: Vec::new(),
+                ..Mesh::default()
+            }
+        })
+        .collect()
+}
