@@ -27,6 +27,7 @@ mod report;
 pub use ccd::CandidatePairs;
 pub use ccd::{query, Ccd};
 pub use limits::{CancelToken, Phase, StopReason, Truncation};
+pub use options::DEFAULT_MAX_CONTACTS;
 pub use options::{ClusterGrowth, Method, Mode, OptionsError, QueryOptions, AUTO_CLUSTER_TRIANGLES};
 pub use report::{
     Certainty, ClusterFigures, Contact, EeContact, EeGeometry, Report, Seconds, Stats, VfContact,
