@@ -503,6 +503,11 @@ typedef struct topoccd_report {
   // query stopped early (`max_contacts`, `timeout_seconds`), and the report holds only part
   // of the step's contacts.
   topoccd_stop_reason truncated;
+  // Whether the report lists every pair within the tolerance of the earliest time (every
+  // contact in `TOPOCCD_MODE_ALL`): false when truncated, or when `TOPOCCD_MODE_EARLIEST`
+  // found more such pairs than `max_contacts` and kept the earliest of them (the earliest
+  // time is exact either way).
+  bool earliest_complete;
 } topoccd_report;
 
 // The arrays of a `topoccd_mesh`, borrowed from it: valid until `topoccd_mesh_free`.

@@ -212,6 +212,11 @@ pub struct topoccd_report {
     /// query stopped early (`max_contacts`, `timeout_seconds`), and the report holds only part
     /// of the step's contacts.
     pub truncated: topoccd_stop_reason,
+    /// Whether the report lists every pair within the tolerance of the earliest time (every
+    /// contact in `TOPOCCD_MODE_ALL`): false when truncated, or when `TOPOCCD_MODE_EARLIEST`
+    /// found more such pairs than `max_contacts` and kept the earliest of them (the earliest
+    /// time is exact either way).
+    pub earliest_complete: bool,
 }
 
 /// Why a query stopped before the end ([`topoccd_report::truncated`]).
@@ -266,6 +271,7 @@ fn empty_view() -> topoccd_report {
         unresolved: 0,
         stats: topoccd_stats::default(),
         truncated: topoccd_stop_reason::None,
+        earliest_complete: false,
     }
 }
 
@@ -396,6 +402,7 @@ impl ReportBuffers {
                 Some(StopReason::Deadline) => topoccd_stop_reason::Deadline,
                 Some(StopReason::Cancelled) => topoccd_stop_reason::Cancelled,
             },
+            earliest_complete: report.earliest_complete,
         };
     }
 

@@ -110,7 +110,7 @@ const SIGNAL_POLL: Duration = Duration::from_millis(20);
 /// handler raises) cancels the query through `token`, which stops within about a millisecond
 /// of work per thread; the exception is returned once the query has stopped. (A job of the
 /// pool, not a thread of its own: nothing is started per query.)
-fn watched<T: Send>(
+pub(crate) fn watched<T: Send>(
     py: Python<'_>,
     pool: Option<&rayon::ThreadPool>,
     token: &topoccd::CancelToken,
@@ -259,13 +259,17 @@ impl Ccd {
     ///     geometry: also compute the contact points, normals and barycentric coordinates.
     ///     crack_filter: skip pairs of features that share a vertex or a vertex's crack twin
     ///         (``parents``); on by default.
-    ///     max_contacts: ``None`` (no limit), or the most contacts the report keeps (an int
-    ///         ``>= 0``). Once the step is known to have more, the query stops and
+    ///     max_contacts: the most contacts the report keeps (an int ``>= 0``; default
+    ///         ``1_000_000``, :data:`topoccd.DEFAULT_MAX_CONTACTS`, as in Rust), or ``None``
+    ///         for no limit (memory then grows with the contacts). Once the step is known to
+    ///         have more, the query stops and
     ///         ``report.truncated`` says so; the report then holds the first ``max_contacts``
     ///         contacts of the query's fixed order of work, the same for any ``threads``. With
     ///         ``mode="earliest"`` the earliest time stays exact (the query truncates only
     ///         once it knows that time is 0) and the pairs are the first ``max_contacts``
-    ///         within ``tolerance`` of it. Memory stays within a few times ``max_contacts``
+    ///         within ``tolerance`` of it; before that it keeps the ``max_contacts`` earliest
+    ///         pairs, and ``report.earliest_complete`` says whether every pair within
+    ///         ``tolerance`` of the earliest time is listed. Memory stays within a few times ``max_contacts``
     ///         contacts: a collapsed mesh (positions cast to integers) can have hundreds of
     ///         millions at t=0.
     ///     timeout: ``None``, or seconds (> 0) after which the query stops and raises
@@ -295,8 +299,8 @@ impl Ccd {
     #[pyo3(signature = (
         x0, x1, triangles, *, parents=None, groups=None, method="auto", mode="all",
         tolerance=1e-6, min_distance=0.0, tmax=1.0, max_iterations=1_000_000, k=18,
-        growth=None, threads=None, geometry=false, crack_filter=true, max_contacts=None,
-        timeout=None
+        growth=None, threads=None, geometry=false, crack_filter=true,
+        max_contacts=Some(topoccd::DEFAULT_MAX_CONTACTS as i64), timeout=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn query(

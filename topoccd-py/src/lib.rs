@@ -42,5 +42,6 @@ fn _topoccd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("FormatError", py.get_type::<errors::FormatError>())?;
     m.add("InputWarning", py.get_type::<errors::InputWarning>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("DEFAULT_MAX_CONTACTS", topoccd::DEFAULT_MAX_CONTACTS)?;
     Ok(())
 }

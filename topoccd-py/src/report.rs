@@ -41,6 +41,11 @@ use crate::errors::input_error;
 ///     earliest (tuple or None): the pair attaining it, ``("vf", vertex, face, toi)`` or
 ///         ``("ee", a0, a1, b0, b1, toi)``.
 ///     unresolved (int): contacts whose certainty is not 0.
+///     earliest_complete (bool): whether the report lists every pair within ``tolerance`` of
+///         the earliest time (every contact, with ``mode="all"``): ``False`` when the query
+///         was truncated, or when ``mode="earliest"`` found more such pairs than
+///         ``max_contacts`` and kept the earliest of them (the earliest time is exact
+///         either way).
 ///     truncated (dict or None): ``None`` when the query ran to its end; with
 ///         ``max_contacts``, once the step had more contacts: ``{"reason": "max_contacts",
 ///         "phase": "candidates", "tasks": K}``, the report holding the first
@@ -84,6 +89,8 @@ pub struct Report {
     earliest: Option<Py<PyTuple>>,
     #[pyo3(get)]
     unresolved: usize,
+    #[pyo3(get)]
+    earliest_complete: bool,
     #[pyo3(get)]
     truncated: Option<Py<PyDict>>,
     #[pyo3(get)]
@@ -176,6 +183,7 @@ impl Report {
             earliest_toi: r.earliest_toi(),
             earliest: earliest(py, r.earliest.as_ref())?,
             unresolved: r.unresolved,
+            earliest_complete: r.earliest_complete,
             truncated: truncated(py, r)?,
             stats: stats(py, r, facts)?,
             seconds: seconds(py, r)?,

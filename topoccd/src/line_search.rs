@@ -24,7 +24,7 @@
 use thiserror::Error;
 
 use crate::mesh::{Positions, Step, StepError, Triangles};
-use crate::query::{Ccd, Contact, Method, Mode, OptionsError, QueryOptions};
+use crate::query::{Ccd, Contact, Method, Mode, OptionsError, QueryOptions, Report, StopReason};
 
 /// Options of the line-search helpers.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -69,9 +69,13 @@ impl LineSearchOptions {
         Ok(())
     }
 
+    /// The query the helpers run: [`Mode::Earliest`], keeping one pair (only the earliest
+    /// contact matters), so that it stops as soon as a contact at time 0 is proven and holds
+    /// a bounded set of pairs otherwise. The deadline is the caller's.
     fn earliest(&self) -> QueryOptions {
         QueryOptions {
             mode: Mode::Earliest,
+            max_contacts: Some(1),
             ..self.query
         }
     }
@@ -90,6 +94,26 @@ pub enum LineSearchError {
     /// [`LineSearchOptions::conservative_rescaling`] not in `(0, 1]`.
     #[error("conservative_rescaling must be in (0, 1], got {0}")]
     ConservativeRescaling(f64),
+    /// The query stopped on its deadline ([`QueryOptions::deadline`]) or its
+    /// [`CancelToken`](crate::CancelToken) before the earliest time of impact was known (a
+    /// contact at time 0, found by then, is still an answer).
+    #[error("the line search stopped ({0}) before the earliest time of impact was known: allow more time (a later deadline, a larger timeout) or reset the cancel token")]
+    Stopped(StopReason),
+}
+
+/// The earliest contact of an [`Mode::Earliest`] report of [`LineSearchOptions::earliest`],
+/// and whether its time is the step's earliest time of impact, exactly (see
+/// [`QueryOptions::max_contacts`]): a query truncated by its cap knows that time is 0; one
+/// stopped by time knows it only if it found a contact at 0.
+fn earliest_of(report: &Report) -> Result<(Option<Contact>, bool), LineSearchError> {
+    match report.truncated.map(|t| t.reason) {
+        None => Ok((report.earliest, false)),
+        Some(StopReason::MaxContacts) => Ok((report.earliest, true)),
+        Some(reason) => match report.earliest {
+            Some(c) if c.toi() == 0.0 => Ok((Some(c), true)),
+            _ => Err(LineSearchError::Stopped(reason)),
+        },
+    }
 }
 
 /// What [`collision_free_stepsize`] returns.
@@ -191,14 +215,13 @@ impl Ccd {
     ) -> Result<StepSize, LineSearchError> {
         options.validate()?;
         let report = self.query(step, options.method, &options.earliest())?;
-        let alpha = match report.earliest {
+        let (earliest, at_zero) = earliest_of(&report)?;
+        let alpha = match earliest {
+            _ if at_zero => 0.0,
             Some(contact) => options.conservative_rescaling * contact.toi(),
             None => options.query.narrow.tmax,
         };
-        Ok(StepSize {
-            alpha,
-            earliest: report.earliest,
-        })
+        Ok(StepSize { alpha, earliest })
     }
 
     /// [`is_step_collision_free`] on a step, with this query object's buffers.
@@ -219,7 +242,7 @@ impl Ccd {
     ) -> Result<StepStatus, LineSearchError> {
         options.validate()?;
         let report = self.query(step, options.method, &options.earliest())?;
-        Ok(match report.earliest {
+        Ok(match earliest_of(&report)?.0 {
             Some(contact) => StepStatus::Collides(contact),
             None => StepStatus::CollisionFree,
         })

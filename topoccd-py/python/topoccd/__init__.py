@@ -42,6 +42,7 @@ from ._topoccd import (
     InputWarning,
     OptionsError,
     Report,
+    DEFAULT_MAX_CONTACTS,
     Sequence,
     __version__,
     edge_edge_ccd,
@@ -75,6 +76,7 @@ __all__ = [
     "INVALID_INPUT",
     "CERTAINTY",
     "__version__",
+    "DEFAULT_MAX_CONTACTS",
 ]
 
 #: Certainty code of a contact decided by the elementary test.
@@ -105,7 +107,7 @@ def query(
     threads: Optional[int] = None,
     geometry: bool = False,
     crack_filter: bool = True,
-    max_contacts: Optional[int] = None,
+    max_contacts: Optional[int] = DEFAULT_MAX_CONTACTS,
     timeout: Optional[float] = None,
 ) -> Report:
     """One query with a fresh :class:`Ccd`: every contact of one step, or the earliest.

@@ -38,7 +38,7 @@ import traceback
 from dataclasses import dataclass, field
 from typing import Any, Callable, Dict, Iterable, List, Optional
 
-from ._topoccd import Ccd, read_sequence
+from ._topoccd import DEFAULT_MAX_CONTACTS, Ccd, read_sequence
 
 __all__ = ["process_step", "process_steps", "run_sequence", "BatchResult", "QUERY_OPTIONS"]
 
@@ -376,7 +376,7 @@ def run_sequence(
     k: int = 18,
     growth: Optional[str] = None,
     crack_filter: bool = True,
-    max_contacts: Optional[int] = None,
+    max_contacts: Optional[int] = DEFAULT_MAX_CONTACTS,
     timeout: Optional[float] = None,
 ) -> BatchResult:
     """Processes every step of a frame sequence in parallel; writes one pairs file per step
@@ -401,8 +401,9 @@ def run_sequence(
             on it.
         progress: show a progress bar (tqdm if installed, else a counter on stderr).
         method, mode, tolerance, min_distance, tmax, max_iterations, k, growth,
-            crack_filter, max_contacts, timeout: as in :meth:`topoccd.Ccd.query` (a step that
-            times out is a failed step).
+            crack_filter, max_contacts, timeout: as in :meth:`topoccd.Ccd.query`, for each
+            step (``max_contacts`` defaults to one million per step, ``None`` for no cap;
+            ``timeout`` is per step, and a step that times out is a failed step).
 
     Returns:
         BatchResult: the steps' lines in step order, the failed steps and a summary. A step

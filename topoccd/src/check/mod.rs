@@ -25,9 +25,16 @@
 //! about `1e-100`).
 
 mod exact;
+mod limits;
 mod tree;
 
+pub use limits::{CheckError, CheckLimits};
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+
 use crate::mesh::{Frame, Positions, Step, StepError, Triangles};
+use crate::query::limits::Limits;
+use crate::query::StopReason;
 
 /// The pairs `[a, b]` (`a < b`, sorted) of triangles of one configuration that share no vertex
 /// and intersect or touch. The input is checked as [`Step::new`] checks it (indices in range,
@@ -75,6 +82,39 @@ pub fn frame_intersections<'a>(
     triangles: impl Into<Triangles<'a>>,
     parents: &[[u32; 2]],
 ) -> Result<Vec<[u32; 2]>, StepError> {
+    let unbounded = CheckLimits {
+        max_contacts: None,
+        ..CheckLimits::default()
+    };
+    frame_intersections_within(positions, triangles, parents, &unbounded).map_err(|e| match e {
+        CheckError::Step(e) => e,
+        _ => unreachable!("no cap, no deadline, no cancel token"),
+    })
+}
+
+/// [`frame_intersections`] within `limits`: a cap on the pairs and a deadline (see
+/// [`CheckLimits`]; by default at most [`DEFAULT_MAX_CONTACTS`](crate::DEFAULT_MAX_CONTACTS)
+/// pairs). The Python and C front ends call this one.
+///
+/// ```
+/// use topoccd::check::{frame_intersections_within, CheckError, CheckLimits};
+/// // Two triangles pierce each other.
+/// let x = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0],
+///          [0.2, 0.2, -1.0], [0.3, 0.2, 1.0], [0.2, 0.3, 1.0]];
+/// let triangles = [[0u32, 1, 2], [3, 4, 5]];
+/// let limits = CheckLimits::default();
+/// assert_eq!(frame_intersections_within(&x, &triangles, &[], &limits)?, vec![[0, 1]]);
+/// let none = CheckLimits { max_contacts: Some(0), ..CheckLimits::default() };
+/// let err = frame_intersections_within(&x, &triangles, &[], &none).unwrap_err();
+/// assert!(matches!(err, CheckError::MaxContacts { max_contacts: 0 }));
+/// # Ok::<(), CheckError>(())
+/// ```
+pub fn frame_intersections_within<'a>(
+    positions: impl Into<Positions<'a>>,
+    triangles: impl Into<Triangles<'a>>,
+    parents: &[[u32; 2]],
+    limits: &CheckLimits,
+) -> Result<Vec<[u32; 2]>, CheckError> {
     let positions = positions.into();
     let frame = Step::new(positions.clone(), positions, triangles)?;
     let x: &[f64] = bytemuck::cast_slice(frame.x1());
@@ -86,7 +126,7 @@ pub fn frame_intersections<'a>(
         .unwrap_or(n)
         .min(n);
     let step = Step::with_parents(&x[..3 * old], x, frame.triangles(), parents)?;
-    Ok(step_intersections(&step, Frame::End))
+    step_intersections_within(&step, Frame::End, limits)
 }
 
 /// The pairs `[a, b]` (`a < b`, sorted) of the step's triangles that intersect or touch at one
@@ -108,6 +148,39 @@ pub fn frame_intersections<'a>(
 /// # Ok::<(), topoccd::StepError>(())
 /// ```
 pub fn step_intersections(step: &Step<'_>, frame: Frame) -> Vec<[u32; 2]> {
+    let unbounded = CheckLimits {
+        max_contacts: None,
+        ..CheckLimits::default()
+    };
+    step_intersections_within(step, frame, &unbounded)
+        .unwrap_or_else(|_| unreachable!("no cap, no deadline, no cancel token"))
+}
+
+/// [`step_intersections`] within `limits` (see [`CheckLimits`]): past the cap, the deadline
+/// or a cancellation it stops within about a millisecond of work per thread and answers a
+/// [`CheckError`], never part of the pairs.
+///
+/// ```
+/// use std::time::Instant;
+/// use topoccd::check::{step_intersections_within, CheckError, CheckLimits};
+/// use topoccd::{Frame, Step, StopReason};
+/// let x = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// let step = Step::new(&x, &x, &[[0u32, 1, 2]])?;
+/// let late = CheckLimits { deadline: Some(Instant::now()), ..CheckLimits::default() };
+/// let err = step_intersections_within(&step, Frame::Start, &late).unwrap_err();
+/// assert_eq!(err, CheckError::Stopped(StopReason::Deadline));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn step_intersections_within(
+    step: &Step<'_>,
+    frame: Frame,
+    limits: &CheckLimits,
+) -> Result<Vec<[u32; 2]>, CheckError> {
+    let stop = Limits::new(limits.max_contacts, limits.deadline, limits.cancel.clone());
+    if stop.poll(true) {
+        return Err(stopped(&stop, limits));
+    }
+    let found = AtomicUsize::new(0);
     let x = match frame {
         Frame::Start => step.x0(),
         Frame::End => step.x1(),
@@ -119,16 +192,34 @@ pub fn step_intersections(step: &Step<'_>, frame: Frame) -> Vec<[u32; 2]> {
         .map(|t| tree::Aabb::of(&corners(t)))
         .collect();
     let tree = tree::Tree::build(&boxes);
-    let mut pairs = tree.self_pairs(&boxes, &|a, b| {
+    let visit = |a: u32, b: u32| {
         let (ta, tb) = (tris[a as usize], tris[b as usize]);
         let shared = ta
             .iter()
             .any(|&u| tb.iter().any(|&v| one[u as usize] == one[v as usize]));
-        (!shared && exact::triangles(corners(a as usize), corners(b as usize)))
-            .then(|| [a.min(b), a.max(b)])
-    });
+        let hit = !shared && exact::triangles(corners(a as usize), corners(b as usize));
+        if hit && stop.capped() && found.fetch_add(1, Ordering::Relaxed) >= stop.max_contacts {
+            stop.stop(StopReason::MaxContacts);
+        }
+        hit.then(|| [a.min(b), a.max(b)])
+    };
+    let mut pairs = tree.self_pairs_until(&boxes, &visit, &|| stop.poll(false));
+    if stop.stopped().is_some() {
+        return Err(stopped(&stop, limits));
+    }
     pairs.sort_unstable();
-    pairs
+    Ok(pairs)
+}
+
+/// The error of a check that `stop` stopped.
+fn stopped(stop: &Limits, limits: &CheckLimits) -> CheckError {
+    match stop.stopped() {
+        Some(StopReason::MaxContacts) => CheckError::MaxContacts {
+            max_contacts: limits.max_contacts.unwrap_or(usize::MAX),
+        },
+        Some(reason) => CheckError::Stopped(reason),
+        None => unreachable!("called once stopped"),
+    }
 }
 
 /// For each vertex, a representative: a child of a topology change, its parent and the

@@ -135,25 +135,40 @@ impl Tree {
     /// Calls `visit(a, b)` once for every pair of distinct items whose boxes overlap, the
     /// root's two halves side by side on the rayon pool. `visit` returns the pairs it keeps;
     /// they are returned in the traversal's order, whatever the thread count.
+    #[cfg(test)]
     pub fn self_pairs<T: Send>(
         &self,
         boxes: &[Aabb],
         visit: &(impl Fn(u32, u32) -> Option<T> + Sync),
     ) -> Vec<T> {
+        self.self_pairs_until(boxes, visit, &|| false)
+    }
+
+    /// [`Tree::self_pairs`] that gives up once `halt` returns `true` (asked as each node or
+    /// pair of nodes is entered): what it returns then is only part of the pairs.
+    pub fn self_pairs_until<T: Send>(
+        &self,
+        boxes: &[Aabb],
+        visit: &(impl Fn(u32, u32) -> Option<T> + Sync),
+        halt: &(impl Fn() -> bool + Sync),
+    ) -> Vec<T> {
         if self.nodes.is_empty() {
             return Vec::new();
         }
-        self.within(0, boxes, visit, 0)
+        self.within(0, (boxes, halt), visit, 0)
     }
 
     /// Pairs inside node `n`.
     fn within<T: Send>(
         &self,
         n: usize,
-        boxes: &[Aabb],
+        (boxes, halt): (&[Aabb], &(impl Fn() -> bool + Sync)),
         visit: &(impl Fn(u32, u32) -> Option<T> + Sync),
         depth: u32,
     ) -> Vec<T> {
+        if halt() {
+            return Vec::new();
+        }
         let node = self.nodes[n];
         if node.count > 0 {
             let items = self.leaf(&node);
@@ -170,18 +185,21 @@ impl Tree {
         let (l, r) = (node.start as usize, node.start as usize + 1);
         let (mut out, (inner, across)) = if depth < 8 {
             rayon::join(
-                || self.within(l, boxes, visit, depth + 1),
+                || self.within(l, (boxes, halt), visit, depth + 1),
                 || {
                     rayon::join(
-                        || self.within(r, boxes, visit, depth + 1),
-                        || self.across(l, r, boxes, visit, depth + 1),
+                        || self.within(r, (boxes, halt), visit, depth + 1),
+                        || self.across(l, r, (boxes, halt), visit, depth + 1),
                     )
                 },
             )
         } else {
-            let left = self.within(l, boxes, visit, depth + 1);
-            let right = self.within(r, boxes, visit, depth + 1);
-            (left, (right, self.across(l, r, boxes, visit, depth + 1)))
+            let left = self.within(l, (boxes, halt), visit, depth + 1);
+            let right = self.within(r, (boxes, halt), visit, depth + 1);
+            (
+                left,
+                (right, self.across(l, r, (boxes, halt), visit, depth + 1)),
+            )
         };
         out.extend(inner);
         out.extend(across);
@@ -193,12 +211,12 @@ impl Tree {
         &self,
         a: usize,
         b: usize,
-        boxes: &[Aabb],
+        (boxes, halt): (&[Aabb], &(impl Fn() -> bool + Sync)),
         visit: &(impl Fn(u32, u32) -> Option<T> + Sync),
         depth: u32,
     ) -> Vec<T> {
         let (na, nb) = (self.nodes[a], self.nodes[b]);
-        if !na.bounds.overlaps(&nb.bounds) {
+        if !na.bounds.overlaps(&nb.bounds) || halt() {
             return Vec::new();
         }
         match (na.count > 0, nb.count > 0) {
@@ -214,8 +232,8 @@ impl Tree {
                 out
             }
             // Descend the inner node (the left one when both are inner).
-            (false, _) => self.descend(a, b, true, boxes, visit, depth),
-            (true, false) => self.descend(b, a, false, boxes, visit, depth),
+            (false, _) => self.descend(a, b, true, (boxes, halt), visit, depth),
+            (true, false) => self.descend(b, a, false, (boxes, halt), visit, depth),
         }
     }
 
@@ -226,16 +244,16 @@ impl Tree {
         inner: usize,
         other: usize,
         inner_first: bool,
-        boxes: &[Aabb],
+        (boxes, halt): (&[Aabb], &(impl Fn() -> bool + Sync)),
         visit: &(impl Fn(u32, u32) -> Option<T> + Sync),
         depth: u32,
     ) -> Vec<T> {
         let c = self.nodes[inner].start as usize;
         let go = |child: usize| {
             if inner_first {
-                self.across(child, other, boxes, visit, depth + 1)
+                self.across(child, other, (boxes, halt), visit, depth + 1)
             } else {
-                self.across(other, child, boxes, visit, depth + 1)
+                self.across(other, child, (boxes, halt), visit, depth + 1)
             }
         };
         let (mut first, second) = if depth < 8 {

@@ -42,6 +42,9 @@ pub(crate) struct Found {
     pub streamed_count: usize,
     /// Of those, the ones not [`Certainty::Resolved`].
     pub streamed_unresolved: usize,
+    /// In [`Mode::Earliest`] under a cap, the earliest time of impact among the contacts
+    /// dropped to keep the set of earliest pairs bounded ([`Found::bound`]).
+    pub dropped: Option<f64>,
 }
 
 impl Default for Found {
@@ -56,6 +59,7 @@ impl Default for Found {
             streamed: None,
             streamed_count: 0,
             streamed_unresolved: 0,
+            dropped: None,
         }
     }
 }
@@ -123,19 +127,24 @@ impl Found {
 
     /// Drops the contacts whose time of impact is after `cut`, keeping the order of the rest.
     fn retain_until(&mut self, cut: f64) {
+        self.retain_where(|c: &VfContact| c.toi <= cut, |c: &EeContact| c.toi <= cut);
+    }
+
+    /// Keeps the contacts that `vf_keep` and `ee_keep` accept, in order.
+    fn retain_where(&mut self, vf_keep: impl Fn(&VfContact) -> bool, ee_keep: impl Fn(&EeContact) -> bool) {
         self.mark();
         let (mut vf0, mut ee0) = (0, 0);
         let (mut vf_kept, mut ee_kept) = (0, 0);
         let mut marks = Vec::with_capacity(self.marks.len());
         for &[vf1, ee1] in &self.marks {
             for i in vf0..vf1 {
-                if self.vf[i].toi <= cut {
+                if vf_keep(&self.vf[i]) {
                     self.vf[vf_kept] = self.vf[i];
                     vf_kept += 1;
                 }
             }
             for i in ee0..ee1 {
-                if self.ee[i].toi <= cut {
+                if ee_keep(&self.ee[i]) {
                     self.ee[ee_kept] = self.ee[i];
                     ee_kept += 1;
                 }
@@ -147,6 +156,40 @@ impl Found {
         self.ee.truncate(ee_kept);
         marks.dedup();
         self.marks = marks;
+    }
+
+    /// In [`Mode::Earliest`] with a cap, before the earliest time is known to be 0: once the
+    /// buffer holds half as many contacts again as the cap, keeps only the `max_contacts`
+    /// earliest (in [`Contact::earliest_order`], at least one), in their order, and records
+    /// the earliest time dropped ([`Found::dropped`]). The earliest contact is never dropped,
+    /// and the set kept is the same whatever the order the contacts came in, so memory stays
+    /// bounded and the report does not depend on the thread count.
+    pub fn bound(&mut self, ctx: &Context) {
+        let cap = ctx.limits.max_contacts;
+        if self.settled || ctx.options.mode != Mode::Earliest || !ctx.limits.capped() {
+            return;
+        }
+        if self.len() > cap.saturating_add(cap / 2).saturating_add(64) {
+            self.keep_earliest_n(cap.max(1));
+        }
+    }
+
+    /// Keeps the `n` earliest contacts (in [`Contact::earliest_order`]), in their order,
+    /// recording the earliest time dropped.
+    pub fn keep_earliest_n(&mut self, n: usize) {
+        if self.len() <= n {
+            return;
+        }
+        let mut keys: Vec<EarliestKey> = (self.vf.iter().map(vf_key))
+            .chain(self.ee.iter().map(ee_key))
+            .collect();
+        let (_, &mut nth, rest) = keys.select_nth_unstable(n - 1);
+        let dropped = rest.iter().map(|k| f64::from_bits(k.0)).fold(f64::INFINITY, f64::min);
+        drop(keys);
+        self.retain_where(|c| vf_key(c) <= nth, |c| ee_key(c) <= nth);
+        if self.dropped.is_none_or(|d| dropped < d) {
+            self.dropped = Some(dropped);
+        }
     }
 
     /// In [`Mode::Earliest`] with a cap, once the earliest time is known to be 0 (`limit` has
@@ -198,6 +241,11 @@ impl Found {
         other.marks.clear();
         self.streamed_count += other.streamed_count;
         self.streamed_unresolved += other.streamed_unresolved;
+        if let Some(d) = other.dropped.take() {
+            if self.dropped.is_none_or(|s| d < s) {
+                self.dropped = Some(d);
+            }
+        }
         if let Some(c) = other.streamed.take() {
             let earlier = |s: &Contact| c.earliest_order(s) == std::cmp::Ordering::Less;
             if self.streamed.as_ref().is_none_or(earlier) {
@@ -251,6 +299,34 @@ impl Found {
         self.vf.clear();
         self.ee.clear();
         self.marks.clear();
+    }
+}
+
+/// A contact's place in [`Contact::earliest_order`]: its time's bits (times are never
+/// negative, so their bits order them), vertex-face before edge-edge, then the indices.
+type EarliestKey = (u64, u8, [u32; 4]);
+
+fn toi_bits(toi: f64) -> u64 {
+    // +0 and -0 alike; a time of impact is never negative.
+    if toi == 0.0 {
+        0
+    } else {
+        toi.to_bits()
+    }
+}
+
+fn vf_key(c: &VfContact) -> EarliestKey {
+    (toi_bits(c.toi), 0, [c.vertex, c.face, 0, 0])
+}
+
+fn ee_key(c: &EeContact) -> EarliestKey {
+    // The driver's edge-edge pairs carry the free points' pairs too (an edge `[p, p]` is the
+    // point `p`): each takes its kind's place.
+    let bits = toi_bits(c.toi);
+    match Contact::from(*c) {
+        Contact::Ve(v) => (bits, 2, [v.vertex, v.edge[0], v.edge[1], 0]),
+        Contact::Vv(v) => (bits, 3, [v.a, v.b, 0, 0]),
+        _ => (bits, 1, [c.a[0], c.a[1], c.b[0], c.b[1]]),
     }
 }
 
@@ -377,6 +453,7 @@ impl Keeper {
             }
         }
         found.append(task);
+        found.bound(ctx);
         let counting = ctx.options.mode == Mode::All || found.settled;
         if limits.capped() && counting && found.len() > limits.max_contacts {
             found.keep_first(limits.max_contacts);
@@ -706,10 +783,12 @@ impl Context<'_, '_> {
         for pairs in candidates.vf.chunks(part) {
             self.solve_vf(pairs, limit, found);
             found.settle(self, *limit);
+            found.bound(self);
         }
         for pairs in candidates.ee.chunks(part) {
             self.solve_ee(pairs, limit, found);
             found.settle(self, *limit);
+            found.bound(self);
         }
         found.mark();
     }
@@ -834,6 +913,7 @@ impl Context<'_, '_> {
                 found.trim_from(self, starts);
             } else {
                 found.settle(self, self.limit(*best));
+                found.bound(self);
             }
         } else if self.limits.capped() {
             found.trim_from(self, starts);
@@ -882,8 +962,6 @@ pub(crate) fn lower(best: &mut Option<f64>, tois: impl Iterator<Item = f64>) {
 /// Sorts what was found, keeps in [`Mode::Earliest`] only the contacts within the tolerance of
 /// the earliest, and returns the earliest contact.
 pub(crate) fn finish(found: &mut Found, options: &QueryOptions) -> Option<Contact> {
-    sort_by_key(&mut found.vf, |c| (c.vertex, c.face));
-    sort_by_key(&mut found.ee, |c| (c.a, c.b));
     let earliest = found
         .vf
         .iter()
@@ -891,11 +969,27 @@ pub(crate) fn finish(found: &mut Found, options: &QueryOptions) -> Option<Contac
         .chain(found.ee.iter().map(|&c| Contact::from(c)))
         .min_by(Contact::earliest_order);
     if options.mode == Mode::Earliest {
+        // The bounded set of earliest pairs ([`Found::bound`]) keeps at most the cap.
+        if let Some(cap) = options.max_contacts.filter(|_| !found.settled) {
+            found.marks.clear();
+            found.keep_earliest_n(cap.max(1));
+        }
         let cut = earliest.map_or(f64::NEG_INFINITY, |c| c.toi() + options.narrow.tolerance);
         found.vf.retain(|c| c.toi <= cut);
         found.ee.retain(|c| c.toi <= cut);
     }
+    sort_by_key(&mut found.vf, |c| (c.vertex, c.face));
+    sort_by_key(&mut found.ee, |c| (c.a, c.b));
     earliest
+}
+
+/// Whether the report lists every pair within the tolerance of the earliest time (in
+/// [`Mode::Earliest`]; in [`Mode::All`], every contact): no contact at or before that time
+/// was dropped to keep the set of earliest pairs bounded. (A truncated query is never
+/// complete; the caller checks that.)
+pub(crate) fn earliest_complete(found: &Found, earliest: Option<Contact>, options: &QueryOptions) -> bool {
+    let cut = earliest.map_or(f64::INFINITY, |c| c.toi() + options.narrow.tolerance);
+    found.dropped.is_none_or(|d| d > cut)
 }
 
 /// The time of impact and certainty over `[0, full.tmax]`, or `None` when the pair is

@@ -24,6 +24,7 @@ pub(crate) mod vertex_vertex;
 
 pub(crate) use candidates::{triangle_volume, Candidates};
 pub use limits::{CancelToken, Phase, StopReason, Truncation};
+pub use options::DEFAULT_MAX_CONTACTS;
 pub use options::{ClusterGrowth, Method, Mode, OptionsError, QueryOptions, AUTO_CLUSTER_TRIANGLES};
 pub use report::{
     Certainty, ClusterFigures, Contact, EeContact, EeGeometry, Report, Seconds, Stats, VfContact,

@@ -167,17 +167,21 @@ pub struct QueryOptions {
     /// ([`Step::with_parents`](crate::Step::with_parents)), a new vertex and its parent count
     /// as one vertex, so pairs joined that way are not tested. Default `true`.
     pub crack_filter: bool,
-    /// The most contacts the report keeps; `None` (the default) for no limit. Once the query
-    /// knows more, it stops and the report says so
+    /// The most contacts the report keeps: [`DEFAULT_MAX_CONTACTS`] (one million) by default,
+    /// `None` for no limit (asked explicitly: memory then grows with the contacts). Once the
+    /// query knows more, it stops and the report says so
     /// ([`Report::truncated`](crate::Report::truncated)): it then holds the first
     /// `max_contacts` contacts of the query's fixed order of work, the same for any thread
     /// count (see [`Truncation`](crate::Truncation)). In [`Mode::Earliest`] the earliest time
     /// stays exact: the query truncates only once it knows that time is 0 (nothing is
-    /// earlier), keeping the first `max_contacts` pairs within the tolerance of it. Memory
-    /// then stays bounded by a few times `max_contacts` contacts.
+    /// earlier), keeping the first `max_contacts` pairs within the tolerance of it; before
+    /// that it keeps at most about `max_contacts` of the earliest pairs found, and
+    /// [`Report::earliest_complete`](crate::Report::earliest_complete) says whether the pairs
+    /// within the tolerance of the earliest time are all listed. Memory then stays bounded by
+    /// a few times `max_contacts` contacts (about 112 bytes each).
     ///
     /// A step whose vertices collapsed (positions cast to integers, a mesh scaled to zero)
-    /// can have hundreds of millions of contacts at t=0; a cap turns that into a quick,
+    /// can have hundreds of millions of contacts at t=0; the cap turns that into a quick,
     /// truncated answer.
     pub max_contacts: Option<usize>,
     /// When the query gives up: past this instant it stops within about a millisecond of
@@ -201,11 +205,16 @@ impl Default for QueryOptions {
             growth: ClusterGrowth::default(),
             geometry: false,
             crack_filter: true,
-            max_contacts: None,
+            max_contacts: Some(DEFAULT_MAX_CONTACTS),
             deadline: None,
         }
     }
 }
+
+/// The default of [`QueryOptions::max_contacts`]: one million contacts, about 112 MB of
+/// report (a few times that while the query runs, on two threads), and a quick answer on a
+/// step whose vertices collapsed. The Python package uses the same default.
+pub const DEFAULT_MAX_CONTACTS: usize = 1_000_000;
 
 /// An option out of its range. The message names the option, its range and the value.
 #[derive(Debug, Error, Clone, Copy, PartialEq)]

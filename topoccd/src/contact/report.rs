@@ -247,6 +247,13 @@ pub struct Report {
     /// [`CancelToken`](crate::CancelToken)): the report then holds only part of the step's
     /// contacts (see [`Truncation`](crate::Truncation) for which).
     pub truncated: Option<super::limits::Truncation>,
+    /// Whether the report lists every pair within the tolerance of the earliest time (every
+    /// contact, in [`Mode::All`](crate::Mode::All)). `false` when the query was truncated,
+    /// or when [`Mode::Earliest`](crate::Mode::Earliest) found more such pairs than
+    /// [`QueryOptions::max_contacts`](crate::QueryOptions::max_contacts) and kept the
+    /// earliest of them. The earliest time itself is exact either way, unless the query
+    /// stopped on a deadline or a cancellation.
+    pub earliest_complete: bool,
     /// Work counters and timings.
     pub stats: Stats,
 }

@@ -251,8 +251,11 @@ impl<const H: usize> Kdop<H> {
         let n = norms::<H>();
         for i in 0..H {
             let d = distance * n[i] + pad;
-            self.lo[i] -= d;
-            self.hi[i] += d;
+            // Near f64's end a projection or its padding overflows, and `inf - inf` is NaN,
+            // which would overlap nothing: such a bound goes to the infinity on its outer side.
+            let (lo, hi) = (self.lo[i] - d, self.hi[i] + d);
+            self.lo[i] = if lo.is_nan() { f64::NEG_INFINITY } else { lo };
+            self.hi[i] = if hi.is_nan() { f64::INFINITY } else { hi };
         }
     }
 

@@ -293,13 +293,16 @@ impl Ccd {
             limits.stopped(),
             Some(StopReason::Deadline | StopReason::Cancelled)
         );
+        let mut complete = true;
         let earliest = if by_time {
             // What was found by then depends on timing: the report keeps the earliest.
             found.earliest_only()
         } else if stream.is_some() {
             found.streamed
         } else {
-            narrow_phase::finish(&mut found, options)
+            let earliest = narrow_phase::finish(&mut found, options);
+            complete = narrow_phase::earliest_complete(&found, earliest, options);
+            earliest
         };
         narrow += t.elapsed().as_secs_f64();
         let truncated = limits.stopped().map(|reason| Truncation {
@@ -334,6 +337,7 @@ impl Ccd {
             vv,
             earliest,
             unresolved,
+            earliest_complete: complete && truncated.is_none(),
             truncated,
             stats: Stats {
                 method,

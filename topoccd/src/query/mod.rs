@@ -23,6 +23,7 @@ mod ccd;
 pub use ccd::CandidatePairs;
 pub use ccd::{query, Ccd};
 pub use crate::contact::{CancelToken, Phase, StopReason, Truncation};
+pub use crate::contact::DEFAULT_MAX_CONTACTS;
 pub use crate::contact::{
     ClusterGrowth, Method, Mode, OptionsError, QueryOptions, AUTO_CLUSTER_TRIANGLES,
 };
