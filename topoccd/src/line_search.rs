@@ -23,7 +23,8 @@
 
 use thiserror::Error;
 
-use crate::mesh::{Positions, Step, StepError, Triangles};
+use crate::check;
+use crate::mesh::{Frame, Positions, Step, StepError, Triangles};
 use crate::query::{Ccd, Contact, Method, Mode, OptionsError, QueryOptions};
 
 /// Options of the line-search helpers.
@@ -39,6 +40,13 @@ pub struct LineSearchOptions {
     /// in `(0, 1]`. Default `0.8`, the IPC toolkit's conservative rescaling: the step stops
     /// short of the contact, so the next step does not start touching.
     pub conservative_rescaling: f64,
+    /// Run the exact static check ([`check::step_intersections`]) on the t=0 positions
+    /// first, and refuse a start where triangles already intersect
+    /// ([`LineSearchError::StartIntersects`]). Default `false`: the helpers then assume the
+    /// paper's premise (nothing intersects at t=0) and do not look. A pair of triangles
+    /// that passes through each other at t=0 and keeps moving apart has no contact in
+    /// `(0, tmax]`, so without the check the step size can be `tmax`.
+    pub check_start: bool,
 }
 
 impl Default for LineSearchOptions {
@@ -47,6 +55,7 @@ impl Default for LineSearchOptions {
             query: QueryOptions::default(),
             method: Method::Auto,
             conservative_rescaling: 0.8,
+            check_start: false,
         }
     }
 }
@@ -65,6 +74,20 @@ impl LineSearchOptions {
             return Err(LineSearchError::ConservativeRescaling(
                 self.conservative_rescaling,
             ));
+        }
+        Ok(())
+    }
+
+    /// With [`check_start`](Self::check_start), refuses a step whose t=0 triangles intersect.
+    fn check(&self, step: &Step<'_>) -> Result<(), LineSearchError> {
+        if self.check_start {
+            let pairs = check::step_intersections(step, Frame::Start);
+            if let Some(&first) = pairs.first() {
+                return Err(LineSearchError::StartIntersects {
+                    triangles: first,
+                    count: pairs.len(),
+                });
+            }
         }
         Ok(())
     }
@@ -90,6 +113,20 @@ pub enum LineSearchError {
     /// [`LineSearchOptions::conservative_rescaling`] not in `(0, 1]`.
     #[error("conservative_rescaling must be in (0, 1], got {0}")]
     ConservativeRescaling(f64),
+    /// [`LineSearchOptions::check_start`] found triangles that intersect at t=0: no step size
+    /// is safe from such a start.
+    #[error(
+        "triangles {} and {} intersect at t=0 ({count} intersecting pairs): the step \
+         starts in contact",
+        triangles[0],
+        triangles[1]
+    )]
+    StartIntersects {
+        /// The first intersecting pair `[a, b]` (`a < b`, in sorted order).
+        triangles: [u32; 2],
+        /// How many pairs intersect.
+        count: usize,
+    },
 }
 
 /// What [`collision_free_stepsize`] returns.
@@ -190,6 +227,7 @@ impl Ccd {
         options: &LineSearchOptions,
     ) -> Result<StepSize, LineSearchError> {
         options.validate()?;
+        options.check(step)?;
         let report = self.query(step, options.method, &options.earliest())?;
         let alpha = match report.earliest {
             Some(contact) => options.conservative_rescaling * contact.toi(),
@@ -218,6 +256,7 @@ impl Ccd {
         options: &LineSearchOptions,
     ) -> Result<StepStatus, LineSearchError> {
         options.validate()?;
+        options.check(step)?;
         let report = self.query(step, options.method, &options.earliest())?;
         Ok(match report.earliest {
             Some(contact) => StepStatus::Collides(contact),
