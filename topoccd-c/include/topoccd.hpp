@@ -212,7 +212,7 @@ class QueryOptions {
   /// Most contacts the report keeps, 0 for no cap (the default): see `Report::truncated`.
   QueryOptions& max_contacts(std::uint64_t n) noexcept { return set(c_.max_contacts, n); }
   /// Seconds a query may run, 0 for no limit (the default): see `Report::truncated`.
-  QueryOptions& timeout_seconds(double s) noexcept { return set(c_.timeout_seconds, s); }
+  QueryOptions& timeout(double s) noexcept { return set(c_.timeout, s); }
 
   Method method() const noexcept { return static_cast<Method>(c_.method); }
   Mode mode() const noexcept { return static_cast<Mode>(c_.mode); }
@@ -226,11 +226,13 @@ class QueryOptions {
   bool geometry() const noexcept { return c_.geometry; }
   bool crack_filter() const noexcept { return c_.crack_filter; }
   std::uint64_t max_contacts() const noexcept { return c_.max_contacts; }
-  double timeout_seconds() const noexcept { return c_.timeout_seconds; }
+  double timeout() const noexcept { return c_.timeout; }
 
-  /// The C struct, for the C API or for a field this wrapper does not name.
-  const topoccd_query_options& c() const noexcept { return c_; }
-  topoccd_query_options& c() noexcept { return c_; }
+  /// The C struct, for the C API or for a field this wrapper does not name. Only on an
+  /// object that outlives the reference: on a temporary it does not compile.
+  const topoccd_query_options& c() const& noexcept { return c_; }
+  topoccd_query_options& c() & noexcept { return c_; }
+  const topoccd_query_options& c() const&& = delete;
 
  private:
   template <class F, class V>
@@ -361,7 +363,10 @@ class Step {
     return groups(GroupIds(ids.empty() ? nullptr : ids.data(), ids.size()));
   }
 
-  const topoccd_step& c() const noexcept { return c_; }
+  /// The C struct. Only on a Step that outlives the reference: `frames.step().c()` would
+  /// point into a temporary, so it does not compile (keep the Step in a variable).
+  const topoccd_step& c() const& noexcept { return c_; }
+  const topoccd_step& c() const&& = delete;
 
  private:
   // A non-NULL pointer for an empty array that is given (a topology change without rows).
@@ -398,7 +403,7 @@ class Report {
   }
   /// Contacts where the search gave up (their times are only lower bounds).
   std::size_t unresolved() const noexcept { return r_->unresolved; }
-  /// Why the query stopped early (`max_contacts`, `timeout_seconds`), or
+  /// Why the query stopped early (`max_contacts`, `timeout`), or
   /// `TOPOCCD_STOP_REASON_NONE` for a complete report.
   topoccd_stop_reason truncated() const noexcept { return r_->truncated; }
   /// Work counters and seconds per phase.
@@ -409,6 +414,63 @@ class Report {
 
  private:
   const topoccd_report* r_;
+};
+
+/// The options of a line search (Ccd::collision_free_stepsize, Ccd::is_step_collision_free):
+/// the query's options (their mode is ignored: the helpers run Mode::Earliest), the
+/// conservative rescaling and the check of the start.
+/// `topoccd::LineSearchOptions().check_start(true).query(topoccd::QueryOptions().timeout(1))`.
+class LineSearchOptions {
+ public:
+  LineSearchOptions() {
+    topoccd_status status = topoccd_line_search_options_default(&c_);
+    if (status != TOPOCCD_STATUS_OK) {
+      throw Error(status, "topoccd_line_search_options_default failed: the library is older "
+                          "than topoccd.hpp");
+    }
+  }
+
+  /// The query's options (min_distance, tmax, timeout, max_contacts, threads, ...).
+  LineSearchOptions& query(const QueryOptions& q) { query_ = q; return *this; }
+  /// The fraction of the earliest time of impact returned, in (0, 1]. Default 0.8.
+  LineSearchOptions& conservative_rescaling(double r) noexcept {
+    c_.conservative_rescaling = r;
+    return *this;
+  }
+  /// Refuse a start where triangles intersect (Error with TOPOCCD_STATUS_START_INTERSECTS).
+  /// Default false.
+  LineSearchOptions& check_start(bool on) noexcept {
+    c_.check_start = on;
+    return *this;
+  }
+
+  const QueryOptions& query() const& noexcept { return query_; }
+  QueryOptions& query() & noexcept { return query_; }
+  const QueryOptions& query() const&& = delete;
+  double conservative_rescaling() const noexcept { return c_.conservative_rescaling; }
+  bool check_start() const noexcept { return c_.check_start; }
+
+  /// The C struct; its `query` points into this object, so only on an lvalue.
+  topoccd_line_search_options c() const& noexcept {
+    topoccd_line_search_options out = c_;
+    out.query = &query_.c();
+    return out;
+  }
+  topoccd_line_search_options c() const&& = delete;
+
+ private:
+  topoccd_line_search_options c_{};
+  QueryOptions query_;
+};
+
+/// What Ccd::collision_free_stepsize returns: the fraction of the step, and the report of its
+/// Earliest query (its earliest_vf(), earliest_ee() and earliest_toi() name the contact that
+/// cut the step short), valid until the Ccd's next query.
+struct StepSize {
+  /// conservative_rescaling times the earliest time of impact, or tmax without contact.
+  double alpha;
+  /// The Earliest query's report.
+  Report report;
 };
 
 /// A reusable query: keep one per simulation (its buffers are reused) and per thread.
@@ -430,6 +492,28 @@ class Ccd {
   Report query(Points x0, Points x1, Indices triangles,
                const QueryOptions& options = QueryOptions()) {
     return query(Step(x0, x1, triangles), options);
+  }
+
+  /// The fraction of the step the mesh may take without contact (see
+  /// topoccd_collision_free_stepsize), with the earliest contact in the report. Throws
+  /// topoccd::Error: TOPOCCD_STATUS_START_INTERSECTS (check_start), TOPOCCD_STATUS_TIMEOUT,
+  /// or as query().
+  StepSize collision_free_stepsize(const Step& step,
+                                   const LineSearchOptions& options = LineSearchOptions()) {
+    double alpha = 0.0;
+    topoccd_line_search_options c = options.c();
+    check(topoccd_collision_free_stepsize(p_.get(), &step.c(), &c, &alpha));
+    return StepSize{alpha, report()};
+  }
+
+  /// Whether no two features come within min_distance during [0, tmax] of the step; if not,
+  /// report() gives the earliest contact. Throws as collision_free_stepsize().
+  bool is_step_collision_free(const Step& step,
+                              const LineSearchOptions& options = LineSearchOptions()) {
+    bool collision_free = false;
+    topoccd_line_search_options c = options.c();
+    check(topoccd_is_step_collision_free(p_.get(), &step.c(), &c, &collision_free));
+    return collision_free;
   }
 
   /// The report of the last query (empty before the first and after a failed one).
