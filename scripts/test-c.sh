@@ -283,6 +283,8 @@ dangling=(
     'const topoccd_query_options& o = topoccd::QueryOptions().mode(topoccd::Mode::Earliest).c(); return (int)o.mode;'
     'const topoccd_query_options& o = topoccd::QueryOptions().c(); return (int)o.mode;'
     'topoccd_line_search_options o = topoccd::LineSearchOptions().c(); return (int)o.check_start;'
+    'topoccd_line_search_options o = topoccd::LineSearchOptions().check_start(true).c(); return (int)o.check_start;'
+    'std::vector<std::array<double, 3>> x; std::vector<std::array<uint32_t, 3>> t; std::vector<std::array<uint32_t, 2>> p; const topoccd_step& s = topoccd::Step(x, x, t).parents(p).c(); return (int)s.x0_count;'
 )
 for k in "${!dangling[@]}"; do
     printf '#include <topoccd.hpp>\nint main(int, char** argv) { %s }\n' "${dangling[$k]}" \

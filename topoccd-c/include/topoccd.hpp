@@ -178,7 +178,9 @@ class Owned {
 
 /// The options of a query and of the per-pair tests, with the library's defaults; set what
 /// you need with the chained setters:
-/// `topoccd::QueryOptions().mode(topoccd::Mode::Earliest).geometry(true)`.
+/// `topoccd::QueryOptions().mode(topoccd::Mode::Earliest).geometry(true)`. On a temporary the
+/// setters return a temporary, so `c()` at the end of such a chain does not compile (its
+/// reference would dangle).
 /// Ranges are checked by the library at the query (topoccd::Error naming the option).
 class QueryOptions {
  public:
@@ -190,29 +192,42 @@ class QueryOptions {
     }
   }
 
-  QueryOptions& method(Method m) noexcept { return set(c_.method, static_cast<std::uint32_t>(m)); }
-  QueryOptions& mode(Mode m) noexcept { return set(c_.mode, static_cast<std::uint32_t>(m)); }
+  QueryOptions& method(Method m) & noexcept { return set(c_.method, static_cast<std::uint32_t>(m)); }
+  QueryOptions&& method(Method m) && noexcept { return std::move(this->method(m)); }
+  QueryOptions& mode(Mode m) & noexcept { return set(c_.mode, static_cast<std::uint32_t>(m)); }
+  QueryOptions&& mode(Mode m) && noexcept { return std::move(this->mode(m)); }
   /// Resolution of the elementary tests, in time units, in (0, 1). Default 1e-6.
-  QueryOptions& tolerance(double t) noexcept { return set(c_.tolerance, t); }
+  QueryOptions& tolerance(double t) & noexcept { return set(c_.tolerance, t); }
+  QueryOptions&& tolerance(double t) && noexcept { return std::move(this->tolerance(t)); }
   /// At least 1. Default 1,000,000.
-  QueryOptions& max_iterations(std::uint32_t n) noexcept { return set(c_.max_iterations, n); }
+  QueryOptions& max_iterations(std::uint32_t n) & noexcept { return set(c_.max_iterations, n); }
+  QueryOptions&& max_iterations(std::uint32_t n) && noexcept { return std::move(this->max_iterations(n)); }
   /// 6, 14, 18 or 26. Default 18.
-  QueryOptions& k(std::uint32_t k) noexcept { return set(c_.k, k); }
+  QueryOptions& k(std::uint32_t k) & noexcept { return set(c_.k, k); }
+  QueryOptions&& k(std::uint32_t k) && noexcept { return std::move(this->k(k)); }
   /// Distance (coordinate units, >= 0) at or below which features count as touching.
-  QueryOptions& min_distance(double d) noexcept { return set(c_.min_distance, d); }
+  QueryOptions& min_distance(double d) & noexcept { return set(c_.min_distance, d); }
+  QueryOptions&& min_distance(double d) && noexcept { return std::move(this->min_distance(d)); }
   /// End of the time interval searched, in (0, 1]. Default 1.
-  QueryOptions& tmax(double t) noexcept { return set(c_.tmax, t); }
-  QueryOptions& growth(Growth g) noexcept { return set(c_.growth, static_cast<std::uint32_t>(g)); }
+  QueryOptions& tmax(double t) & noexcept { return set(c_.tmax, t); }
+  QueryOptions&& tmax(double t) && noexcept { return std::move(this->tmax(t)); }
+  QueryOptions& growth(Growth g) & noexcept { return set(c_.growth, static_cast<std::uint32_t>(g)); }
+  QueryOptions&& growth(Growth g) && noexcept { return std::move(this->growth(g)); }
   /// 0 for one thread per core (the default), else a pool of n kept by the Ccd.
-  QueryOptions& threads(std::uint32_t n) noexcept { return set(c_.threads, n); }
+  QueryOptions& threads(std::uint32_t n) & noexcept { return set(c_.threads, n); }
+  QueryOptions&& threads(std::uint32_t n) && noexcept { return std::move(this->threads(n)); }
   /// Contacts with their geometry (barycentric coordinates, point, normal, distance).
-  QueryOptions& geometry(bool on) noexcept { return set(c_.geometry, on); }
+  QueryOptions& geometry(bool on) & noexcept { return set(c_.geometry, on); }
+  QueryOptions&& geometry(bool on) && noexcept { return std::move(this->geometry(on)); }
   /// Keep the two sides of a fresh crack apart (default true).
-  QueryOptions& crack_filter(bool on) noexcept { return set(c_.crack_filter, on); }
+  QueryOptions& crack_filter(bool on) & noexcept { return set(c_.crack_filter, on); }
+  QueryOptions&& crack_filter(bool on) && noexcept { return std::move(this->crack_filter(on)); }
   /// Most contacts the report keeps, 0 for no cap (the default): see `Report::truncated`.
-  QueryOptions& max_contacts(std::uint64_t n) noexcept { return set(c_.max_contacts, n); }
+  QueryOptions& max_contacts(std::uint64_t n) & noexcept { return set(c_.max_contacts, n); }
+  QueryOptions&& max_contacts(std::uint64_t n) && noexcept { return std::move(this->max_contacts(n)); }
   /// Seconds a query may run, 0 for no limit (the default): see `Report::truncated`.
-  QueryOptions& timeout(double s) noexcept { return set(c_.timeout, s); }
+  QueryOptions& timeout(double s) & noexcept { return set(c_.timeout, s); }
+  QueryOptions&& timeout(double s) && noexcept { return std::move(this->timeout(s)); }
 
   Method method() const noexcept { return static_cast<Method>(c_.method); }
   Mode mode() const noexcept { return static_cast<Mode>(c_.mode); }
@@ -344,23 +359,29 @@ class Step {
 
   /// A topology change: x0 may have fewer vertices than x1 (the new ones start at their
   /// parent); each row [child, parent] says child was split from parent. Given even when empty.
-  Step& parents(ParentRows rows) noexcept {
+  Step& parents(ParentRows rows) & noexcept {
     c_.parents = rows.empty() ? kNoRows : rows.data();
     c_.parent_count = rows.rows();
     return *this;
   }
+  /// On a temporary Step, a temporary (to give to Ccd::query in the same expression).
+  Step&& parents(ParentRows rows) && noexcept { return std::move(this->parents(rows)); }
 
   /// One group id per vertex: features whose vertices all share one group with the other
   /// feature's are not tested (one id per object turns off its self-collision).
-  Step& groups(GroupIds ids) noexcept {
+  Step& groups(GroupIds ids) & noexcept {
     c_.groups = ids.empty() ? kNoRows : ids.data();
     c_.group_count = ids.rows();
     return *this;
   }
+  Step&& groups(GroupIds ids) && noexcept { return std::move(this->groups(ids)); }
 
   /// The group ids as a std::vector<std::uint32_t>.
-  Step& groups(const std::vector<std::uint32_t>& ids) noexcept {
+  Step& groups(const std::vector<std::uint32_t>& ids) & noexcept {
     return groups(GroupIds(ids.empty() ? nullptr : ids.data(), ids.size()));
+  }
+  Step&& groups(const std::vector<std::uint32_t>& ids) && noexcept {
+    return std::move(groups(ids));
   }
 
   /// The C struct. Only on a Step that outlives the reference: `frames.step().c()` would
@@ -431,18 +452,26 @@ class LineSearchOptions {
   }
 
   /// The query's options (min_distance, tmax, timeout, max_contacts, threads, ...).
-  LineSearchOptions& query(const QueryOptions& q) { query_ = q; return *this; }
+  LineSearchOptions& query(const QueryOptions& q) & {
+    query_ = q;
+    return *this;
+  }
+  LineSearchOptions&& query(const QueryOptions& q) && { return std::move(query(q)); }
   /// The fraction of the earliest time of impact returned, in (0, 1]. Default 0.8.
-  LineSearchOptions& conservative_rescaling(double r) noexcept {
+  LineSearchOptions& conservative_rescaling(double r) & noexcept {
     c_.conservative_rescaling = r;
     return *this;
   }
+  LineSearchOptions&& conservative_rescaling(double r) && noexcept {
+    return std::move(conservative_rescaling(r));
+  }
   /// Refuse a start where triangles intersect (Error with TOPOCCD_STATUS_START_INTERSECTS).
   /// Default false.
-  LineSearchOptions& check_start(bool on) noexcept {
+  LineSearchOptions& check_start(bool on) & noexcept {
     c_.check_start = on;
     return *this;
   }
+  LineSearchOptions&& check_start(bool on) && noexcept { return std::move(this->check_start(on)); }
 
   const QueryOptions& query() const& noexcept { return query_; }
   QueryOptions& query() & noexcept { return query_; }

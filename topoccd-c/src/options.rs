@@ -131,9 +131,8 @@ const BOOL_FIELDS: [usize; 2] = [
 // implicit (a field appended later must start at or after every older `size`, or an older
 // caller's padding would be read as its value). This check names the last field: move it to
 // the new one (`size_of == offset_of!(.., new_field) + size of its type`).
-const _: () = assert!(
-    size_of::<topoccd_query_options>() == offset_of!(topoccd_query_options, timeout) + 8
-);
+const _: () =
+    assert!(size_of::<topoccd_query_options>() == offset_of!(topoccd_query_options, timeout) + 8);
 
 impl Default for topoccd_query_options {
     fn default() -> Self {
@@ -321,9 +320,8 @@ impl Options {
             max_contacts: (o.max_contacts > 0)
                 .then(|| o.max_contacts.min(usize::MAX as u64) as usize),
             // The clock starts when the options are read, at the start of the query.
-            deadline: (o.timeout > 0.0).then(|| {
-                std::time::Instant::now() + std::time::Duration::from_secs_f64(o.timeout)
-            }),
+            deadline: (o.timeout > 0.0)
+                .then(|| std::time::Instant::now() + std::time::Duration::from_secs_f64(o.timeout)),
         };
         query.validate().map_err(|e| invalid(e.to_string()))?;
         Ok(Self {

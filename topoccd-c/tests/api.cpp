@@ -225,6 +225,15 @@ static_assert(!c_on_rvalue<topoccd::QueryOptions>::value, "QueryOptions::c() on 
 static_assert(c_on_rvalue<topoccd::QueryOptions&>::value, "QueryOptions::c() on an lvalue");
 static_assert(!c_on_rvalue<topoccd::LineSearchOptions>::value, "LineSearchOptions::c() too");
 static_assert(c_on_rvalue<const topoccd::LineSearchOptions&>::value, "on an lvalue");
+// A chain of setters on a temporary stays a temporary (so `.c()` at its end is refused too).
+static_assert(std::is_same<decltype(topoccd::QueryOptions().tmax(0.5)), topoccd::QueryOptions&&>::value,
+              "a setter on a temporary returns an rvalue");
+static_assert(std::is_same<decltype(std::declval<topoccd::QueryOptions&>().tmax(0.5)),
+                           topoccd::QueryOptions&>::value,
+              "a setter on an lvalue returns an lvalue");
+static_assert(std::is_same<decltype(topoccd::LineSearchOptions().check_start(true)),
+                           topoccd::LineSearchOptions&&>::value,
+              "LineSearchOptions too");
 
 // The line-search helpers on the falling triangle (analytic: vertex 3 on face 0 at t=0.5), a
 // piercing start with check_start, and a timeout.

@@ -113,10 +113,20 @@ pub struct QueryArgs {
     #[arg(long, value_name = "N", value_parser = parse_cap)]
     pub max_contacts: Option<Cap>,
     /// Deprecated alias of `--min-distance` (hidden; a note on stderr says so).
-    #[arg(long, hide = true, allow_negative_numbers = true, conflicts_with = "min_distance")]
+    #[arg(
+        long,
+        hide = true,
+        allow_negative_numbers = true,
+        conflicts_with = "min_distance"
+    )]
     pub min_separation: Option<f64>,
     /// Deprecated alias of `--tmax` (hidden; a note on stderr says so).
-    #[arg(long, hide = true, allow_negative_numbers = true, conflicts_with = "tmax")]
+    #[arg(
+        long,
+        hide = true,
+        allow_negative_numbers = true,
+        conflicts_with = "tmax"
+    )]
     pub t_max: Option<f64>,
 }
 
@@ -189,7 +199,11 @@ impl QueryArgs {
     fn deprecation_notes(&self) {
         static ONCE: std::sync::Once = std::sync::Once::new();
         let old = [
-            ("--min-separation", "--min-distance", self.min_separation.is_some()),
+            (
+                "--min-separation",
+                "--min-distance",
+                self.min_separation.is_some(),
+            ),
             ("--t-max", "--tmax", self.t_max.is_some()),
         ];
         if old.iter().any(|(_, _, given)| *given) {

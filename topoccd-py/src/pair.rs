@@ -157,9 +157,7 @@ fn batch(
     started: Instant,
 ) -> PyResult<Vec<Outcome>> {
     let pool = limits.threads.map(pool).transpose()?;
-    let deadline = limits
-        .timeout
-        .map(|t| started + Duration::from_secs_f64(t));
+    let deadline = limits.timeout.map(|t| started + Duration::from_secs_f64(t));
     let n = a.len() / 12;
     let mut outcomes = Vec::with_capacity(n);
     let mut chunk = 256usize;

@@ -82,6 +82,10 @@ fn the_readme_rust_quick_start_runs_as_a_main_rs() {
             .nth(1)
             .and_then(|s| s.split('`').next())
             .expect("the README says what the quick start prints");
-        assert_eq!(stdout.trim(), said, "README.md:{line}: not what the README says");
+        assert_eq!(
+            stdout.trim(),
+            said,
+            "README.md:{line}: not what the README says"
+        );
     }
 }

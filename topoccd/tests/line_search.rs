@@ -184,7 +184,9 @@ fn check_start_refuses_a_start_that_intersects() {
             count: 1
         }
     );
-    assert!(err.to_string().starts_with("triangles 0 and 1 intersect at t=0"));
+    assert!(err
+        .to_string()
+        .starts_with("triangles 0 and 1 intersect at t=0"));
     let err = is_step_collision_free(&x, &x, &triangles, &checked).unwrap_err();
     assert!(matches!(err, LineSearchError::StartIntersects { .. }));
     // Apart at t=0 (triangle 1 lifted above triangle 0), the check passes and the query runs.
