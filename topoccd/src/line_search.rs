@@ -134,8 +134,9 @@ pub enum LineSearchError {
 pub struct StepSize {
     /// The fraction of the step the mesh may take: `conservative_rescaling` times the earliest time of
     /// impact, or `tmax` when no features come within `min_distance` over `[0, tmax]`.
-    /// `0` when features already touch at the start: nothing can move (check the start with
-    /// [`check::step_intersections`](crate::check::step_intersections)).
+    /// `0` when features already touch at the start: nothing can move. Triangles that pass
+    /// through each other at the start without touching features are not seen: set
+    /// [`LineSearchOptions::check_start`] to refuse such a start.
     pub alpha: f64,
     /// The earliest contact, or `None`. Its [`certainty`](Contact::certainty) says whether the
     /// search gave up on it: then its time is only a lower bound, and `alpha` stays safe.
