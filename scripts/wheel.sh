@@ -7,7 +7,8 @@
 #
 # into any Python >= 3.9 on Linux x86_64 (no Rust needed there). Needs the Rust toolchain,
 # python3 with venv, and PyPI (for maturin, ziglang); the build tools live in
-# target/wheel-build-venv, kept between runs. Takes about 3 minutes on 2 cores the first time.
+# target/wheel-build-venv, kept between runs. The first run took 6 minutes on a shared 2-core
+# machine, downloads included.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
