@@ -15,7 +15,8 @@
 #     earliest times of `topoccd run --earliest --json`.
 #  4. Runs the C and C++ tests (topoccd-c/tests) under AddressSanitizer and UBSan (leaks
 #     included), the C++ ones with and without Eigen, and checks that a column-major Eigen
-#     matrix is refused at compile time. tests/freed.c (a query through a freed copy of a
+#     matrix is refused at compile time, and that a reference into a temporary (the dangling
+#     `const topoccd_step& s = frames.step().c();`) does not compile. tests/freed.c (a query through a freed copy of a
 #     handle: best effort, it reads freed memory on purpose) runs without the sanitizer.
 #  5. Compiles and runs every ```c and ```cpp code block of README.md and docs/guide/src/*.md
 #     as a program of its own (under ASan), because every code block of the README and the
@@ -24,8 +25,8 @@
 #     larger program) is marked with ",ignore" after its language, as in ```cpp,ignore or
 #     ```c,ignore, and is skipped. Blocks of other languages (cmake, sh, ...) are not run here.
 #
-# Needs the Rust toolchain, python3, a C and C++ compiler, cmake, pkg-config and Eigen 3;
-# installs cmake, g++, pkg-config and libeigen3-dev with apt-get when missing. Reads the shared
+# Needs the Rust toolchain, python3, a C and C++ compiler, cmake, pkg-config and Eigen 3; when
+# one is missing it stops at once and prints the apt-get line to run (it installs nothing). Reads the shared
 # data at ../shared/data (or $TOPOCCD_DATA); without it the cloth-funnel check is skipped
 # loudly, or fails with TOPOCCD_REQUIRE_DATA=1 (as .ci/run sets it). Takes about a minute
 # after the cargo builds.
@@ -51,9 +52,10 @@ if ! { command -v pkg-config >/dev/null && pkg-config --exists eigen3; }; then
     missing+=(libeigen3-dev)
 fi
 if [ "${#missing[@]}" -gt 0 ]; then
-    echo "installing ${missing[*]} with apt-get"
-    apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
+    # Never installed from here (a user is not root, and a test must not change the system).
+    echo "error: the C and C++ tests need ${missing[*]}; on Debian or Ubuntu run:" >&2
+    echo "    sudo apt-get install -y ${missing[*]}" >&2
+    exit 1
 fi
 CC="${CC:-cc}"
 CXX="${CXX:-g++}"
@@ -272,6 +274,40 @@ elif grep -q "row-major order" "$work/column_major.err"; then
 else
     cat "$work/column_major.err" >&2
     fail "a column-major Eigen matrix failed to compile for another reason"
+fi
+
+# The wrapper's accessors that return a reference into their object are deleted on temporaries:
+# each of these lines would keep a dangling reference, and must not compile (one file each).
+dangling=(
+    'topoccd::Frames f = topoccd::Frames::read(argv[1], argv[2]); const topoccd_step& s = f.step().c(); return (int)s.x0_count;'
+    'const topoccd_query_options& o = topoccd::QueryOptions().mode(topoccd::Mode::Earliest).c(); return (int)o.mode;'
+    'const topoccd_query_options& o = topoccd::QueryOptions().c(); return (int)o.mode;'
+    'topoccd_line_search_options o = topoccd::LineSearchOptions().c(); return (int)o.check_start;'
+    'topoccd_line_search_options o = topoccd::LineSearchOptions().check_start(true).c(); return (int)o.check_start;'
+    'std::vector<std::array<double, 3>> x; std::vector<std::array<uint32_t, 3>> t; std::vector<std::array<uint32_t, 2>> p; const topoccd_step& s = topoccd::Step(x, x, t).parents(p).c(); return (int)s.x0_count;'
+)
+for k in "${!dangling[@]}"; do
+    printf '#include <topoccd.hpp>\nint main(int, char** argv) { %s }\n' "${dangling[$k]}" \
+        >"$work/dangling_$k.cpp"
+    if "$CXX" -std=c++17 -fsyntax-only -DTOPOCCD_NO_EIGEN -I"$include" "$work/dangling_$k.cpp" \
+        2>"$work/dangling.err"; then
+        fail "a reference into a temporary compiled: ${dangling[$k]}"
+    elif grep -q "deleted" "$work/dangling.err"; then
+        pass
+    else
+        cat "$work/dangling.err" >&2
+        fail "dangling_$k.cpp failed to compile for another reason than the deleted overload"
+    fi
+done
+# The same accessors on an lvalue compile (the check above is not vacuous).
+printf '#include <topoccd.hpp>\nint main(int, char** argv) { topoccd::Frames f = topoccd::Frames::read(argv[1], argv[2]); topoccd::Step step = f.step(); const topoccd_step& s = step.c(); topoccd::QueryOptions q; topoccd::LineSearchOptions l; return (int)(s.x0_count + q.c().mode + l.c().check_start); }\n' \
+    >"$work/lvalue.cpp"
+if "$CXX" -std=c++17 -fsyntax-only -DTOPOCCD_NO_EIGEN -I"$include" "$work/lvalue.cpp" 2>"$work/lvalue.err"; then
+    echo "   references into temporaries are refused at compile time (${#dangling[@]} forms)"
+    pass
+else
+    cat "$work/lvalue.err" >&2
+    fail "the accessors on lvalues do not compile"
 fi
 
 echo "== C and C++: the code blocks of README.md and docs/guide/src/*.md"

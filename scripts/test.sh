@@ -4,13 +4,37 @@
 # (maturin with zig from PyPI's ziglang, checked by auditwheel), installed in a fresh virtual
 # environment (target/test-venv) without a Rust toolchain on its PATH, and the pytest suite
 # (with Ray) run there.
-# Needs the Rust toolchain, python3 with venv, and crates.io / PyPI.
+# Needs the Rust toolchain, python3 with venv, cmake, g++, pkg-config and Eigen 3 (checked
+# first: the script stops at once with the apt-get line to run), and crates.io / PyPI.
+# About 20 minutes on 2 cores from a clean clone (the Rust tests 15 of them).
 # The data tests read ../shared/data (the public Sample-Queries and Sample-Scalable-CCD-Data
 # sets; see the README). Without it they check nothing and say so below; with
 # TOPOCCD_REQUIRE_DATA=1 (as .ci/run sets it) its absence is an error.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
+PYTHON_BIN="${PYTHON:-python3}"
+
+# The prerequisites, checked first (within a second), never installed from here: a test script
+# must not change the system, and a user is not root. What is missing is named with the line
+# that installs it on Debian or Ubuntu.
+absent=()
+command -v cargo >/dev/null || { echo "error: cargo not found: install Rust first (https://rustup.rs)" >&2; exit 1; }
+command -v "$PYTHON_BIN" >/dev/null || absent+=(python3)
+# ensurepip is what python3-venv adds; `python3 -m venv` fails without it.
+"$PYTHON_BIN" -c 'import ensurepip, venv' 2>/dev/null || absent+=(python3-venv)
+command -v cmake >/dev/null || absent+=(cmake)
+command -v g++ >/dev/null || absent+=(g++)
+command -v pkg-config >/dev/null || absent+=(pkg-config)
+if ! { command -v pkg-config >/dev/null && pkg-config --exists eigen3; }; then
+    absent+=(libeigen3-dev)
+fi
+if [ "${#absent[@]}" -gt 0 ]; then
+    echo "error: scripts/test.sh needs ${absent[*]}, which this machine lacks. Run:" >&2
+    echo "    sudo apt-get install -y ${absent[*]}" >&2
+    echo "(the C and C++ tests need cmake, g++, pkg-config and Eigen; the Python tests a venv)" >&2
+    exit 1
+fi
 
 data="${TOPOCCD_DATA:-../shared/data}"
 missing=""
@@ -36,20 +60,11 @@ echo "== Python package: sdist, manylinux abi3 wheel, fresh venv without Rust, p
 # The suite compares with the CLI (target/release/topoccd) and reads the shared data; with
 # CI=true it fails rather than skips where either is absent.
 cargo build --release --quiet -p topoccd-cli
-PYTHON_BIN="${PYTHON:-python3}"
-# The build tools live in a venv of their own, kept between runs.
+# The wheel as scripts/wheel.sh builds it (its build tools live in a venv kept between runs).
 BUILD_VENV=target/wheel-build-venv
-[ -x "$BUILD_VENV/bin/python" ] || "$PYTHON_BIN" -m venv "$BUILD_VENV"
-"$BUILD_VENV/bin/python" -m pip install --quiet --upgrade pip
-"$BUILD_VENV/bin/python" -m pip install --quiet "maturin>=1.9,<2" ziglang auditwheel
 DIST=target/dist
-rm -rf "$DIST"
-"$BUILD_VENV/bin/maturin" sdist --manifest-path topoccd-py/Cargo.toml --out "$DIST"
+wheel=$(scripts/wheel.sh | tail -1)
 sdist=$(ls "$DIST"/topoccd-*.tar.gz)
-# The wheel is built from the sdist (so the sdist builds): zig links against glibc 2.17.
-PATH="$PWD/$BUILD_VENV/bin:$PATH" MATURIN_PEP517_ARGS="--zig --compatibility manylinux2014" \
-    CARGO_TARGET_DIR="$PWD/target/wheel" "$BUILD_VENV/bin/python" -m pip wheel --quiet --no-build-isolation --no-deps -w "$DIST" "$sdist"
-wheel=$(ls "$DIST"/topoccd-*.whl)
 size=$(stat -c %s "$wheel")
 echo "$(basename "$sdist"), $(basename "$wheel"): $((size / 1024)) kB"
 case "$(basename "$wheel")" in

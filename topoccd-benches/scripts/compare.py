@@ -19,9 +19,14 @@ Inputs (any number):
 With no input, the two real steps of the shared data ($TOPOCCD_DATA, else ../shared/data
 from the repository's root) and every sequence under --scenes DIR.
 
-Example:
-  python3 topoccd-benches/scripts/compare.py --base /work/base/target/release/topoccd \\
-      --new target/release/topoccd --scenes /work/scenes --reps 3
+Example (BASE_BIN and SCENES are placeholders, made as said below it):
+  python3 topoccd-benches/scripts/compare.py --base BASE_BIN \\
+      --new target/release/topoccd --scenes SCENES --reps 3
+  BASE_BIN is the `topoccd` command of the revision compared against, built in a worktree of
+  its own: `git worktree add ../base REV && (cd ../base && cargo build --release -p
+  topoccd-cli)`, then BASE_BIN=../base/target/release/topoccd. SCENES holds generated
+  sequences: `target/release/topoccd gen SCENE SCENES/SCENE --frames 8 --seed 1` for each scene
+  (`simloop.py --gen SCENES` makes the set the README's figures use).
 """
 
 import argparse

@@ -27,8 +27,13 @@ first step, parents included), as `step_probe` and `bvh_probe` take them.
 
 Example:
   cargo build --release -p topoccd-cli -p topoccd-benches
-  python3 topoccd-benches/scripts/floor.py --base /work/base/target/release/topoccd --factor 3 \\
-      ../shared/data/scenes/cloth-funnel /work/scenes/airbag
+  python3 topoccd-benches/scripts/floor.py --base BASE_BIN --factor 3 \\
+      ../shared/data/scenes/cloth-funnel SCENES/airbag
+  BASE_BIN is the `topoccd` command of the revision compared against, built in a worktree of
+  its own: `git worktree add ../base REV && (cd ../base && cargo build --release -p
+  topoccd-cli)`, then BASE_BIN=../base/target/release/topoccd. SCENES holds generated
+  sequences: `target/release/topoccd gen SCENE SCENES/SCENE --frames 8 --seed 1` for each scene
+  (`simloop.py --gen SCENES` makes the set the README's figures use).
 """
 
 import argparse

@@ -13,7 +13,9 @@ gives its milliseconds per step. Needs `perf` (Debian's linux-perf) and a build 
 
 Example:
   python3 topoccd-benches/scripts/parts.py --bin target/profiling/seq_probe \\
-      /work/scenes/nidus /work/scenes/airbag
+      SCENES/nidus SCENES/airbag
+  SCENES holds generated sequences: `target/release/topoccd gen SCENE SCENES/SCENE --frames 8
+  --seed 1` for each scene (`simloop.py --gen SCENES` makes the set the README's figures use).
 """
 
 import argparse

@@ -17,9 +17,14 @@ it on sequences that do not change topology): the small motion per step of a sim
 takes several substeps per frame.
 
 Example:
-  python3 topoccd-benches/scripts/sequence.py --base /work/head/target/release/topoccd \\
+  python3 topoccd-benches/scripts/sequence.py --base BASE_BIN \\
       --new target/release/topoccd --methods cluster,bvh --threads 1,2 --substeps 8 \\
-      /work/scenes/seq-airbag /work/scenes/seq-nidus
+      SCENES/airbag SCENES/nidus
+  BASE_BIN is the `topoccd` command of the revision compared against, built in a worktree of
+  its own: `git worktree add ../base REV && (cd ../base && cargo build --release -p
+  topoccd-cli)`, then BASE_BIN=../base/target/release/topoccd. SCENES holds generated
+  sequences: `target/release/topoccd gen SCENE SCENES/SCENE --frames 8 --seed 1` for each scene
+  (`simloop.py --gen SCENES` makes the set the README's figures use).
 """
 
 import argparse

@@ -41,11 +41,13 @@ missing only; nothing existing is overwritten), with the binary given:
   the shared real steps cloth-funnel and cloth-ball cut into 8 substeps (DIR/NAME-sub8;
   from $TOPOCCD_DATA/scenes, else ../shared/data/scenes beside the repository, or --data)
 
-Example (issue 35's table; Self-CCD built as ../shared/peers/README.md says):
+Example (issue 35's table; SELFCCD_BIN and SCENES are placeholders, made as said below it):
   cargo build --release -p topoccd-cli
   nice -n 5 python3 topoccd-benches/scripts/simloop.py --bin target/release/topoccd \\
-      --selfccd /work/peers/selfccd_seq --reps 3 --scenes /work/scenes --out simloop.md
-On a fresh machine, `--gen scenes` instead of `--scenes /work/scenes` writes the sequences first.
+      --selfccd SELFCCD_BIN --reps 3 --scenes SCENES --out simloop.md
+  SELFCCD_BIN is Self-CCD's sequence runner, built as ../shared/peers/README.md says. SCENES is a
+  folder of the sequences above: `--gen SCENES` instead of `--scenes SCENES` writes them first
+  (`topoccd gen SCENE SCENES/SCENE --frames 8 --seed 1` for each generated scene).
 """
 
 import argparse

@@ -1,5 +1,5 @@
-// A simulator's line search over a frame sequence: the C++ wrapper, with Eigen when it is on
-// the include path. The same arguments and output as line_search.c:
+// A simulator's line search over a frame sequence: the C++ wrapper (Ccd::collision_free_stepsize),
+// with Eigen when it is on the include path. The same arguments and output as line_search.c:
 //
 //     line_search_cpp SEQ_DIR
 //
@@ -43,20 +43,30 @@ int main(int argc, char** argv) {
     try {
         topoccd::Sequence seq = topoccd::Sequence::open(argv[1]);
         topoccd::Ccd ccd;  // one for every step: its buffers are reused
-        auto earliest = topoccd::QueryOptions().mode(topoccd::Mode::Earliest);
+        topoccd::LineSearchOptions options;
+        // options.check_start(true) would refuse a step whose start has intersecting
+        // triangles: the generated sequences have such frames by design.
+        options.conservative_rescaling(0.8);
         int exit_code = 0;
         for (std::size_t k = 0; k < seq.steps(); k++) {
             topoccd::Frames frames = seq.load(k);
-            topoccd::Report report = ccd.query(frames.step(), earliest);
-            std::optional<double> toi = report.earliest_toi();
-            double alpha = toi ? 0.8 * *toi : 1.0;
+            topoccd::Step step = frames.step();  // kept: step.c() refers into it
+            topoccd::StepSize size = ccd.collision_free_stepsize(step, options);
+            std::optional<double> toi = size.report.earliest_toi();
+            double alpha = size.alpha;
             if (toi)
                 std::printf("step %zu: earliest toi %.17g (%zu vf, %zu ee), take %.17g of the step\n",
-                            k, *toi, report.vf().size(), report.ee().size(), alpha);
+                            k, *toi, size.report.vf().size(), size.report.ee().size(), alpha);
             else
-                std::printf("step %zu: earliest toi none (0 vf, 0 ee), take 1 of the step\n", k);
+                std::printf("step %zu: earliest toi none (0 vf, 0 ee), take %.17g of the step\n",
+                            k, alpha);
+            if (const topoccd_vf_contact* c = size.report.earliest_vf())
+                std::printf("  earliest: vertex %u, face %u\n", c->vertex, c->face);
+            if (const topoccd_ee_contact* c = size.report.earliest_ee())
+                std::printf("  earliest: edge %u-%u, edge %u-%u\n", c->a[0], c->a[1], c->b[0],
+                            c->b[1]);
 #if defined(TOPOCCD_HAS_EIGEN)
-            std::size_t contacts = shortened_contacts(ccd, frames.step().c(), alpha);
+            std::size_t contacts = shortened_contacts(ccd, step.c(), alpha);
             std::printf("  the step to %.17g: %zu contacts\n", alpha, contacts);
             if (contacts != 0 && toi) exit_code = 1;  // the line search would not be safe
 #endif

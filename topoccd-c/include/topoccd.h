@@ -53,6 +53,12 @@ enum topoccd_status
   // A bug inside topoccd: a panic was caught at the boundary (no panic ever crosses it).
   // The message says where; the object stays usable.
   TOPOCCD_STATUS_INTERNAL = 10,
+  // A line search's query stopped at its `timeout` (or was cancelled) before it knew the
+  // earliest contact: no step size is known to be safe.
+  TOPOCCD_STATUS_TIMEOUT = 11,
+  // A line search with `check_start` found triangles that intersect at t=0; the message
+  // names the first pair.
+  TOPOCCD_STATUS_START_INTERSECTS = 12,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -117,7 +123,7 @@ enum topoccd_stop_reason
   TOPOCCD_STOP_REASON_NONE = 0,
   // The report holds `max_contacts` contacts and the step has more.
   TOPOCCD_STOP_REASON_MAX_CONTACTS = 1,
-  // `timeout_seconds` passed.
+  // `timeout` passed.
   TOPOCCD_STOP_REASON_DEADLINE = 2,
   // The query was cancelled.
   TOPOCCD_STOP_REASON_CANCELLED = 3,
@@ -348,7 +354,7 @@ typedef struct topoccd_query_options {
   // Seconds a query may run; 0 for no limit. A query past it stops within a millisecond of
   // work per thread; its report holds the earliest contact found by then and `truncated` is
   // `TOPOCCD_STOP_REASON_DEADLINE`. Finite, >= 0. Default 0.
-  double timeout_seconds;
+  double timeout;
 } topoccd_query_options;
 
 // Where a vertex-face contact is, at its time of impact.
@@ -500,7 +506,7 @@ typedef struct topoccd_report {
   // Work counters and timings.
   struct topoccd_stats stats;
   // A `topoccd_stop_reason`: `TOPOCCD_STOP_REASON_NONE` for a complete report, else why the
-  // query stopped early (`max_contacts`, `timeout_seconds`), and the report holds only part
+  // query stopped early (`max_contacts`, `timeout`), and the report holds only part
   // of the step's contacts.
   topoccd_stop_reason truncated;
   // Whether the report lists every pair within the tolerance of the earliest time (every
@@ -526,6 +532,46 @@ typedef struct topoccd_mesh_view {
   // comes from, and its rank among that face's triangles.
   const uint32_t *face_origin;
 } topoccd_mesh_view;
+
+// The options of `topoccd_collision_free_stepsize` and `topoccd_is_step_collision_free`.
+//
+// Initialise it with `topoccd_line_search_options_default(&options)`, then change what you
+// need. `query` points to the query's options (NULL for the defaults; their `mode` is
+// ignored: the helpers run `TOPOCCD_MODE_EARLIEST`), so a line search has a `timeout`, a
+// `max_contacts`, a `min_distance`, a `tmax` and a thread count like any query.
+//
+// ```c
+// topoccd_query_options query;
+// topoccd_query_options_default(&query);
+// query.timeout = 0.5;
+// topoccd_line_search_options options;
+// topoccd_line_search_options_default(&options);
+// options.query = &query;
+// options.check_start = true;
+// ```
+//
+// Versions: as `topoccd_query_options`, `size` is the size the caller was compiled with;
+// later versions only append fields.
+typedef struct topoccd_line_search_options {
+  // `sizeof(topoccd_line_search_options)` as the caller compiled it; set by
+  // `topoccd_line_search_options_default`.
+  size_t size;
+  // The query's options, read during the call; NULL for the defaults. Default NULL.
+  const struct topoccd_query_options *query;
+  // The fraction of the earliest time of impact that `topoccd_collision_free_stepsize`
+  // gives, in (0, 1]. Default 0.8, the IPC toolkit's conservative rescaling: the step stops
+  // short of the contact.
+  double conservative_rescaling;
+  // Whether the exact static check runs on the t=0 positions first: triangles that already
+  // intersect there are `TOPOCCD_STATUS_START_INTERSECTS` (the message names a pair)
+  // instead of a step size. Default false: the start is assumed free of intersections (the
+  // paper's premise), and triangles that pass through each other at t=0 without a
+  // vertex-face or edge-edge contact during the step go unnoticed.
+  bool check_start;
+  // Padding, ignored (explicit, so that a field appended later starts after every older
+  // `size`).
+  uint8_t _padding[7];
+} topoccd_line_search_options;
 
 // A vertex and a triangle, each point moving linearly from its `_t0` to its `_t1` position
 // (`x y z`). The order of the fields is that of the IPC toolkit's arguments: `v, f0, f1, f2`
@@ -867,6 +913,56 @@ topoccd_status topoccd_sequence_load(const struct topoccd_sequence *sequence,
 void topoccd_sequence_free(struct topoccd_sequence **sequence);
 
 // Fills `*options` with the defaults, for a caller whose struct has `size` bytes. Call it
+// through `topoccd_line_search_options_default(&options)`, which passes `sizeof options`.
+//
+// Returns `TOPOCCD_STATUS_NULL_POINTER` for NULL and `TOPOCCD_STATUS_INVALID_ARGUMENT` for a
+// size this library does not know; then nothing is written.
+//
+// # Safety
+// `options` is NULL or valid for writes of `size` bytes.
+topoccd_status topoccd_line_search_options_init(struct topoccd_line_search_options *options,
+                                                size_t size);
+
+// The fraction of the step that the mesh may take without contact: `*alpha` receives
+// `conservative_rescaling` times the earliest time of impact, or the query's `tmax` when no
+// features come within `min_distance` during `[0, tmax]`; 0 when features touch at the
+// start. The query runs on `ccd` in `TOPOCCD_MODE_EARLIEST`: afterwards `topoccd_ccd_report`
+// gives the earliest contact (`earliest_kind`, `earliest_index`, `earliest_toi`), which a
+// simulator uses to stop the touching vertices. `options` may be NULL for the defaults.
+//
+// Returns `TOPOCCD_STATUS_OK`, or the statuses of `topoccd_ccd_query`, or
+// `TOPOCCD_STATUS_START_INTERSECTS` (with `check_start`: triangles intersect at t=0; the
+// message names the first pair), or `TOPOCCD_STATUS_TIMEOUT` (the query's `timeout` passed:
+// the report holds what was found by then). On any failure `*alpha` is 0: no step is known to
+// be safe.
+//
+// ```c
+// double alpha = 0;
+// if (topoccd_collision_free_stepsize(ccd, &step, NULL, &alpha) != TOPOCCD_STATUS_OK)
+//     fprintf(stderr, "%s\n", topoccd_ccd_last_error(ccd));
+// ```
+//
+// # Safety
+// As `topoccd_ccd_query`; `options` is NULL or points to options initialised by
+// `topoccd_line_search_options_default`; `alpha` is NULL or valid for a write.
+topoccd_status topoccd_collision_free_stepsize(struct topoccd_ccd *ccd,
+                                               const struct topoccd_step *step,
+                                               const struct topoccd_line_search_options *options,
+                                               double *alpha);
+
+// Whether the whole step is free of contact: `*collision_free` receives true when no two
+// features come within `min_distance` during `[0, tmax]`. Otherwise `topoccd_ccd_report`
+// gives the earliest contact. Arguments, statuses and report as
+// `topoccd_collision_free_stepsize`; on any failure `*collision_free` is false.
+//
+// # Safety
+// As `topoccd_collision_free_stepsize`; `collision_free` is NULL or valid for a write.
+topoccd_status topoccd_is_step_collision_free(struct topoccd_ccd *ccd,
+                                              const struct topoccd_step *step,
+                                              const struct topoccd_line_search_options *options,
+                                              bool *collision_free);
+
+// Fills `*options` with the defaults, for a caller whose struct has `size` bytes. Call it
 // through `topoccd_query_options_default(&options)`, which passes `sizeof options`; callers
 // without the header's inline functions (other languages' bindings) call it directly.
 //
@@ -939,5 +1035,9 @@ const char *topoccd_version(void);
  * defaults. */
 static inline topoccd_status topoccd_query_options_default(topoccd_query_options *options) {
     return topoccd_query_options_init(options, sizeof *options);
+}
+/* Fills `*options` with the line search's defaults (its `query` NULL: the query's defaults). */
+static inline topoccd_status topoccd_line_search_options_default(topoccd_line_search_options *options) {
+    return topoccd_line_search_options_init(options, sizeof *options);
 }
 #endif

@@ -178,7 +178,9 @@ class Owned {
 
 /// The options of a query and of the per-pair tests, with the library's defaults; set what
 /// you need with the chained setters:
-/// `topoccd::QueryOptions().mode(topoccd::Mode::Earliest).geometry(true)`.
+/// `topoccd::QueryOptions().mode(topoccd::Mode::Earliest).geometry(true)`. On a temporary the
+/// setters return a temporary, so `c()` at the end of such a chain does not compile (its
+/// reference would dangle).
 /// Ranges are checked by the library at the query (topoccd::Error naming the option).
 class QueryOptions {
  public:
@@ -190,29 +192,42 @@ class QueryOptions {
     }
   }
 
-  QueryOptions& method(Method m) noexcept { return set(c_.method, static_cast<std::uint32_t>(m)); }
-  QueryOptions& mode(Mode m) noexcept { return set(c_.mode, static_cast<std::uint32_t>(m)); }
+  QueryOptions& method(Method m) & noexcept { return set(c_.method, static_cast<std::uint32_t>(m)); }
+  QueryOptions&& method(Method m) && noexcept { return std::move(this->method(m)); }
+  QueryOptions& mode(Mode m) & noexcept { return set(c_.mode, static_cast<std::uint32_t>(m)); }
+  QueryOptions&& mode(Mode m) && noexcept { return std::move(this->mode(m)); }
   /// Resolution of the elementary tests, in time units, in (0, 1). Default 1e-6.
-  QueryOptions& tolerance(double t) noexcept { return set(c_.tolerance, t); }
+  QueryOptions& tolerance(double t) & noexcept { return set(c_.tolerance, t); }
+  QueryOptions&& tolerance(double t) && noexcept { return std::move(this->tolerance(t)); }
   /// At least 1. Default 1,000,000.
-  QueryOptions& max_iterations(std::uint32_t n) noexcept { return set(c_.max_iterations, n); }
+  QueryOptions& max_iterations(std::uint32_t n) & noexcept { return set(c_.max_iterations, n); }
+  QueryOptions&& max_iterations(std::uint32_t n) && noexcept { return std::move(this->max_iterations(n)); }
   /// 6, 14, 18 or 26. Default 18.
-  QueryOptions& k(std::uint32_t k) noexcept { return set(c_.k, k); }
+  QueryOptions& k(std::uint32_t k) & noexcept { return set(c_.k, k); }
+  QueryOptions&& k(std::uint32_t k) && noexcept { return std::move(this->k(k)); }
   /// Distance (coordinate units, >= 0) at or below which features count as touching.
-  QueryOptions& min_distance(double d) noexcept { return set(c_.min_distance, d); }
+  QueryOptions& min_distance(double d) & noexcept { return set(c_.min_distance, d); }
+  QueryOptions&& min_distance(double d) && noexcept { return std::move(this->min_distance(d)); }
   /// End of the time interval searched, in (0, 1]. Default 1.
-  QueryOptions& tmax(double t) noexcept { return set(c_.tmax, t); }
-  QueryOptions& growth(Growth g) noexcept { return set(c_.growth, static_cast<std::uint32_t>(g)); }
+  QueryOptions& tmax(double t) & noexcept { return set(c_.tmax, t); }
+  QueryOptions&& tmax(double t) && noexcept { return std::move(this->tmax(t)); }
+  QueryOptions& growth(Growth g) & noexcept { return set(c_.growth, static_cast<std::uint32_t>(g)); }
+  QueryOptions&& growth(Growth g) && noexcept { return std::move(this->growth(g)); }
   /// 0 for one thread per core (the default), else a pool of n kept by the Ccd.
-  QueryOptions& threads(std::uint32_t n) noexcept { return set(c_.threads, n); }
+  QueryOptions& threads(std::uint32_t n) & noexcept { return set(c_.threads, n); }
+  QueryOptions&& threads(std::uint32_t n) && noexcept { return std::move(this->threads(n)); }
   /// Contacts with their geometry (barycentric coordinates, point, normal, distance).
-  QueryOptions& geometry(bool on) noexcept { return set(c_.geometry, on); }
+  QueryOptions& geometry(bool on) & noexcept { return set(c_.geometry, on); }
+  QueryOptions&& geometry(bool on) && noexcept { return std::move(this->geometry(on)); }
   /// Keep the two sides of a fresh crack apart (default true).
-  QueryOptions& crack_filter(bool on) noexcept { return set(c_.crack_filter, on); }
+  QueryOptions& crack_filter(bool on) & noexcept { return set(c_.crack_filter, on); }
+  QueryOptions&& crack_filter(bool on) && noexcept { return std::move(this->crack_filter(on)); }
   /// Most contacts the report keeps, 0 for no cap (the default): see `Report::truncated`.
-  QueryOptions& max_contacts(std::uint64_t n) noexcept { return set(c_.max_contacts, n); }
+  QueryOptions& max_contacts(std::uint64_t n) & noexcept { return set(c_.max_contacts, n); }
+  QueryOptions&& max_contacts(std::uint64_t n) && noexcept { return std::move(this->max_contacts(n)); }
   /// Seconds a query may run, 0 for no limit (the default): see `Report::truncated`.
-  QueryOptions& timeout_seconds(double s) noexcept { return set(c_.timeout_seconds, s); }
+  QueryOptions& timeout(double s) & noexcept { return set(c_.timeout, s); }
+  QueryOptions&& timeout(double s) && noexcept { return std::move(this->timeout(s)); }
 
   Method method() const noexcept { return static_cast<Method>(c_.method); }
   Mode mode() const noexcept { return static_cast<Mode>(c_.mode); }
@@ -226,11 +241,13 @@ class QueryOptions {
   bool geometry() const noexcept { return c_.geometry; }
   bool crack_filter() const noexcept { return c_.crack_filter; }
   std::uint64_t max_contacts() const noexcept { return c_.max_contacts; }
-  double timeout_seconds() const noexcept { return c_.timeout_seconds; }
+  double timeout() const noexcept { return c_.timeout; }
 
-  /// The C struct, for the C API or for a field this wrapper does not name.
-  const topoccd_query_options& c() const noexcept { return c_; }
-  topoccd_query_options& c() noexcept { return c_; }
+  /// The C struct, for the C API or for a field this wrapper does not name. Only on an
+  /// object that outlives the reference: on a temporary it does not compile.
+  const topoccd_query_options& c() const& noexcept { return c_; }
+  topoccd_query_options& c() & noexcept { return c_; }
+  const topoccd_query_options& c() const&& = delete;
 
  private:
   template <class F, class V>
@@ -342,26 +359,35 @@ class Step {
 
   /// A topology change: x0 may have fewer vertices than x1 (the new ones start at their
   /// parent); each row [child, parent] says child was split from parent. Given even when empty.
-  Step& parents(ParentRows rows) noexcept {
+  Step& parents(ParentRows rows) & noexcept {
     c_.parents = rows.empty() ? kNoRows : rows.data();
     c_.parent_count = rows.rows();
     return *this;
   }
+  /// On a temporary Step, a temporary (to give to Ccd::query in the same expression).
+  Step&& parents(ParentRows rows) && noexcept { return std::move(this->parents(rows)); }
 
   /// One group id per vertex: features whose vertices all share one group with the other
   /// feature's are not tested (one id per object turns off its self-collision).
-  Step& groups(GroupIds ids) noexcept {
+  Step& groups(GroupIds ids) & noexcept {
     c_.groups = ids.empty() ? kNoRows : ids.data();
     c_.group_count = ids.rows();
     return *this;
   }
+  Step&& groups(GroupIds ids) && noexcept { return std::move(this->groups(ids)); }
 
   /// The group ids as a std::vector<std::uint32_t>.
-  Step& groups(const std::vector<std::uint32_t>& ids) noexcept {
+  Step& groups(const std::vector<std::uint32_t>& ids) & noexcept {
     return groups(GroupIds(ids.empty() ? nullptr : ids.data(), ids.size()));
   }
+  Step&& groups(const std::vector<std::uint32_t>& ids) && noexcept {
+    return std::move(groups(ids));
+  }
 
-  const topoccd_step& c() const noexcept { return c_; }
+  /// The C struct. Only on a Step that outlives the reference: `frames.step().c()` would
+  /// point into a temporary, so it does not compile (keep the Step in a variable).
+  const topoccd_step& c() const& noexcept { return c_; }
+  const topoccd_step& c() const&& = delete;
 
  private:
   // A non-NULL pointer for an empty array that is given (a topology change without rows).
@@ -398,7 +424,7 @@ class Report {
   }
   /// Contacts where the search gave up (their times are only lower bounds).
   std::size_t unresolved() const noexcept { return r_->unresolved; }
-  /// Why the query stopped early (`max_contacts`, `timeout_seconds`), or
+  /// Why the query stopped early (`max_contacts`, `timeout`), or
   /// `TOPOCCD_STOP_REASON_NONE` for a complete report.
   topoccd_stop_reason truncated() const noexcept { return r_->truncated; }
   /// Work counters and seconds per phase.
@@ -409,6 +435,71 @@ class Report {
 
  private:
   const topoccd_report* r_;
+};
+
+/// The options of a line search (Ccd::collision_free_stepsize, Ccd::is_step_collision_free):
+/// the query's options (their mode is ignored: the helpers run Mode::Earliest), the
+/// conservative rescaling and the check of the start.
+/// `topoccd::LineSearchOptions().check_start(true).query(topoccd::QueryOptions().timeout(1))`.
+class LineSearchOptions {
+ public:
+  LineSearchOptions() {
+    topoccd_status status = topoccd_line_search_options_default(&c_);
+    if (status != TOPOCCD_STATUS_OK) {
+      throw Error(status, "topoccd_line_search_options_default failed: the library is older "
+                          "than topoccd.hpp");
+    }
+  }
+
+  /// The query's options (min_distance, tmax, timeout, max_contacts, threads, ...).
+  LineSearchOptions& query(const QueryOptions& q) & {
+    query_ = q;
+    return *this;
+  }
+  LineSearchOptions&& query(const QueryOptions& q) && { return std::move(query(q)); }
+  /// The fraction of the earliest time of impact returned, in (0, 1]. Default 0.8.
+  LineSearchOptions& conservative_rescaling(double r) & noexcept {
+    c_.conservative_rescaling = r;
+    return *this;
+  }
+  LineSearchOptions&& conservative_rescaling(double r) && noexcept {
+    return std::move(conservative_rescaling(r));
+  }
+  /// Refuse a start where triangles intersect (Error with TOPOCCD_STATUS_START_INTERSECTS).
+  /// Default false.
+  LineSearchOptions& check_start(bool on) & noexcept {
+    c_.check_start = on;
+    return *this;
+  }
+  LineSearchOptions&& check_start(bool on) && noexcept { return std::move(this->check_start(on)); }
+
+  const QueryOptions& query() const& noexcept { return query_; }
+  QueryOptions& query() & noexcept { return query_; }
+  const QueryOptions& query() const&& = delete;
+  double conservative_rescaling() const noexcept { return c_.conservative_rescaling; }
+  bool check_start() const noexcept { return c_.check_start; }
+
+  /// The C struct; its `query` points into this object, so only on an lvalue.
+  topoccd_line_search_options c() const& noexcept {
+    topoccd_line_search_options out = c_;
+    out.query = &query_.c();
+    return out;
+  }
+  topoccd_line_search_options c() const&& = delete;
+
+ private:
+  topoccd_line_search_options c_{};
+  QueryOptions query_;
+};
+
+/// What Ccd::collision_free_stepsize returns: the fraction of the step, and the report of its
+/// Earliest query (its earliest_vf(), earliest_ee() and earliest_toi() name the contact that
+/// cut the step short), valid until the Ccd's next query.
+struct StepSize {
+  /// conservative_rescaling times the earliest time of impact, or tmax without contact.
+  double alpha;
+  /// The Earliest query's report.
+  Report report;
 };
 
 /// A reusable query: keep one per simulation (its buffers are reused) and per thread.
@@ -430,6 +521,28 @@ class Ccd {
   Report query(Points x0, Points x1, Indices triangles,
                const QueryOptions& options = QueryOptions()) {
     return query(Step(x0, x1, triangles), options);
+  }
+
+  /// The fraction of the step the mesh may take without contact (see
+  /// topoccd_collision_free_stepsize), with the earliest contact in the report. Throws
+  /// topoccd::Error: TOPOCCD_STATUS_START_INTERSECTS (check_start), TOPOCCD_STATUS_TIMEOUT,
+  /// or as query().
+  StepSize collision_free_stepsize(const Step& step,
+                                   const LineSearchOptions& options = LineSearchOptions()) {
+    double alpha = 0.0;
+    topoccd_line_search_options c = options.c();
+    check(topoccd_collision_free_stepsize(p_.get(), &step.c(), &c, &alpha));
+    return StepSize{alpha, report()};
+  }
+
+  /// Whether no two features come within min_distance during [0, tmax] of the step; if not,
+  /// report() gives the earliest contact. Throws as collision_free_stepsize().
+  bool is_step_collision_free(const Step& step,
+                              const LineSearchOptions& options = LineSearchOptions()) {
+    bool collision_free = false;
+    topoccd_line_search_options c = options.c();
+    check(topoccd_is_step_collision_free(p_.get(), &step.c(), &c, &collision_free));
+    return collision_free;
   }
 
   /// The report of the last query (empty before the first and after a failed one).

@@ -39,11 +39,11 @@ impl Kind for CcdObject {
 }
 
 #[derive(Default)]
-struct State {
-    ccd: Ccd,
+pub(crate) struct State {
+    pub(crate) ccd: Ccd,
     /// The pool of the last query that asked for a thread count, kept for the next.
     pool: Option<(usize, rayon::ThreadPool)>,
-    report: ReportBuffers,
+    pub(crate) report: ReportBuffers,
     /// The message of the last call that failed, `""` after a call that succeeded.
     error: CString,
 }
@@ -75,7 +75,7 @@ unsafe fn lock<'a>(ccd: *const topoccd_ccd) -> Result<MutexGuard<'a, State>, Fai
 ///
 /// # Safety
 /// As [`lock`].
-unsafe fn with_state(
+pub(crate) unsafe fn with_state(
     ccd: *const topoccd_ccd,
     work: impl FnOnce(&mut State) -> Result<(), Failure>,
 ) -> topoccd_status {
@@ -97,6 +97,42 @@ unsafe fn with_state(
     match result {
         Ok(()) => topoccd_status::Ok,
         Err(f) => f.status,
+    }
+}
+
+impl State {
+    /// Runs one query on `step`, in the pool of `threads` (0: the shared pool), kept for the
+    /// next query that asks for as many.
+    pub(crate) fn query(
+        &mut self,
+        step: &topoccd::Step<'_>,
+        method: topoccd::Method,
+        query: &topoccd::QueryOptions,
+        threads: usize,
+    ) -> Result<topoccd::Report, Failure> {
+        let State { ccd, pool, .. } = self;
+        let mut run = || ccd.query(step, method, query);
+        let result = if threads == 0 {
+            run()
+        } else {
+            if pool.as_ref().map(|(n, _)| *n) != Some(threads) {
+                let built = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .map_err(|e| {
+                        Failure::new(
+                            topoccd_status::InvalidOptions,
+                            format!("cannot start {threads} threads: {e}"),
+                        )
+                    })?;
+                *pool = Some((threads, built));
+            }
+            match pool {
+                Some((_, p)) => p.install(run),
+                None => run(),
+            }
+        };
+        result.map_err(|e| Failure::new(topoccd_status::InvalidOptions, e.to_string()))
     }
 }
 
@@ -175,33 +211,8 @@ pub unsafe extern "C" fn topoccd_ccd_query(
         }
         let options = options::read(options)?;
         let step = step::borrow(&*step)?;
-        let State {
-            ccd, pool, report, ..
-        } = state;
-        let mut run = || ccd.query(&step, options.method, &options.query);
-        let result = if options.threads == 0 {
-            run()
-        } else {
-            if pool.as_ref().map(|(n, _)| *n) != Some(options.threads) {
-                let built = rayon::ThreadPoolBuilder::new()
-                    .num_threads(options.threads)
-                    .build()
-                    .map_err(|e| {
-                        Failure::new(
-                            topoccd_status::InvalidOptions,
-                            format!("cannot start {} threads: {e}", options.threads),
-                        )
-                    })?;
-                *pool = Some((options.threads, built));
-            }
-            match pool {
-                Some((_, p)) => p.install(run),
-                None => run(),
-            }
-        };
-        let found =
-            result.map_err(|e| Failure::new(topoccd_status::InvalidOptions, e.to_string()))?;
-        report.fill(&found);
+        let found = state.query(&step, options.method, &options.query, options.threads)?;
+        state.report.fill(&found);
         Ok(())
     })
 }

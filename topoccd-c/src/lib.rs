@@ -17,6 +17,8 @@
 //! - `topoccd_ccd_report` gives the report in place: arrays of `topoccd_vf_contact` and
 //!   `topoccd_ee_contact` (ids, time of impact, certainty, optional geometry), the earliest
 //!   contact and the statistics, owned by the `topoccd_ccd` until its next query;
+//! - `topoccd_collision_free_stepsize` and `topoccd_is_step_collision_free` are a line
+//!   search's questions, with `topoccd_line_search_options`;
 //! - `topoccd_pair_vertex_face` and `topoccd_pair_edge_edge` are the per-pair tests;
 //! - `topoccd_mesh_read`, `topoccd_frames_read` and `topoccd_sequence_open` read meshes, steps
 //!   and frame sequences into objects that own their arrays.
@@ -60,6 +62,7 @@ mod ccd;
 mod error;
 mod handle;
 mod io;
+mod line_search;
 mod options;
 mod pair;
 mod report;
@@ -77,6 +80,10 @@ pub use io::{
     topoccd_mesh_data, topoccd_mesh_free, topoccd_mesh_note, topoccd_mesh_note_count,
     topoccd_mesh_read, topoccd_mesh_view, topoccd_sequence, topoccd_sequence_free,
     topoccd_sequence_load, topoccd_sequence_open, topoccd_sequence_step_count,
+};
+pub use line_search::{
+    topoccd_collision_free_stepsize, topoccd_is_step_collision_free, topoccd_line_search_options,
+    topoccd_line_search_options_init,
 };
 pub use options::{
     topoccd_growth, topoccd_method, topoccd_mode, topoccd_query_options, topoccd_query_options_init,

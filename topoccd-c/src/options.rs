@@ -112,7 +112,7 @@ pub struct topoccd_query_options {
     /// Seconds a query may run; 0 for no limit. A query past it stops within a millisecond of
     /// work per thread; its report holds the earliest contact found by then and `truncated` is
     /// `TOPOCCD_STOP_REASON_DEADLINE`. Finite, >= 0. Default 0.
-    pub timeout_seconds: f64,
+    pub timeout: f64,
 }
 
 /// The size of the first version of the struct (it ends with `_padding`): the smallest `size`
@@ -131,9 +131,8 @@ const BOOL_FIELDS: [usize; 2] = [
 // implicit (a field appended later must start at or after every older `size`, or an older
 // caller's padding would be read as its value). This check names the last field: move it to
 // the new one (`size_of == offset_of!(.., new_field) + size of its type`).
-const _: () = assert!(
-    size_of::<topoccd_query_options>() == offset_of!(topoccd_query_options, timeout_seconds) + 8
-);
+const _: () =
+    assert!(size_of::<topoccd_query_options>() == offset_of!(topoccd_query_options, timeout) + 8);
 
 impl Default for topoccd_query_options {
     fn default() -> Self {
@@ -156,7 +155,7 @@ impl Default for topoccd_query_options {
             crack_filter: query.crack_filter,
             _padding: [0; 6],
             max_contacts: 0,
-            timeout_seconds: 0.0,
+            timeout: 0.0,
         }
     }
 }
@@ -294,10 +293,10 @@ impl Options {
         };
         let kdop = DopKind::from_k(o.k as usize)
             .ok_or_else(|| invalid(format!("k must be 6, 14, 18 or 26, got {}", o.k)))?;
-        if !(o.timeout_seconds >= 0.0 && o.timeout_seconds.is_finite()) {
+        if !(o.timeout >= 0.0 && o.timeout.is_finite()) {
             return Err(invalid(format!(
-                "timeout_seconds must be finite and >= 0 (0: no limit), got {}",
-                o.timeout_seconds
+                "timeout must be finite and >= 0 (0: no limit), got {}",
+                o.timeout
             )));
         }
         if o.threads > 4096 {
@@ -321,9 +320,8 @@ impl Options {
             max_contacts: (o.max_contacts > 0)
                 .then(|| o.max_contacts.min(usize::MAX as u64) as usize),
             // The clock starts when the options are read, at the start of the query.
-            deadline: (o.timeout_seconds > 0.0).then(|| {
-                std::time::Instant::now() + std::time::Duration::from_secs_f64(o.timeout_seconds)
-            }),
+            deadline: (o.timeout > 0.0)
+                .then(|| std::time::Instant::now() + std::time::Duration::from_secs_f64(o.timeout)),
         };
         query.validate().map_err(|e| invalid(e.to_string()))?;
         Ok(Self {

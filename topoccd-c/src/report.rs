@@ -209,7 +209,7 @@ pub struct topoccd_report {
     /// Work counters and timings.
     pub stats: topoccd_stats,
     /// A `topoccd_stop_reason`: `TOPOCCD_STOP_REASON_NONE` for a complete report, else why the
-    /// query stopped early (`max_contacts`, `timeout_seconds`), and the report holds only part
+    /// query stopped early (`max_contacts`, `timeout`), and the report holds only part
     /// of the step's contacts.
     pub truncated: topoccd_stop_reason,
     /// Whether the report lists every pair within the tolerance of the earliest time (every
@@ -227,7 +227,7 @@ pub enum topoccd_stop_reason {
     None = 0,
     /// The report holds `max_contacts` contacts and the step has more.
     MaxContacts = 1,
-    /// `timeout_seconds` passed.
+    /// `timeout` passed.
     Deadline = 2,
     /// The query was cancelled.
     Cancelled = 3,

@@ -45,6 +45,12 @@ pub enum topoccd_status {
     /// A bug inside topoccd: a panic was caught at the boundary (no panic ever crosses it).
     /// The message says where; the object stays usable.
     Internal = 10,
+    /// A line search's query stopped at its `timeout` (or was cancelled) before it knew the
+    /// earliest contact: no step size is known to be safe.
+    Timeout = 11,
+    /// A line search with `check_start` found triangles that intersect at t=0; the message
+    /// names the first pair.
+    StartIntersects = 12,
 }
 
 /// The name of a status code (a `topoccd_status`) as text, e.g.
@@ -65,6 +71,8 @@ pub extern "C" fn topoccd_status_name(status: u32) -> *const c_char {
         8 => c"TOPOCCD_STATUS_IO",
         9 => c"TOPOCCD_STATUS_FORMAT",
         10 => c"TOPOCCD_STATUS_INTERNAL",
+        11 => c"TOPOCCD_STATUS_TIMEOUT",
+        12 => c"TOPOCCD_STATUS_START_INTERSECTS",
         _ => c"TOPOCCD_STATUS_UNKNOWN",
     };
     name.as_ptr()

@@ -171,7 +171,7 @@ static void test_falling_triangle(void) {
      * stopped; without the cap (or a cap the step does not reach) it is complete. */
     CHECK(report_of(ccd)->truncated == TOPOCCD_STOP_REASON_NONE, "a complete report");
     topoccd_query_options_default(&o);
-    CHECK(o.max_contacts == 0 && o.timeout_seconds == 0, "no cap, no timeout by default");
+    CHECK(o.max_contacts == 0 && o.timeout == 0, "no cap, no timeout by default");
     o.max_contacts = 2;
     CHECK_STATUS(topoccd_ccd_query(ccd, &s, &o), TOPOCCD_STATUS_OK, "max_contacts");
     r = report_of(ccd);
@@ -184,7 +184,7 @@ static void test_falling_triangle(void) {
         CHECK(known, "kept contact %zu is one of the step's", i);
     }
     o.max_contacts = 3;
-    o.timeout_seconds = 60;
+    o.timeout = 60;
     CHECK_STATUS(topoccd_ccd_query(ccd, &s, &o), TOPOCCD_STATUS_OK, "a cap the step does not pass");
     r = report_of(ccd);
     CHECK(r->vf_count == 3 && r->truncated == TOPOCCD_STOP_REASON_NONE && same_vf(r->vf, oracle, 3),
@@ -373,8 +373,8 @@ static void test_query_errors(void) {
     OPTION_CASE(o.mode = 9, "mode 9 is not a topoccd_mode");
     OPTION_CASE(o.growth = 5, "growth 5 is not a topoccd_growth");
     OPTION_CASE(o.threads = 5000, "threads must be 0 (one per core) or in [1, 4096], got 5000");
-    OPTION_CASE(o.timeout_seconds = -1, "timeout_seconds must be finite and >= 0 (0: no limit), got -1");
-    OPTION_CASE(o.timeout_seconds = NAN, "timeout_seconds must be finite and >= 0");
+    OPTION_CASE(o.timeout = -1, "timeout must be finite and >= 0 (0: no limit), got -1");
+    OPTION_CASE(o.timeout = NAN, "timeout must be finite and >= 0");
     OPTION_CASE(memset(&o, 0, sizeof o), "initialise the options with topoccd_query_options_default");
     OPTION_CASE(o.size = sizeof o + 64, "not the size of a topoccd_query_options");
     topoccd_ccd_free(&ccd);
@@ -736,6 +736,106 @@ static void test_files(void) {
     rmdir(dir);
 }
 
+/* The line-search helpers: the falling triangle's first contact is vertex 3 on face 0 at
+ * t=0.5 (analytic), so the step size is 0.8 x 0.5 and the report names that pair; a piercing
+ * start is refused with check_start; a timeout that passes gives no step size. */
+static void test_line_search(void) {
+    topoccd_ccd *ccd = topoccd_ccd_new();
+    topoccd_step s = fall_step();
+    double alpha = -1;
+    CHECK_STATUS(topoccd_collision_free_stepsize(ccd, &s, NULL, &alpha), TOPOCCD_STATUS_OK, "defaults");
+    CHECK(alpha <= 0.8 * 0.5 && alpha >= 0.8 * (0.5 - 1e-6), "alpha %.17g", alpha);
+    const topoccd_report *r = report_of(ccd);
+    CHECK(r->earliest_kind == TOPOCCD_CONTACT_KIND_VF && r->vf[r->earliest_index].vertex == 3 &&
+              r->vf[r->earliest_index].face == 0 && alpha == 0.8 * r->earliest_toi,
+          "earliest kind %u", (unsigned)r->earliest_kind);
+
+    topoccd_line_search_options ls;
+    topoccd_line_search_options_default(&ls);
+    CHECK(ls.conservative_rescaling == 0.8 && !ls.check_start && ls.query == NULL, "defaults");
+    topoccd_query_options q;
+    topoccd_query_options_default(&q);
+    q.tmax = 0.4; /* before the first contact: the whole interval is free */
+    ls.query = &q;
+    ls.conservative_rescaling = 0.5;
+    CHECK_STATUS(topoccd_collision_free_stepsize(ccd, &s, &ls, &alpha), TOPOCCD_STATUS_OK, "tmax");
+    CHECK(alpha == 0.4, "alpha %.17g is tmax", alpha);
+    bool free_step = false;
+    CHECK_STATUS(topoccd_is_step_collision_free(ccd, &s, &ls, &free_step), TOPOCCD_STATUS_OK, "free");
+    CHECK(free_step, "nothing touches in [0, 0.4]");
+    CHECK(report_of(ccd)->earliest_kind == TOPOCCD_CONTACT_KIND_NONE, "no earliest contact");
+    q.tmax = 1;
+    CHECK_STATUS(topoccd_collision_free_stepsize(ccd, &s, &ls, &alpha), TOPOCCD_STATUS_OK, "rescaling");
+    CHECK(alpha == 0.5 * report_of(ccd)->earliest_toi, "alpha %.17g", alpha);
+    CHECK_STATUS(topoccd_is_step_collision_free(ccd, &s, NULL, &free_step), TOPOCCD_STATUS_OK, "collides");
+    CHECK(!free_step && report_of(ccd)->vf[0].vertex == 3, "the step collides");
+
+    /* Triangle 1 pierces triangle 0 and stays: no contact starts, so the step is taken whole,
+     * unless check_start looks at the start. */
+    const double pierce[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0.2, 0.2, -1, 0.3, 0.2, 1, 0.2, 0.3, 1};
+    topoccd_step p = fall_step();
+    p.x0 = pierce;
+    p.x1 = pierce;
+    topoccd_line_search_options_default(&ls);
+    CHECK_STATUS(topoccd_collision_free_stepsize(ccd, &p, &ls, &alpha), TOPOCCD_STATUS_OK, "unchecked");
+    CHECK(alpha == 1.0, "alpha %.17g without check_start", alpha);
+    ls.check_start = true;
+    CHECK_STATUS(topoccd_collision_free_stepsize(ccd, &p, &ls, &alpha), TOPOCCD_STATUS_START_INTERSECTS,
+                 "check_start");
+    CHECK(alpha == 0 && contains(topoccd_ccd_last_error(ccd), "triangles 0 and 1 intersect at t=0"), "%s",
+          topoccd_ccd_last_error(ccd));
+    CHECK_STATUS(topoccd_is_step_collision_free(ccd, &p, &ls, &free_step), TOPOCCD_STATUS_START_INTERSECTS,
+                 "check_start");
+    CHECK(!free_step, "no answer is free");
+    CHECK_STATUS(topoccd_collision_free_stepsize(ccd, &s, &ls, &alpha), TOPOCCD_STATUS_OK, "apart at t=0");
+
+    /* Errors: options out of range, NULL outputs, an unknown size. */
+    ls.conservative_rescaling = 1.5;
+    CHECK_STATUS(topoccd_collision_free_stepsize(ccd, &s, &ls, &alpha), TOPOCCD_STATUS_INVALID_OPTIONS, "1.5");
+    CHECK(contains(topoccd_ccd_last_error(ccd), "conservative_rescaling must be in (0, 1], got 1.5"), "%s",
+          topoccd_ccd_last_error(ccd));
+    topoccd_line_search_options_default(&ls);
+    topoccd_query_options_default(&q);
+    q.min_distance = -1;
+    ls.query = &q;
+    CHECK_STATUS(topoccd_collision_free_stepsize(ccd, &s, &ls, &alpha), TOPOCCD_STATUS_INVALID_OPTIONS, "query");
+    CHECK(contains(topoccd_ccd_last_error(ccd), "min_distance"), "%s", topoccd_ccd_last_error(ccd));
+    CHECK_STATUS(topoccd_collision_free_stepsize(ccd, &s, NULL, NULL), TOPOCCD_STATUS_NULL_POINTER, "alpha");
+    CHECK_STATUS(topoccd_is_step_collision_free(ccd, NULL, NULL, &free_step), TOPOCCD_STATUS_NULL_POINTER, "step");
+    CHECK_STATUS(topoccd_line_search_options_init(&ls, 8), TOPOCCD_STATUS_INVALID_ARGUMENT, "size");
+    memset(&ls, 0, sizeof ls);
+    CHECK_STATUS(topoccd_collision_free_stepsize(ccd, &s, &ls, &alpha), TOPOCCD_STATUS_INVALID_OPTIONS, "zeroed");
+    CHECK(contains(topoccd_ccd_last_error(ccd), "topoccd_line_search_options_default"), "%s",
+          topoccd_ccd_last_error(ccd));
+
+    /* A timeout that passes at once: the earliest contact is not known, so no step size. */
+    double *x0, *x1;
+    uint32_t *tris;
+    size_t nv, nt;
+    folded_sheet(40, &x0, &x1, &tris, &nv, &nt);
+    topoccd_step sheet = {0};
+    sheet.x0 = x0, sheet.x0_count = nv, sheet.x1 = x1, sheet.x1_count = nv;
+    sheet.triangles = tris, sheet.triangle_count = nt;
+    topoccd_line_search_options_default(&ls);
+    topoccd_query_options_default(&q);
+    q.timeout = 1e-9;
+    ls.query = &q;
+    alpha = -1;
+    CHECK_STATUS(topoccd_collision_free_stepsize(ccd, &sheet, &ls, &alpha), TOPOCCD_STATUS_TIMEOUT, "timeout");
+    CHECK(alpha == 0 && contains(topoccd_ccd_last_error(ccd), "timeout"), "alpha %g: %s", alpha,
+          topoccd_ccd_last_error(ccd));
+    q.timeout = 0;
+    q.max_contacts = 1; /* a cap keeps the earliest time exact: a step size is known */
+    CHECK_STATUS(topoccd_collision_free_stepsize(ccd, &sheet, &ls, &alpha), TOPOCCD_STATUS_OK, "max_contacts");
+    double capped = alpha;
+    CHECK_STATUS(topoccd_collision_free_stepsize(ccd, &sheet, NULL, &alpha), TOPOCCD_STATUS_OK, "no cap");
+    CHECK(capped == alpha && alpha > 0 && alpha < 0.8, "alpha %.17g with a cap, %.17g without", capped, alpha);
+    free(x0);
+    free(x1);
+    free(tris);
+    topoccd_ccd_free(&ccd);
+}
+
 int main(void) {
     test_version_and_names();
     test_options();
@@ -745,6 +845,7 @@ int main(void) {
     test_handles();
     test_threads();
     test_pairs();
+    test_line_search();
     test_files();
     printf("%d passed, %d failed\n", passed, failed);
     return failed != 0;

@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 static int passed, failed;
@@ -208,11 +210,74 @@ static void test_eigen() {
 }
 #endif
 
+// The accessors that return a reference into their object compile on an lvalue only: on a
+// temporary (`frames.step().c()`) the reference would dangle, so those overloads are deleted.
+// (scripts/test-c.sh also checks that the dangling form itself fails to compile.)
+template <class T, class = void>
+struct c_on_rvalue : std::false_type {};
+template <class T>
+struct c_on_rvalue<T, std::void_t<decltype(std::declval<T>().c())>> : std::true_type {};
+static_assert(!c_on_rvalue<topoccd::Step>::value, "Step::c() on a temporary must not compile");
+static_assert(!c_on_rvalue<const topoccd::Step>::value, "nor on a const temporary");
+static_assert(c_on_rvalue<topoccd::Step&>::value, "Step::c() on an lvalue compiles");
+static_assert(c_on_rvalue<const topoccd::Step&>::value, "and on a const lvalue");
+static_assert(!c_on_rvalue<topoccd::QueryOptions>::value, "QueryOptions::c() on a temporary");
+static_assert(c_on_rvalue<topoccd::QueryOptions&>::value, "QueryOptions::c() on an lvalue");
+static_assert(!c_on_rvalue<topoccd::LineSearchOptions>::value, "LineSearchOptions::c() too");
+static_assert(c_on_rvalue<const topoccd::LineSearchOptions&>::value, "on an lvalue");
+// A chain of setters on a temporary stays a temporary (so `.c()` at its end is refused too).
+static_assert(std::is_same<decltype(topoccd::QueryOptions().tmax(0.5)), topoccd::QueryOptions&&>::value,
+              "a setter on a temporary returns an rvalue");
+static_assert(std::is_same<decltype(std::declval<topoccd::QueryOptions&>().tmax(0.5)),
+                           topoccd::QueryOptions&>::value,
+              "a setter on an lvalue returns an lvalue");
+static_assert(std::is_same<decltype(topoccd::LineSearchOptions().check_start(true)),
+                           topoccd::LineSearchOptions&&>::value,
+              "LineSearchOptions too");
+
+// The line-search helpers on the falling triangle (analytic: vertex 3 on face 0 at t=0.5), a
+// piercing start with check_start, and a timeout.
+static void test_line_search() {
+  topoccd::Ccd ccd;
+  topoccd::Step step(X0, X1, TRIS);
+  topoccd::StepSize size = ccd.collision_free_stepsize(step);
+  CHECK(size.alpha <= 0.4 && size.alpha >= 0.8 * (0.5 - 1e-6), std::to_string(size.alpha));
+  const topoccd_vf_contact* c = size.report.earliest_vf();
+  CHECK(c != nullptr && c->vertex == 3 && c->face == 0, "the earliest contact is vertex 3's");
+  CHECK(size.report.earliest_toi() && size.alpha == 0.8 * *size.report.earliest_toi(), "0.8 toi");
+  CHECK(!ccd.is_step_collision_free(step), "the step collides");
+  auto before = topoccd::LineSearchOptions().query(topoccd::QueryOptions().tmax(0.4));
+  CHECK(ccd.is_step_collision_free(step, before), "free before the contact");
+  CHECK(ccd.collision_free_stepsize(step, before).alpha == 0.4, "tmax without contact");
+  auto half = topoccd::LineSearchOptions().conservative_rescaling(0.5);
+  size = ccd.collision_free_stepsize(step, half);
+  CHECK(size.alpha == 0.5 * *size.report.earliest_toi(), "conservative_rescaling 0.5");
+
+  // Triangle 1 pierces triangle 0 and stays: taken whole unless check_start looks.
+  std::vector<std::array<double, 3>> pierce = {
+      {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.2, 0.2, -1}, {0.3, 0.2, 1}, {0.2, 0.3, 1}};
+  topoccd::Step pierced(pierce, pierce, TRIS);
+  CHECK(ccd.collision_free_stepsize(pierced).alpha == 1.0, "unchecked");
+  auto checked = topoccd::LineSearchOptions().check_start(true);
+  expect_error([&] { ccd.collision_free_stepsize(pierced, checked); },
+               TOPOCCD_STATUS_START_INTERSECTS, "triangles 0 and 1 intersect at t=0", "check_start");
+  expect_error([&] { ccd.is_step_collision_free(pierced, checked); },
+               TOPOCCD_STATUS_START_INTERSECTS, "intersect at t=0", "check_start");
+  expect_error([&] { ccd.collision_free_stepsize(step, topoccd::LineSearchOptions().conservative_rescaling(0)); },
+               TOPOCCD_STATUS_INVALID_OPTIONS, "conservative_rescaling must be in (0, 1]", "0");
+  topoccd::LineSearchOptions timed;
+  timed.query().timeout(60).max_contacts(1);
+  CHECK(timed.query().timeout() == 60 && timed.query().max_contacts() == 1, "query options kept");
+  CHECK(ccd.collision_free_stepsize(step, timed).alpha == 0.8 * *ccd.report().earliest_toi(),
+        "a timeout that does not pass and a cap");
+}
+
 int main() {
   test_layouts();
   test_options_and_errors();
   test_cut();
   test_pairs_and_files();
+  test_line_search();
 #if defined(TOPOCCD_HAS_EIGEN)
   test_eigen();
   std::printf("(with Eigen %d.%d.%d) ", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION);

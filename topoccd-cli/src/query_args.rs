@@ -112,6 +112,22 @@ pub struct QueryArgs {
     /// cap.
     #[arg(long, value_name = "N", value_parser = parse_cap)]
     pub max_contacts: Option<Cap>,
+    /// Deprecated alias of `--min-distance` (hidden; a note on stderr says so).
+    #[arg(
+        long,
+        hide = true,
+        allow_negative_numbers = true,
+        conflicts_with = "min_distance"
+    )]
+    pub min_separation: Option<f64>,
+    /// Deprecated alias of `--tmax` (hidden; a note on stderr says so).
+    #[arg(
+        long,
+        hide = true,
+        allow_negative_numbers = true,
+        conflicts_with = "tmax"
+    )]
+    pub t_max: Option<f64>,
 }
 
 /// `--max-contacts`: a number, or no cap.
@@ -165,6 +181,8 @@ impl Default for QueryArgs {
             geometry: false,
             keep_crack_contacts: false,
             max_contacts: None,
+            min_separation: None,
+            t_max: None,
         }
     }
 }
@@ -177,6 +195,31 @@ fn parse_k(s: &str) -> Result<usize, String> {
 }
 
 impl QueryArgs {
+    /// One note on stderr per deprecated flag given (once per process, however many steps).
+    fn deprecation_notes(&self) {
+        static ONCE: std::sync::Once = std::sync::Once::new();
+        let old = [
+            (
+                "--min-separation",
+                "--min-distance",
+                self.min_separation.is_some(),
+            ),
+            ("--t-max", "--tmax", self.t_max.is_some()),
+        ];
+        if old.iter().any(|(_, _, given)| *given) {
+            ONCE.call_once(|| {
+                for (old, new, given) in old {
+                    if given {
+                        eprintln!(
+                            "note: {old} is deprecated, use {new} (the IPC toolkit's name; \
+                             {old} goes in the next release)"
+                        );
+                    }
+                }
+            });
+        }
+    }
+
     /// The library's options, after checking the ranges; the default cap of `--max-contacts`
     /// follows the default memory limit ([`MemoryLimit::from_env`]).
     pub fn options(&self) -> Result<QueryOptions> {
@@ -185,11 +228,12 @@ impl QueryArgs {
 
     /// [`QueryArgs::options`] with the default cap of `--max-contacts` following `limit`.
     pub fn options_within(&self, limit: MemoryLimit) -> Result<QueryOptions> {
+        self.deprecation_notes();
         let options = QueryOptions {
             narrow: NarrowOptions {
                 tolerance: self.tolerance,
-                min_distance: self.min_distance,
-                tmax: self.tmax,
+                min_distance: self.min_separation.unwrap_or(self.min_distance),
+                tmax: self.t_max.unwrap_or(self.tmax),
                 max_iterations: self.max_iterations,
             },
             kdop: DopKind::from_k(self.k).unwrap_or_default(),

@@ -275,6 +275,9 @@ impl Ccd {
     ///     timeout: ``None``, or seconds (> 0) after which the query stops and raises
     ///         ``TimeoutError`` (within about a millisecond of work per thread).
     ///
+    /// The old keywords ``min_separation`` and ``t_max`` still work for one release, with a
+    /// ``DeprecationWarning`` naming the new one.
+    ///
     /// Ctrl-C (``KeyboardInterrupt``) stops a running query, typically within a tenth of a
     /// second: the query runs as a job of the thread pool while the calling thread waits
     /// without the GIL and checks for signals every 20 ms.
@@ -300,7 +303,7 @@ impl Ccd {
         x0, x1, triangles, *, parents=None, groups=None, method="auto", mode="all",
         tolerance=1e-6, min_distance=0.0, tmax=1.0, max_iterations=1_000_000, k=18,
         growth=None, threads=None, geometry=false, crack_filter=true,
-        max_contacts=Some(topoccd::DEFAULT_MAX_CONTACTS as i64), timeout=None
+        max_contacts=Some(topoccd::DEFAULT_MAX_CONTACTS as i64), timeout=None, **deprecated
     ))]
     #[allow(clippy::too_many_arguments)]
     fn query(
@@ -324,8 +327,11 @@ impl Ccd {
         crack_filter: bool,
         max_contacts: Option<i64>,
         timeout: Option<f64>,
+        deprecated: Option<&Bound<'_, pyo3::types::PyDict>>,
     ) -> PyResult<Report> {
         let started = Instant::now();
+        let (mut min_distance, mut tmax) = (min_distance, tmax);
+        crate::deprecated::renamed(py, "query", deprecated, &mut min_distance, &mut tmax)?;
         let keywords = Keywords {
             method,
             mode,

@@ -11,9 +11,11 @@
 //! - `pair`: the per-pair tests (`point_triangle_ccd`, `edge_edge_ccd`).
 //! - `points`: numpy arrays of points in.
 //! - `errors`: the exceptions.
+//! - `deprecated`: the keyword names of earlier versions.
 
 mod ccd;
 mod check;
+mod deprecated;
 mod errors;
 mod files;
 mod input;

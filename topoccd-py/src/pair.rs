@@ -1,8 +1,14 @@
 //! The per-pair tests in the IPC toolkit's shape: `point_triangle_ccd` and `edge_edge_ccd`, on
 //! one pair (eight points) or on a batch of pairs (two `(N, 4, 3)` arrays), the GIL released.
+//! A batch runs in chunks on a thread pool (`threads=`: pools kept per size), and between two
+//! chunks looks at the clock (`timeout=`) and at pending signals (Ctrl-C).
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
+use std::time::{Duration, Instant};
 
 use numpy::{PyArray1, PyArrayMethods};
-use pyo3::exceptions::PyTypeError;
+use pyo3::exceptions::{PyRuntimeError, PyTimeoutError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use rayon::prelude::*;
@@ -78,18 +84,123 @@ fn options(
     let options = NarrowOptions {
         tolerance,
         max_iterations,
-        min_distance: min_distance,
-        tmax: tmax,
+        min_distance,
+        tmax,
     };
-    // The library's messages name its fields; say the keywords' names instead.
-    options.validate().map_err(|e| {
-        let text = e
-            .to_string()
-            .replace("min_distance", "min_distance")
-            .replace("tmax", "tmax");
-        options_error(text)
-    })?;
+    // The library's messages name its fields, which are the keywords' names.
+    options
+        .validate()
+        .map_err(|e| options_error(e.to_string()))?;
     Ok(options)
+}
+
+/// The thread pools of `threads=N` batches, one per size, kept for the process (building one
+/// costs about a thread start per thread; a simulator calls the batch every step).
+fn pool(threads: usize) -> PyResult<Arc<rayon::ThreadPool>> {
+    static POOLS: OnceLock<Mutex<HashMap<usize, Arc<rayon::ThreadPool>>>> = OnceLock::new();
+    let mut pools = POOLS
+        .get_or_init(Default::default)
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
+    if let Some(p) = pools.get(&threads) {
+        return Ok(p.clone());
+    }
+    let built = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| PyRuntimeError::new_err(format!("cannot start {threads} threads: {e}")))?;
+    let built = Arc::new(built);
+    pools.insert(threads, built.clone());
+    Ok(built)
+}
+
+/// The batch keywords that are not the narrow phase's: `threads` and `timeout`, checked.
+struct Batch {
+    threads: Option<usize>,
+    timeout: Option<f64>,
+}
+
+impl Batch {
+    fn new(threads: Option<i64>, timeout: Option<f64>) -> PyResult<Self> {
+        let threads = match threads {
+            None => None,
+            Some(n) if (1..=4096).contains(&n) => Some(n as usize),
+            Some(n) => {
+                return Err(options_error(format!(
+                    "threads must be None or in [1, 4096], got {n}"
+                )))
+            }
+        };
+        if let Some(t) = timeout {
+            if !(t > 0.0 && t < 1e9) {
+                return Err(options_error(format!(
+                    "timeout must be None or seconds in (0, 1e9), got {t}"
+                )));
+            }
+        }
+        Ok(Self { threads, timeout })
+    }
+}
+
+/// How long one chunk of a batch should take: the clock and the signals are looked at between
+/// chunks, so a timeout or a Ctrl-C is met within about this (plus the slowest pair).
+const CHUNK_TIME: Duration = Duration::from_millis(20);
+
+/// The tests of a batch, `a` and `b` holding 12 coordinates per pair, in order; in chunks sized
+/// to take about [`CHUNK_TIME`] each, with the signals and the deadline checked between them.
+fn batch(
+    py: Python<'_>,
+    kind: Kind,
+    (a, b): (&[f64], &[f64]),
+    options: &NarrowOptions,
+    limits: &Batch,
+    started: Instant,
+) -> PyResult<Vec<Outcome>> {
+    let pool = limits.threads.map(pool).transpose()?;
+    let deadline = limits.timeout.map(|t| started + Duration::from_secs_f64(t));
+    let n = a.len() / 12;
+    let mut outcomes = Vec::with_capacity(n);
+    let mut chunk = 256usize;
+    while outcomes.len() < n {
+        let (lo, hi) = (outcomes.len(), (outcomes.len() + chunk).min(n));
+        let (ca, cb) = (&a[12 * lo..12 * hi], &b[12 * lo..12 * hi]);
+        let clock = Instant::now();
+        let work = || -> Vec<Outcome> {
+            ca.par_chunks_exact(12)
+                .zip(cb.par_chunks_exact(12))
+                .with_min_len(64)
+                .map(|(a, b)| {
+                    let mut p = [[0.0; 3]; 8];
+                    for k in 0..4 {
+                        p[k].copy_from_slice(&a[3 * k..3 * k + 3]);
+                        p[k + 4].copy_from_slice(&b[3 * k..3 * k + 3]);
+                    }
+                    kind.test(p, options)
+                })
+                .collect()
+        };
+        let done = py.detach(|| match &pool {
+            Some(p) => p.install(work),
+            None => work(),
+        });
+        outcomes.extend(done);
+        // The next chunk sized from this one's pace (at most 4 times as many pairs).
+        let took = clock.elapsed().as_secs_f64().max(1e-6);
+        let pace = (hi - lo) as f64 / took;
+        chunk = ((pace * CHUNK_TIME.as_secs_f64()) as usize).clamp(64, 4 * chunk.max(64));
+        py.check_signals()?;
+        if outcomes.len() < n && deadline.is_some_and(|d| Instant::now() >= d) {
+            return Err(PyTimeoutError::new_err(format!(
+                "{}() did not finish within timeout={} s: it stopped after {:.3} s, having \
+                 tested {} of {n} pairs",
+                kind.function(),
+                limits.timeout.unwrap_or_default(),
+                started.elapsed().as_secs_f64(),
+                outcomes.len()
+            )));
+        }
+    }
+    Ok(outcomes)
 }
 
 /// Runs one kind of test on the arguments: eight points, or two `(N, 4, 3)` arrays.
@@ -99,7 +210,9 @@ fn run<'py>(
     args: &Bound<'py, PyTuple>,
     options: NarrowOptions,
     certainty: bool,
+    limits: Batch,
 ) -> PyResult<Bound<'py, PyTuple>> {
+    let started = Instant::now();
     match args.len() {
         8 => {
             let mut p = [[0.0; 3]; 8];
@@ -128,20 +241,7 @@ fn run<'py>(
                 )));
             }
             let (a, b) = (x_t0.flat()?, x_t1.flat()?);
-            let outcomes: Vec<Outcome> = py.detach(|| {
-                a.par_chunks_exact(12)
-                    .zip(b.par_chunks_exact(12))
-                    .with_min_len(64)
-                    .map(|(a, b)| {
-                        let mut p = [[0.0; 3]; 8];
-                        for k in 0..4 {
-                            p[k].copy_from_slice(&a[3 * k..3 * k + 3]);
-                            p[k + 4].copy_from_slice(&b[3 * k..3 * k + 3]);
-                        }
-                        kind.test(p, &options)
-                    })
-                    .collect()
-            });
+            let outcomes = batch(py, kind, (a, b), &options, &limits, started)?;
             let hit: Vec<bool> = outcomes.iter().map(Outcome::is_contact).collect();
             let toi: Vec<f64> = outcomes
                 .iter()
@@ -177,8 +277,11 @@ fn run<'py>(
 ///
 /// A batch: ``point_triangle_ccd(x_t0, x_t1)``, two ``(N, 4, 3)`` arrays holding each pair's
 /// four points (the point, then the triangle's corners) at t=0 and at t=1, gives ``(hit,
-/// toi)`` as arrays of N (bool and float64, read-only). The pairs are tested on every core,
-/// without the GIL; the result does not depend on the thread count.
+/// toi)`` as arrays of N (bool and float64, read-only). The pairs are tested without the GIL,
+/// on every core (rayon's global pool, whose size ``RAYON_NUM_THREADS`` sets when the process
+/// starts) or on ``threads`` threads; the result does not depend on the thread count. A batch
+/// runs in chunks of about 20 ms: between two, ``timeout`` is checked and Ctrl-C
+/// (``KeyboardInterrupt``) is seen.
 ///
 /// The test is conservative: when the point touches the triangle (in exact arithmetic) at some
 /// time in ``[0, tmax]``, ``hit`` is true and ``toi`` is never later than the first contact,
@@ -193,10 +296,16 @@ fn run<'py>(
 ///         hit at the earliest time not ruled out (certainty code 1). Default 1,000,000.
 ///     certainty: also return the certainty code (an int, or a uint8 array): 0 resolved (or
 ///         no hit), 1 iteration limit, 2 invalid input (a non-finite coordinate: a hit at 0).
+///     threads: a batch only: ``None`` (every core, or ``RAYON_NUM_THREADS``), or a count in
+///         [1, 4096] (a pool of that size, kept for the process). Ignored for one pair.
+///     timeout: a batch only: ``None``, or seconds (> 0) after which the batch stops and
+///         raises ``TimeoutError`` (met within about 0.1 s). Ignored for one pair.
 ///
 /// Raises:
 ///     InputError: a point of the wrong shape or dtype.
 ///     OptionsError: an option out of range.
+///     TimeoutError: a batch still running after ``timeout``.
+///     KeyboardInterrupt: Ctrl-C during a batch.
 ///     TypeError: neither eight points nor two arrays.
 ///
 /// Example: a point falls through a triangle; it touches at t=0.5.
@@ -208,8 +317,9 @@ fn run<'py>(
 #[pyfunction]
 #[pyo3(signature = (
     *points, min_distance=0.0, tmax=1.0, tolerance=1e-6, max_iterations=1_000_000,
-    certainty=false
+    certainty=false, threads=None, timeout=None
 ))]
+#[allow(clippy::too_many_arguments)]
 pub fn point_triangle_ccd<'py>(
     py: Python<'py>,
     points: &Bound<'py, PyTuple>,
@@ -218,9 +328,12 @@ pub fn point_triangle_ccd<'py>(
     tolerance: f64,
     max_iterations: i64,
     certainty: bool,
+    threads: Option<i64>,
+    timeout: Option<f64>,
 ) -> PyResult<Bound<'py, PyTuple>> {
     let options = options(min_distance, tmax, tolerance, max_iterations)?;
-    run(py, Kind::PointTriangle, points, options, certainty)
+    let limits = Batch::new(threads, timeout)?;
+    run(py, Kind::PointTriangle, points, options, certainty, limits)
 }
 
 /// Continuous collision test of two edges, each end moving linearly from its ``_t0`` to its
@@ -241,8 +354,9 @@ pub fn point_triangle_ccd<'py>(
 #[pyfunction]
 #[pyo3(signature = (
     *points, min_distance=0.0, tmax=1.0, tolerance=1e-6, max_iterations=1_000_000,
-    certainty=false
+    certainty=false, threads=None, timeout=None
 ))]
+#[allow(clippy::too_many_arguments)]
 pub fn edge_edge_ccd<'py>(
     py: Python<'py>,
     points: &Bound<'py, PyTuple>,
@@ -251,7 +365,10 @@ pub fn edge_edge_ccd<'py>(
     tolerance: f64,
     max_iterations: i64,
     certainty: bool,
+    threads: Option<i64>,
+    timeout: Option<f64>,
 ) -> PyResult<Bound<'py, PyTuple>> {
     let options = options(min_distance, tmax, tolerance, max_iterations)?;
-    run(py, Kind::EdgeEdge, points, options, certainty)
+    let limits = Batch::new(threads, timeout)?;
+    run(py, Kind::EdgeEdge, points, options, certainty, limits)
 }

@@ -149,3 +149,63 @@ def test_docstring_examples():
         for test in doctest.DocTestFinder(recurse=False).find(obj, globs={}):
             runner.run(test)
         assert runner.failures == 0 and runner.tries > 0, obj
+
+
+# Issue 45: the earliest contact with the step size, the start checked, time and size limits.
+
+FALL_X0 = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0.2, 0.2, 1], [0.3, 0.2, 1.5], [0.2, 0.3, 1.5]], float)
+FALL_X1 = FALL_X0 - np.r_[np.zeros((3, 3)), np.tile([0, 0, 2], (3, 1))]
+FALL_TRIS = [[0, 1, 2], [3, 4, 5]]
+
+
+def test_return_earliest_names_the_pair_of_the_earliest_query(funnel):
+    # Analytic: vertex 3 reaches face 0 at t=0.5, vertices 4 and 5 at 0.75.
+    alpha, earliest = topoccd.collision_free_stepsize(FALL_X0, FALL_X1, FALL_TRIS, return_earliest=True)
+    assert earliest.kind == "vf" and earliest.indices == (3, 0) and earliest.certainty == 0
+    assert 0.5 - 1e-6 <= earliest.toi <= 0.5 and alpha == 0.8 * earliest.toi
+    assert topoccd.collision_free_stepsize(FALL_X0, FALL_X0, FALL_TRIS, return_earliest=True) == (1.0, None)
+    # The real step: the pair and time of an Earliest query, and a pair of its report.
+    x0, x1, triangles = funnel
+    alpha, earliest = topoccd.collision_free_stepsize(x0, x1, triangles, return_earliest=True)
+    report = topoccd.query(x0, x1, triangles, mode="earliest")
+    assert (earliest.kind, *earliest.indices, earliest.toi) == report.earliest
+    assert alpha == 0.8 * report.earliest_toi
+    rows = report.vf if earliest.kind == "vf" else report.ee
+    assert list(earliest.indices) in rows.tolist()
+
+
+def test_check_start_refuses_triangles_that_pierce_at_t0():
+    # Triangle 1 pierces triangle 0 and does not move: no contact starts during the step.
+    x = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0.2, 0.2, -1], [0.3, 0.2, 1], [0.2, 0.3, 1]], float)
+    assert topoccd.collision_free_stepsize(x, x, FALL_TRIS) == 1.0
+    assert topoccd.is_step_collision_free(x, x, FALL_TRIS) is True
+    with pytest.raises(topoccd.InputError, match=r"triangles 0 and 1 intersect at t=0 \(1 intersecting pairs\)"):
+        topoccd.collision_free_stepsize(x, x, FALL_TRIS, check_start=True)
+    with pytest.raises(topoccd.InputError, match="intersect at t=0"):
+        topoccd.is_step_collision_free(x, x, FALL_TRIS, check_start=True)
+    # Apart at t=0, the check passes and the answer is the unchecked one.
+    assert topoccd.collision_free_stepsize(FALL_X0, FALL_X1, FALL_TRIS, check_start=True) == (
+        topoccd.collision_free_stepsize(FALL_X0, FALL_X1, FALL_TRIS)
+    )
+
+
+def test_check_start_joins_the_sides_of_a_cut():
+    # A square cut along its diagonal 1-2 (vertices 4 and 5 are the copies of 1 and 2): at t=0
+    # the halves touch along the cut, which is not an intersection (as the CCD's crack filter).
+    x0 = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
+    x1 = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 1], [1, 0, 1], [0, 1, 1]], float)
+    tris, parents = [[0, 1, 2], [4, 3, 5]], [[4, 1], [5, 2]]
+    free = topoccd.collision_free_stepsize(x0, x1, tris, parents=parents)
+    assert topoccd.collision_free_stepsize(x0, x1, tris, parents=parents, check_start=True) == free
+
+
+def test_timeout_and_max_contacts_reach_the_query(funnel):
+    x0, x1, triangles = funnel
+    with pytest.raises(TimeoutError):
+        topoccd.collision_free_stepsize(x0, x1, triangles, timeout=1e-9)
+    with pytest.raises(TimeoutError):
+        topoccd.is_step_collision_free(x0, x1, triangles, timeout=1e-9)
+    # A cap keeps the earliest time exact: the same step size.
+    assert topoccd.collision_free_stepsize(x0, x1, triangles, max_contacts=1, timeout=60) == (
+        topoccd.collision_free_stepsize(x0, x1, triangles)
+    )

@@ -181,3 +181,86 @@ def test_the_gil_is_released_during_a_batch():
     # Held, the GIL would let the counter run only around the call (a few 5 ms intervals).
     share = during / (rate * seconds)
     assert share > 0.25, f"counting thread ran at {share:.1%} of its rate during the batch"
+
+
+def random_batch(n, seed=5):
+    rng = np.random.default_rng(seed)
+    x_t0 = rng.normal(size=(n, 4, 3))
+    return x_t0, x_t0 + rng.normal(scale=0.5, size=x_t0.shape)
+
+
+@pytest.mark.parametrize("function", [topoccd.point_triangle_ccd, topoccd.edge_edge_ccd])
+def test_threads_give_the_same_outcomes(function):
+    x_t0, x_t1 = random_batch(20_000)
+    want = function(x_t0, x_t1, certainty=True)
+    assert want[0].any() and not want[0].all()
+    for threads in (1, 2, 3, 1):  # 1 twice: the pool kept for its size is reused
+        got = function(x_t0, x_t1, certainty=True, threads=threads, timeout=60)
+        for w, g in zip(want, got):
+            assert np.array_equal(w, g), threads
+    for bad in (0, -1, 5000):
+        with pytest.raises(topoccd.OptionsError, match="threads must be None or in"):
+            function(x_t0[:1], x_t1[:1], threads=bad)
+    with pytest.raises(topoccd.OptionsError, match="timeout must be None or seconds"):
+        function(x_t0[:1], x_t1[:1], timeout=0)
+
+
+def test_a_batch_stops_at_its_timeout_within_100_ms():
+    import time
+
+    # A batch of random pairs on one thread, timed whole, then given a quarter of that time.
+    n = 500_000
+    x_t0, x_t1 = random_batch(n)
+    started = time.perf_counter()
+    full = topoccd.point_triangle_ccd(x_t0, x_t1, threads=1)
+    whole = time.perf_counter() - started
+    timeout = whole / 4
+    assert timeout > 0.01, f"the batch took {whole:.3f} s: too short to tell"
+    started = time.perf_counter()
+    with pytest.raises(TimeoutError, match=r"point_triangle_ccd\(\) did not finish within timeout=.*tested \d+ of 500000"):
+        topoccd.point_triangle_ccd(x_t0, x_t1, threads=1, timeout=timeout)
+    late = time.perf_counter() - started - timeout
+    assert late < 0.1, f"stopped {late:.3f} s after the timeout"
+    assert full[0].any()
+
+
+CHILD_BATCH = """
+import sys, time
+import numpy as np, topoccd
+rng = np.random.default_rng(5)
+x_t0 = rng.normal(size=(2_000_000, 4, 3))
+x_t1 = x_t0 + rng.normal(scale=0.5, size=x_t0.shape)
+print("testing", flush=True)
+try:
+    for _ in range(1000):  # minutes of work
+        topoccd.edge_edge_ccd(x_t0, x_t1, threads=1)
+except KeyboardInterrupt:
+    print("interrupted", time.monotonic(), flush=True)
+    sys.exit(130)
+print("finished", flush=True)
+"""
+
+
+def test_ctrl_c_stops_a_batch(tmp_path):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = tmp_path / "child.py"
+    script.write_text(CHILD_BATCH)
+    child = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert child.stdout.readline().strip() == "testing"
+        time.sleep(1.0)
+        assert child.poll() is None, "the batch ended by itself"
+        sent = time.monotonic()
+        child.send_signal(signal.SIGINT)
+        out, err = child.communicate(timeout=30)
+    finally:
+        if child.poll() is None:
+            child.kill()
+    assert child.returncode == 130, err
+    stopped = float(out.splitlines()[0].split()[1])
+    # Chunks of about 20 ms: generous on a shared machine.
+    assert stopped - sent < 1.0, stopped - sent

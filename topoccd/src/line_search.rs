@@ -23,7 +23,8 @@
 
 use thiserror::Error;
 
-use crate::mesh::{Positions, Step, StepError, Triangles};
+use crate::check;
+use crate::mesh::{Frame, Positions, Step, StepError, Triangles};
 use crate::query::{Ccd, Contact, Method, Mode, OptionsError, QueryOptions, Report, StopReason};
 
 /// Options of the line-search helpers.
@@ -39,6 +40,13 @@ pub struct LineSearchOptions {
     /// in `(0, 1]`. Default `0.8`, the IPC toolkit's conservative rescaling: the step stops
     /// short of the contact, so the next step does not start touching.
     pub conservative_rescaling: f64,
+    /// Run the exact static check ([`check::step_intersections`]) on the t=0 positions
+    /// first, and refuse a start where triangles already intersect
+    /// ([`LineSearchError::StartIntersects`]). Default `false`: the helpers then assume the
+    /// paper's premise (nothing intersects at t=0) and do not look. A pair of triangles
+    /// that passes through each other at t=0 and keeps moving apart has no contact in
+    /// `(0, tmax]`, so without the check the step size can be `tmax`.
+    pub check_start: bool,
 }
 
 impl Default for LineSearchOptions {
@@ -47,6 +55,7 @@ impl Default for LineSearchOptions {
             query: QueryOptions::default(),
             method: Method::Auto,
             conservative_rescaling: 0.8,
+            check_start: false,
         }
     }
 }
@@ -65,6 +74,20 @@ impl LineSearchOptions {
             return Err(LineSearchError::ConservativeRescaling(
                 self.conservative_rescaling,
             ));
+        }
+        Ok(())
+    }
+
+    /// With [`check_start`](Self::check_start), refuses a step whose t=0 triangles intersect.
+    fn check(&self, step: &Step<'_>) -> Result<(), LineSearchError> {
+        if self.check_start {
+            let pairs = check::step_intersections(step, Frame::Start);
+            if let Some(&first) = pairs.first() {
+                return Err(LineSearchError::StartIntersects {
+                    triangles: first,
+                    count: pairs.len(),
+                });
+            }
         }
         Ok(())
     }
@@ -99,6 +122,20 @@ pub enum LineSearchError {
     /// contact at time 0, found by then, is still an answer).
     #[error("the line search stopped ({0}) before the earliest time of impact was known: allow more time (a later deadline, a larger timeout) or reset the cancel token")]
     Stopped(StopReason),
+    /// [`LineSearchOptions::check_start`] found triangles that intersect at t=0: no step size
+    /// is safe from such a start.
+    #[error(
+        "triangles {} and {} intersect at t=0 ({count} intersecting pairs): the step \
+         starts in contact",
+        triangles[0],
+        triangles[1]
+    )]
+    StartIntersects {
+        /// The first intersecting pair `[a, b]` (`a < b`, in sorted order).
+        triangles: [u32; 2],
+        /// How many pairs intersect.
+        count: usize,
+    },
 }
 
 /// The earliest contact of an [`Mode::Earliest`] report of [`LineSearchOptions::earliest`],
@@ -121,8 +158,9 @@ fn earliest_of(report: &Report) -> Result<(Option<Contact>, bool), LineSearchErr
 pub struct StepSize {
     /// The fraction of the step the mesh may take: `conservative_rescaling` times the earliest time of
     /// impact, or `tmax` when no features come within `min_distance` over `[0, tmax]`.
-    /// `0` when features already touch at the start: nothing can move (check the start with
-    /// [`check::step_intersections`](crate::check::step_intersections)).
+    /// `0` when features already touch at the start: nothing can move. Triangles that pass
+    /// through each other at the start without touching features are not seen: set
+    /// [`LineSearchOptions::check_start`] to refuse such a start.
     pub alpha: f64,
     /// The earliest contact, or `None`. Its [`certainty`](Contact::certainty) says whether the
     /// search gave up on it: then its time is only a lower bound, and `alpha` stays safe.
@@ -214,6 +252,7 @@ impl Ccd {
         options: &LineSearchOptions,
     ) -> Result<StepSize, LineSearchError> {
         options.validate()?;
+        options.check(step)?;
         let report = self.query(step, options.method, &options.earliest())?;
         let (earliest, at_zero) = earliest_of(&report)?;
         let alpha = match earliest {
@@ -241,6 +280,7 @@ impl Ccd {
         options: &LineSearchOptions,
     ) -> Result<StepStatus, LineSearchError> {
         options.validate()?;
+        options.check(step)?;
         let report = self.query(step, options.method, &options.earliest())?;
         Ok(match earliest_of(&report)?.0 {
             Some(contact) => StepStatus::Collides(contact),

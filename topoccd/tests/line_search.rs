@@ -151,3 +151,49 @@ fn bad_rescaling_and_bad_input_are_refused() {
         "triangle 0 names vertex 5, but there are only 3 vertices"
     );
 }
+
+/// Triangle 1 pierces triangle 0 at t=0 and does not move: no contact starts in the step, so
+/// the helpers take it whole unless `check_start` looks at the start.
+#[test]
+fn check_start_refuses_a_start_that_intersects() {
+    use topoccd::line_search::{collision_free_stepsize, is_step_collision_free, LineSearchError};
+    let x = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.2, 0.2, -1.0],
+        [0.3, 0.2, 1.0],
+        [0.2, 0.3, 1.0],
+        [5.0, 5.0, 5.0],
+        [6.0, 5.0, 5.0],
+        [5.0, 6.0, 5.0],
+    ];
+    let triangles = [[0u32, 1, 2], [3, 4, 5], [6, 7, 8]];
+    let unchecked = LineSearchOptions::default();
+    let size = collision_free_stepsize(&x, &x, &triangles, &unchecked).expect("valid");
+    assert_eq!(size.alpha, 1.0, "the premise is not checked by default");
+    let checked = LineSearchOptions {
+        check_start: true,
+        ..LineSearchOptions::default()
+    };
+    let err = collision_free_stepsize(&x, &x, &triangles, &checked).unwrap_err();
+    assert_eq!(
+        err,
+        LineSearchError::StartIntersects {
+            triangles: [0, 1],
+            count: 1
+        }
+    );
+    assert!(err
+        .to_string()
+        .starts_with("triangles 0 and 1 intersect at t=0"));
+    let err = is_step_collision_free(&x, &x, &triangles, &checked).unwrap_err();
+    assert!(matches!(err, LineSearchError::StartIntersects { .. }));
+    // Apart at t=0 (triangle 1 lifted above triangle 0), the check passes and the query runs.
+    let mut apart = x;
+    for p in &mut apart[3..6] {
+        p[2] += 2.0;
+    }
+    let size = collision_free_stepsize(&apart, &apart, &triangles, &checked).expect("apart");
+    assert_eq!(size.alpha, 1.0);
+}

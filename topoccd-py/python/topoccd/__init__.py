@@ -51,7 +51,7 @@ from ._topoccd import (
     read_mesh,
     read_sequence,
 )
-from .line_search import collision_free_stepsize, is_step_collision_free
+from .line_search import Earliest, collision_free_stepsize, is_step_collision_free
 from . import batch  # noqa: E402  (imports Ray only when used)
 
 __all__ = [
@@ -66,6 +66,7 @@ __all__ = [
     "edge_edge_ccd",
     "collision_free_stepsize",
     "is_step_collision_free",
+    "Earliest",
     "intersecting_triangles",
     "InputError",
     "InputWarning",
@@ -109,6 +110,7 @@ def query(
     crack_filter: bool = True,
     max_contacts: Optional[int] = DEFAULT_MAX_CONTACTS,
     timeout: Optional[float] = None,
+    **deprecated,
 ) -> Report:
     """One query with a fresh :class:`Ccd`: every contact of one step, or the earliest.
 
@@ -143,4 +145,5 @@ def query(
         crack_filter=crack_filter,
         max_contacts=max_contacts,
         timeout=timeout,
+        **deprecated,
     )

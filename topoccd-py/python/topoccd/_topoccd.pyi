@@ -150,10 +150,14 @@ def point_triangle_ccd(
     tolerance: float = 1e-6,
     max_iterations: int = 1_000_000,
     certainty: bool = False,
+    threads: Optional[int] = None,
+    timeout: Optional[float] = None,
 ) -> Union[_Hit, _HitCertainty, _Hits, _HitsCertainty]:
     """One pair (eight ``(3,)`` points: ``p_t0, t0_t0, t1_t0, t2_t0, p_t1, t0_t1, t1_t1,
     t2_t1``) gives ``(hit, toi)``; a batch (two ``(N, 4, 3)`` arrays, at t=0 and t=1) gives
-    arrays of N. ``certainty=True`` adds the certainty code(s)."""
+    arrays of N. ``certainty=True`` adds the certainty code(s). A batch runs on ``threads``
+    threads (default: rayon's global pool, sized by ``RAYON_NUM_THREADS``) and stops with
+    ``TimeoutError`` after ``timeout`` seconds."""
 
 def edge_edge_ccd(
     *points: _Points,
@@ -162,6 +166,8 @@ def edge_edge_ccd(
     tolerance: float = 1e-6,
     max_iterations: int = 1_000_000,
     certainty: bool = False,
+    threads: Optional[int] = None,
+    timeout: Optional[float] = None,
 ) -> Union[_Hit, _HitCertainty, _Hits, _HitsCertainty]:
     """As :func:`point_triangle_ccd`, for edges ``ea0, ea1, eb0, eb1``."""
 
