@@ -19,7 +19,8 @@ Contents:
   (``mode="earliest"``), with parents for a topology change and groups for the pair filter.
 - :class:`Report`: the pairs, their times and certainty codes, optional contact geometry,
   the earliest pair, the work counters and the time of each phase.
-- :func:`point_triangle_ccd`, :func:`edge_edge_ccd`: one pair of features, or a batch of
+- :func:`point_triangle_ccd`, :func:`edge_edge_ccd`, :func:`point_edge_ccd`,
+  :func:`point_point_ccd`: one pair of features, or a batch of
   pairs, in the IPC toolkit's shape.
 - :func:`collision_free_stepsize`, :func:`is_step_collision_free`: a line search's questions.
 - :func:`intersecting_triangles`: the triangles of one configuration that intersect.
@@ -46,6 +47,8 @@ from ._topoccd import (
     __version__,
     edge_edge_ccd,
     intersecting_triangles,
+    point_edge_ccd,
+    point_point_ccd,
     point_triangle_ccd,
     read_mesh,
     read_sequence,
@@ -63,6 +66,8 @@ __all__ = [
     "read_sequence",
     "point_triangle_ccd",
     "edge_edge_ccd",
+    "point_edge_ccd",
+    "point_point_ccd",
     "collision_free_stepsize",
     "is_step_collision_free",
     "intersecting_triangles",
@@ -94,6 +99,7 @@ def query(
     *,
     parents=None,
     groups=None,
+    edges=None,
     method: str = "auto",
     mode: str = "all",
     tolerance: float = 1e-6,
@@ -128,6 +134,7 @@ def query(
         triangles,
         parents=parents,
         groups=groups,
+        edges=edges,
         method=method,
         mode=mode,
         tolerance=tolerance,
