@@ -52,3 +52,14 @@ def test_query_with_free_edges_and_points():
     assert len(r.ve) == 0 and len(r.vv) == 0 and r.earliest is None
     with pytest.raises(topoccd.InputError, match="edge 0"):
         topoccd.query(x0, x1, triangles, edges=[[0, 9]])
+
+
+def test_docstring_examples():
+    import doctest
+
+    for obj in (topoccd.point_edge_ccd, topoccd.point_point_ccd):
+        runner = doctest.DocTestRunner()
+        for test in doctest.DocTestFinder(recurse=False).find(obj, globs={}):
+            runner.run(test)
+        assert runner.failures == 0 and runner.tries > 0, obj
+    assert "edges" in topoccd.Ccd.query.__doc__
