@@ -547,6 +547,12 @@ fn write_pairs_to(
             c.a[0], c.a[1], c.b[0], c.b[1], c.toi
         )?;
     }
+    for c in &report.ve {
+        writeln!(out, "ve,{},{},{},{}", c.vertex, c.edge[0], c.edge[1], c.toi)?;
+    }
+    for c in &report.vv {
+        writeln!(out, "vv,{},{},{}", c.a, c.b, c.toi)?;
+    }
     out.flush()
 }
 

@@ -62,6 +62,7 @@ struct Arrays<'a> {
     triangles: &'a [u32],
     parents: Option<&'a [[u32; 2]]>,
     groups: Option<&'a [u32]>,
+    edges: Option<&'a [[u32; 2]]>,
 }
 
 /// Builds the step: the input checked, and its warnings found (the GIL released).
@@ -73,6 +74,10 @@ fn build<'a>(a: &Arrays<'a>) -> Result<(Step<'a>, Vec<InputWarning>), Failure> {
     .map_err(Failure::Step)?;
     let step = match a.groups {
         Some(g) => step.with_groups(g).map_err(Failure::Step)?,
+        None => step,
+    };
+    let step = match a.edges {
+        Some(e) => step.with_edges(e).map_err(Failure::Step)?,
         None => step,
     };
     // The input as given: the positions at t=0 of the vertices that exist then (the new
@@ -226,6 +231,10 @@ impl Ccd {
     ///         (a cut or fracture duplicating vertices): ``n0 <= n``, a new vertex (index
     ///         ``>= n0``) starts at its parent's ``x0`` position (without a parent, it does not
     ///         move). A child and its parent count as one vertex for ``crack_filter``.
+    ///     edges: optional ``(E, 2)`` integer edges for codimensional geometry (rods, hair,
+    ///         yarn, particles): those in no triangle are free edges, and, once ``edges`` is
+    ///         given (even empty), vertices in no triangle and no edge are free points. The
+    ///         report's ``ve`` (point, edge) and ``vv`` (point, point) hold their extra pairs.
     ///     groups: optional ``(n,)`` integer group id per vertex. Two features are tested only
     ///         if some vertex of one and some vertex of the other are in different groups (the
     ///         ``can_collide`` rule of ipctk): give each rigid or non-self-colliding object one id.
@@ -300,7 +309,7 @@ impl Ccd {
     ///     TimeoutError: ``timeout`` passed before the query finished.
     ///     KeyboardInterrupt: Ctrl-C while the query ran.
     #[pyo3(signature = (
-        x0, x1, triangles, *, parents=None, groups=None, method="auto", mode="all",
+        x0, x1, triangles, *, parents=None, groups=None, edges=None, method="auto", mode="all",
         tolerance=1e-6, min_distance=0.0, tmax=1.0, max_iterations=1_000_000, k=18,
         growth=None, threads=None, geometry=false, crack_filter=true,
         max_contacts=Some(topoccd::DEFAULT_MAX_CONTACTS as i64), timeout=None, **deprecated
@@ -314,6 +323,7 @@ impl Ccd {
         triangles: &Bound<'_, PyAny>,
         parents: Option<&Bound<'_, PyAny>>,
         groups: Option<&Bound<'_, PyAny>>,
+        edges: Option<&Bound<'_, PyAny>>,
         method: &str,
         mode: &str,
         tolerance: f64,
@@ -367,7 +377,12 @@ impl Ccd {
             Some(g) => Some(indices(g, "groups", None)?),
             None => None,
         };
+        let edge_rows = match edges {
+            Some(e) => Some(rows::<2>(&indices(e, "edges", Some(2))?)),
+            None => None,
+        };
         let arrays = Arrays {
+            edges: edge_rows.as_deref(),
             x0: p0.as_flat()?,
             x1: p1.as_flat()?,
             triangles: &tris,

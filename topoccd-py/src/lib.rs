@@ -8,7 +8,8 @@
 //! - `report`: the library's report to numpy arrays.
 //! - `files`: mesh and sequence readers.
 //! - `check`: the static intersection check (`intersecting_triangles`).
-//! - `pair`: the per-pair tests (`point_triangle_ccd`, `edge_edge_ccd`).
+//! - `pair`: the per-pair tests (`point_triangle_ccd`, `edge_edge_ccd`, `point_edge_ccd`,
+//!   `point_point_ccd`).
 //! - `points`: numpy arrays of points in.
 //! - `errors`: the exceptions.
 //! - `deprecated`: the keyword names of earlier versions.
@@ -38,6 +39,8 @@ fn _topoccd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(files::read_sequence, m)?)?;
     m.add_function(wrap_pyfunction!(pair::point_triangle_ccd, m)?)?;
     m.add_function(wrap_pyfunction!(pair::edge_edge_ccd, m)?)?;
+    m.add_function(wrap_pyfunction!(pair::point_edge_ccd, m)?)?;
+    m.add_function(wrap_pyfunction!(pair::point_point_ccd, m)?)?;
     m.add_function(wrap_pyfunction!(check::intersecting_triangles, m)?)?;
     m.add("InputError", py.get_type::<errors::InputError>())?;
     m.add("OptionsError", py.get_type::<errors::OptionsError>())?;

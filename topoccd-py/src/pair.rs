@@ -1,5 +1,6 @@
-//! The per-pair tests in the IPC toolkit's shape: `point_triangle_ccd` and `edge_edge_ccd`, on
-//! one pair (eight points) or on a batch of pairs (two `(N, 4, 3)` arrays), the GIL released.
+//! The per-pair tests in the IPC toolkit's shape: `point_triangle_ccd`, `edge_edge_ccd`,
+//! `point_edge_ccd` and `point_point_ccd`, on one pair (eight, six or four points) or on a batch
+//! of pairs (two `(N, 4, 3)`, `(N, 3, 3)` or `(N, 2, 3)` arrays), the GIL released.
 //! A batch runs in chunks on a thread pool (`threads=`: pools kept per size), and between two
 //! chunks looks at the clock (`timeout=`) and at pending signals (Ctrl-C).
 
@@ -12,17 +13,22 @@ use pyo3::exceptions::{PyRuntimeError, PyTimeoutError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use rayon::prelude::*;
-use topoccd::pair::{edge_edge, vertex_face, EdgeEdge, Outcome, VertexFace};
+use topoccd::pair::{
+    edge_edge, vertex_edge, vertex_face, vertex_vertex, EdgeEdge, Outcome, VertexEdge, VertexFace,
+    VertexVertex,
+};
 use topoccd::{Certainty, NarrowOptions};
 
 use crate::errors::options_error;
 use crate::points::points;
 
-/// The two kinds of pair, with the names of their points (as the IPC toolkit names them).
+/// The kinds of pair, with the names of their points (as the IPC toolkit names them).
 #[derive(Clone, Copy)]
 enum Kind {
     PointTriangle,
     EdgeEdge,
+    PointEdge,
+    PointPoint,
 }
 
 impl Kind {
@@ -30,25 +36,48 @@ impl Kind {
         match self {
             Kind::PointTriangle => "point_triangle_ccd",
             Kind::EdgeEdge => "edge_edge_ccd",
+            Kind::PointEdge => "point_edge_ccd",
+            Kind::PointPoint => "point_point_ccd",
         }
     }
 
-    fn names(self) -> [&'static str; 8] {
+    fn names(self) -> &'static [&'static str] {
         match self {
-            Kind::PointTriangle => [
+            Kind::PointTriangle => &[
                 "p_t0", "t0_t0", "t1_t0", "t2_t0", "p_t1", "t0_t1", "t1_t1", "t2_t1",
             ],
-            Kind::EdgeEdge => [
+            Kind::EdgeEdge => &[
                 "ea0_t0", "ea1_t0", "eb0_t0", "eb1_t0", "ea0_t1", "ea1_t1", "eb0_t1", "eb1_t1",
             ],
+            Kind::PointEdge => &["p_t0", "e0_t0", "e1_t0", "p_t1", "e0_t1", "e1_t1"],
+            Kind::PointPoint => &["p0_t0", "p1_t0", "p0_t1", "p1_t1"],
         }
     }
 
-    /// One test on the eight points, in the order of [`Kind::names`].
-    fn test(self, p: [[f64; 3]; 8], options: &NarrowOptions) -> Outcome {
+    /// Points of one pair at one time.
+    fn half(self) -> usize {
+        self.names().len() / 2
+    }
+
+    /// One test on the points, in the order of [`Kind::names`].
+    fn test(self, p: &[[f64; 3]], options: &NarrowOptions) -> Outcome {
         let outcome = match self {
-            Kind::PointTriangle => vertex_face(&VertexFace::from_points(p), options),
-            Kind::EdgeEdge => edge_edge(&EdgeEdge::from_points(p), options),
+            Kind::PointTriangle => vertex_face(
+                &VertexFace::from_points(p.try_into().unwrap_or_default()),
+                options,
+            ),
+            Kind::EdgeEdge => edge_edge(
+                &EdgeEdge::from_points(p.try_into().unwrap_or_default()),
+                options,
+            ),
+            Kind::PointEdge => vertex_edge(
+                &VertexEdge::from_points(p.try_into().unwrap_or_default()),
+                options,
+            ),
+            Kind::PointPoint => vertex_vertex(
+                &VertexVertex::from_points(p.try_into().unwrap_or_default()),
+                options,
+            ),
         };
         // The options were validated once, before the first test.
         outcome.unwrap_or(Outcome::Separated)
@@ -146,7 +175,7 @@ impl Batch {
 /// chunks, so a timeout or a Ctrl-C is met within about this (plus the slowest pair).
 const CHUNK_TIME: Duration = Duration::from_millis(20);
 
-/// The tests of a batch, `a` and `b` holding 12 coordinates per pair, in order; in chunks sized
+/// The tests of a batch, `a` and `b` holding `3 * kind.half()` coordinates per pair, in order; in chunks sized
 /// to take about [`CHUNK_TIME`] each, with the signals and the deadline checked between them.
 fn batch(
     py: Python<'_>,
@@ -158,24 +187,26 @@ fn batch(
 ) -> PyResult<Vec<Outcome>> {
     let pool = limits.threads.map(pool).transpose()?;
     let deadline = limits.timeout.map(|t| started + Duration::from_secs_f64(t));
-    let n = a.len() / 12;
+    let half = kind.half();
+    let n = a.len() / (3 * half);
     let mut outcomes = Vec::with_capacity(n);
     let mut chunk = 256usize;
     while outcomes.len() < n {
         let (lo, hi) = (outcomes.len(), (outcomes.len() + chunk).min(n));
-        let (ca, cb) = (&a[12 * lo..12 * hi], &b[12 * lo..12 * hi]);
+        let w = 3 * half;
+        let (ca, cb) = (&a[w * lo..w * hi], &b[w * lo..w * hi]);
         let clock = Instant::now();
         let work = || -> Vec<Outcome> {
-            ca.par_chunks_exact(12)
-                .zip(cb.par_chunks_exact(12))
+            ca.par_chunks_exact(w)
+                .zip(cb.par_chunks_exact(w))
                 .with_min_len(64)
                 .map(|(a, b)| {
                     let mut p = [[0.0; 3]; 8];
-                    for k in 0..4 {
+                    for k in 0..half {
                         p[k].copy_from_slice(&a[3 * k..3 * k + 3]);
-                        p[k + 4].copy_from_slice(&b[3 * k..3 * k + 3]);
+                        p[k + half].copy_from_slice(&b[3 * k..3 * k + 3]);
                     }
-                    kind.test(p, options)
+                    kind.test(&p[..2 * half], options)
                 })
                 .collect()
         };
@@ -203,7 +234,7 @@ fn batch(
     Ok(outcomes)
 }
 
-/// Runs one kind of test on the arguments: eight points, or two `(N, 4, 3)` arrays.
+/// Runs one kind of test on the arguments: its points, or two `(N, k, 3)` arrays.
 fn run<'py>(
     py: Python<'py>,
     kind: Kind,
@@ -213,14 +244,15 @@ fn run<'py>(
     limits: Batch,
 ) -> PyResult<Bound<'py, PyTuple>> {
     let started = Instant::now();
+    let half = kind.half();
     match args.len() {
-        8 => {
+        n if n == 2 * half => {
             let mut p = [[0.0; 3]; 8];
-            for (k, name) in kind.names().into_iter().enumerate() {
+            for (k, name) in kind.names().iter().enumerate() {
                 let a = points(&args.get_item(k)?, name, "(3,)", |s| s == [3])?;
                 p[k].copy_from_slice(a.flat()?);
             }
-            let outcome = py.detach(|| kind.test(p, &options));
+            let outcome = py.detach(|| kind.test(&p[..2 * half], &options));
             let toi = outcome.toi().unwrap_or(f64::INFINITY);
             if certainty {
                 (outcome.is_contact(), toi, code(&outcome)).into_pyobject(py)
@@ -229,13 +261,15 @@ fn run<'py>(
             }
         }
         2 => {
-            let shape = "(N, 4, 3)";
-            let is_batch = |s: &[usize]| s.len() == 3 && s[1] == 4 && s[2] == 3;
+            let shape = format!("(N, {half}, 3)");
+            let shape = shape.as_str();
+            let is_batch = |s: &[usize]| s.len() == 3 && s[1] == half && s[2] == 3;
             let x_t0 = points(&args.get_item(0)?, "x_t0", shape, is_batch)?;
             let x_t1 = points(&args.get_item(1)?, "x_t1", shape, is_batch)?;
             if x_t0.shape()[0] != x_t1.shape()[0] {
                 return Err(crate::errors::input_error(format!(
-                    "x_t0 and x_t1 must have the same shape, got ({}, 4, 3) and ({}, 4, 3)",
+                    "x_t0 and x_t1 must have the same shape, got ({}, {half}, 3) and ({}, \
+                     {half}, 3)",
                     x_t0.shape()[0],
                     x_t1.shape()[0]
                 )));
@@ -260,9 +294,10 @@ fn run<'py>(
             }
         }
         n => Err(PyTypeError::new_err(format!(
-            "{}() takes eight points ({}) or two (N, 4, 3) arrays (x_t0, x_t1), got {n} \
+            "{}() takes {} points ({}) or two (N, {half}, 3) arrays (x_t0, x_t1), got {n} \
              positional arguments",
             kind.function(),
+            ["four", "six", "eight"][half - 2],
             kind.names().join(", ")
         ))),
     }
@@ -371,4 +406,77 @@ pub fn edge_edge_ccd<'py>(
     let options = options(min_distance, tmax, tolerance, max_iterations)?;
     let limits = Batch::new(threads, timeout)?;
     run(py, Kind::EdgeEdge, points, options, certainty, limits)
+}
+
+/// Continuous collision test of a point against an edge (its interior and ends), each moving
+/// linearly from its ``_t0`` to its ``_t1`` position, over ``[0, tmax]``; in the IPC toolkit's
+/// shape, for free points and edges (particles, rods, hair).
+///
+/// One pair: ``point_edge_ccd(p_t0, e0_t0, e1_t0, p_t1, e0_t1, e1_t1)`` gives ``(hit, toi)``.
+/// A batch: ``point_edge_ccd(x_t0, x_t1)``, two ``(N, 3, 3)`` arrays (the point, then the
+/// edge's ends), gives arrays of N. It is the edge-edge test with the point as an edge of
+/// length zero, with its guarantees. Keywords (``threads`` and ``timeout`` included), result and errors as
+/// :func:`point_triangle_ccd`.
+///
+/// Example: a point falls across an edge at t=0.5.
+///     >>> import topoccd
+///     >>> e = [[-1, 0, 0], [1, 0, 0]]
+///     >>> hit, toi = topoccd.point_edge_ccd([0.3, 0, 1], *e, [0.3, 0, -1], *e)
+///     >>> hit, round(toi, 4)
+///     (True, 0.5)
+#[pyfunction]
+#[pyo3(signature = (
+    *points, min_distance=0.0, tmax=1.0, tolerance=1e-6, max_iterations=1_000_000,
+    certainty=false, threads=None, timeout=None
+))]
+#[allow(clippy::too_many_arguments)]
+pub fn point_edge_ccd<'py>(
+    py: Python<'py>,
+    points: &Bound<'py, PyTuple>,
+    min_distance: f64,
+    tmax: f64,
+    tolerance: f64,
+    max_iterations: i64,
+    certainty: bool,
+    threads: Option<i64>,
+    timeout: Option<f64>,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let options = options(min_distance, tmax, tolerance, max_iterations)?;
+    let limits = Batch::new(threads, timeout)?;
+    run(py, Kind::PointEdge, points, options, certainty, limits)
+}
+
+/// Continuous collision test of two points, each moving linearly from its ``_t0`` to its
+/// ``_t1`` position, over ``[0, tmax]``; in the IPC toolkit's shape, for free points
+/// (particles). They touch only within ``min_distance``, or where their paths cross.
+///
+/// One pair: ``point_point_ccd(p0_t0, p1_t0, p0_t1, p1_t1)`` gives ``(hit, toi)``. A batch:
+/// ``point_point_ccd(x_t0, x_t1)``, two ``(N, 2, 3)`` arrays. Keywords, result and errors as
+/// :func:`point_triangle_ccd`.
+///
+/// Example: two particles meet head on at t=0.25.
+///     >>> import topoccd
+///     >>> hit, toi = topoccd.point_point_ccd([-1, 0, 0], [1, 0, 0], [3, 0, 0], [-3, 0, 0])
+///     >>> hit, round(toi, 4)
+///     (True, 0.25)
+#[pyfunction]
+#[pyo3(signature = (
+    *points, min_distance=0.0, tmax=1.0, tolerance=1e-6, max_iterations=1_000_000,
+    certainty=false, threads=None, timeout=None
+))]
+#[allow(clippy::too_many_arguments)]
+pub fn point_point_ccd<'py>(
+    py: Python<'py>,
+    points: &Bound<'py, PyTuple>,
+    min_distance: f64,
+    tmax: f64,
+    tolerance: f64,
+    max_iterations: i64,
+    certainty: bool,
+    threads: Option<i64>,
+    timeout: Option<f64>,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let options = options(min_distance, tmax, tolerance, max_iterations)?;
+    let limits = Batch::new(threads, timeout)?;
+    run(py, Kind::PointPoint, points, options, certainty, limits)
 }

@@ -72,6 +72,14 @@ pub struct Report {
     #[pyo3(get)]
     ee_certainty: Py<PyArray1<u8>>,
     #[pyo3(get)]
+    ve: Py<PyArray2<i64>>,
+    #[pyo3(get)]
+    ve_toi: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    vv: Py<PyArray2<i64>>,
+    #[pyo3(get)]
+    vv_toi: Py<PyArray1<f64>>,
+    #[pyo3(get)]
     vf_barycentric: Option<Py<PyArray2<f64>>>,
     #[pyo3(get)]
     vf_point: Option<Py<PyArray2<f64>>>,
@@ -167,7 +175,17 @@ impl Report {
             ee_cert.push(certainty_code(c.certainty));
             ee_rows.push((c.a, c.b, c.toi));
         }
+        let ve: Vec<i64> = (r.ve.iter())
+            .flat_map(|c| [c.vertex, c.edge[0], c.edge[1]].map(i64::from))
+            .collect();
+        let vv: Vec<i64> = (r.vv.iter())
+            .flat_map(|c| [c.a, c.b].map(i64::from))
+            .collect();
         let mut report = Report {
+            ve: array2(py, r.ve.len(), 3, ve)?,
+            ve_toi: array1(py, r.ve.iter().map(|c| c.toi).collect()),
+            vv: array2(py, r.vv.len(), 2, vv)?,
+            vv_toi: array1(py, r.vv.iter().map(|c| c.toi).collect()),
             vf: array2(py, n, 2, vf)?,
             vf_toi: array1(py, vf_toi),
             vf_certainty: array1(py, vf_cert),

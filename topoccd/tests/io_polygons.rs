@@ -196,7 +196,7 @@ fn obj_line_and_point_statements_are_read_or_skipped_and_counted() {
     );
     assert_eq!(
         mesh.notes[0].to_string(),
-        "3 'l' statement(s) skipped (they carry no triangles; the first is on line 4)"
+        "2 'p' statement(s) skipped (they carry no triangles; the first is on line 6)"
     );
 }
 

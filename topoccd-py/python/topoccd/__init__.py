@@ -19,7 +19,8 @@ Contents:
   (``mode="earliest"``), with parents for a topology change and groups for the pair filter.
 - :class:`Report`: the pairs, their times and certainty codes, optional contact geometry,
   the earliest pair, the work counters and the time of each phase.
-- :func:`point_triangle_ccd`, :func:`edge_edge_ccd`: one pair of features, or a batch of
+- :func:`point_triangle_ccd`, :func:`edge_edge_ccd`, :func:`point_edge_ccd`,
+  :func:`point_point_ccd`: one pair of features, or a batch of
   pairs, in the IPC toolkit's shape.
 - :func:`collision_free_stepsize`, :func:`is_step_collision_free`: a line search's questions.
 - :func:`intersecting_triangles`: the triangles of one configuration that intersect.
@@ -47,6 +48,8 @@ from ._topoccd import (
     __version__,
     edge_edge_ccd,
     intersecting_triangles,
+    point_edge_ccd,
+    point_point_ccd,
     point_triangle_ccd,
     read_mesh,
     read_sequence,
@@ -64,6 +67,8 @@ __all__ = [
     "read_sequence",
     "point_triangle_ccd",
     "edge_edge_ccd",
+    "point_edge_ccd",
+    "point_point_ccd",
     "collision_free_stepsize",
     "is_step_collision_free",
     "Earliest",
@@ -97,6 +102,7 @@ def query(
     *,
     parents=None,
     groups=None,
+    edges=None,
     method: str = "auto",
     mode: str = "all",
     tolerance: float = 1e-6,
@@ -132,6 +138,7 @@ def query(
         triangles,
         parents=parents,
         groups=groups,
+        edges=edges,
         method=method,
         mode=mode,
         tolerance=tolerance,

@@ -14,6 +14,8 @@ __all__ = [
     "read_sequence",
     "point_triangle_ccd",
     "edge_edge_ccd",
+    "point_edge_ccd",
+    "point_point_ccd",
     "intersecting_triangles",
     "InputError",
     "InputWarning",
@@ -66,6 +68,13 @@ class Report:
     """``(M, 4)`` colliding edge-edge pairs ``(a0, a1, b0, b1)``, sorted."""
     ee_toi: npt.NDArray[np.float64]
     ee_certainty: npt.NDArray[np.uint8]
+    ve: npt.NDArray[np.int64]
+    """``(K, 3)`` colliding vertex-edge pairs ``(vertex, e0, e1)`` of free points and free
+    edges (with ``edges=``), sorted."""
+    ve_toi: npt.NDArray[np.float64]
+    vv: npt.NDArray[np.int64]
+    """``(L, 2)`` colliding pairs of free points ``(a, b)``, ``a < b``, sorted."""
+    vv_toi: npt.NDArray[np.float64]
     vf_barycentric: Optional[npt.NDArray[np.float64]]
     """``(N, 3)`` with ``geometry=True``, else ``None``."""
     vf_point: Optional[npt.NDArray[np.float64]]
@@ -105,6 +114,7 @@ class Ccd:
         *,
         parents: Optional[npt.ArrayLike] = None,
         groups: Optional[npt.ArrayLike] = None,
+        edges: Optional[npt.ArrayLike] = None,
         method: _Method = "auto",
         mode: _Mode = "all",
         tolerance: float = 1e-6,
@@ -170,6 +180,28 @@ def edge_edge_ccd(
     timeout: Optional[float] = None,
 ) -> Union[_Hit, _HitCertainty, _Hits, _HitsCertainty]:
     """As :func:`point_triangle_ccd`, for edges ``ea0, ea1, eb0, eb1``."""
+
+def point_edge_ccd(
+    *points: _Points,
+    min_distance: float = 0.0,
+    tmax: float = 1.0,
+    tolerance: float = 1e-6,
+    max_iterations: int = 1_000_000,
+    certainty: bool = False,
+) -> Union[_Hit, _HitCertainty, _Hits, _HitsCertainty]:
+    """As :func:`point_triangle_ccd`, for a point and an edge ``p, e0, e1`` (six points, or two
+    ``(N, 3, 3)`` arrays)."""
+
+def point_point_ccd(
+    *points: _Points,
+    min_distance: float = 0.0,
+    tmax: float = 1.0,
+    tolerance: float = 1e-6,
+    max_iterations: int = 1_000_000,
+    certainty: bool = False,
+) -> Union[_Hit, _HitCertainty, _Hits, _HitsCertainty]:
+    """As :func:`point_triangle_ccd`, for two points ``p0, p1`` (four points, or two
+    ``(N, 2, 3)`` arrays)."""
 
 def intersecting_triangles(
     x: npt.ArrayLike, triangles: npt.ArrayLike, *, parents: Optional[npt.ArrayLike] = None

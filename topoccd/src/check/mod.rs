@@ -32,8 +32,8 @@ pub use limits::{CheckError, CheckLimits};
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use crate::mesh::{Frame, Positions, Step, StepError, Triangles};
 use crate::contact::limits::Limits;
+use crate::mesh::{Frame, Positions, Step, StepError, Triangles};
 use crate::query::StopReason;
 
 /// The pairs `[a, b]` (`a < b`, sorted) of triangles of one configuration that share no vertex

@@ -1,5 +1,5 @@
 //! The narrow phase's driver, below the broad phases: the broad phase hands buffers of
-//! candidate pairs down ([`Candidates`]), the driver solves them with the elementary tests of
+//! candidate pairs down (`Candidates`), the driver solves them with the elementary tests of
 //! [`narrow`](crate::narrow) into contacts, under the query's options and limits; `query`
 //! orchestrates from above.
 //!

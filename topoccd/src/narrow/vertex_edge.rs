@@ -64,7 +64,7 @@ impl VertexEdge {
 }
 
 /// Continuous collision test of a vertex against an edge (its interior and end points) over
-/// `[0, options.tmax]`, with the guarantees of [`edge_edge`](super::edge_edge) (see the
+/// `[0, options.tmax]`, with the guarantees of the edge-edge test (see the
 /// module's documentation).
 ///
 /// ```

@@ -3,7 +3,7 @@
 //!
 //! The solver's function is then `F(t, u, v) = P(t)`, the difference of the two points (the
 //! edge-edge form with `A = B = 0`): multilinear, so the [solver](super::solver)'s arguments
-//! hold as they stand (see [`vertex_edge`](super::vertex_edge) for why the vanishing normal
+//! hold as they stand (see `vertex_edge` for why the vanishing normal
 //! and coplanarity cubic exclude nothing wrongly). The closest points' direction is `P` at
 //! the box's mid time, the exact one, so the bound on how early a time of impact can be is the
 //! edge-edge one: the points come within `min_distance + sqrt(3) / 2 tolerance S_t +
@@ -54,7 +54,7 @@ impl VertexVertex {
 }
 
 /// Continuous collision test of two vertices over `[0, options.tmax]`, with the guarantees
-/// of [`edge_edge`](super::edge_edge).
+/// of the edge-edge test.
 ///
 /// ```
 /// use topoccd::math::DVec3;

@@ -1,0 +1,65 @@
+"""Codimensional geometry from Python: free edges (``edges=``) and free points in a query,
+with the report's ``ve`` and ``vv`` arrays, and the per-pair ``point_edge_ccd`` and
+``point_point_ccd`` on analytic cases with known times."""
+
+import numpy as np
+import pytest
+
+import topoccd
+
+
+def test_point_edge_and_point_point_known_times():
+    e = [[-1.0, 0, 0], [1.0, 0, 0]]
+    hit, toi = topoccd.point_edge_ccd([0.3, 0, 1], *e, [0.3, 0, -1], *e)
+    assert hit and 0.5 - 1e-6 <= toi <= 0.5
+    hit, toi = topoccd.point_edge_ccd([1.2, 0, 1], *e, [1.2, 0, -1], *e)
+    assert not hit and toi == np.inf
+    hit, toi = topoccd.point_point_ccd([-1, 0, 0], [1, 0, 0], [3, 0, 0], [-3, 0, 0])
+    assert hit and 0.25 - 1e-6 <= toi <= 0.25
+    # With min_distance d the head-on pair touches at (2 - d) / 8.
+    hit, toi = topoccd.point_point_ccd([-1, 0, 0], [1, 0, 0], [3, 0, 0], [-3, 0, 0], min_distance=0.4)
+    assert hit and 0.2 - 1e-6 <= toi <= 0.2
+
+
+def test_batches_match_single_pairs():
+    rng = np.random.default_rng(3)
+    x_t0 = rng.uniform(-1, 1, (64, 3, 3))
+    x_t1 = rng.uniform(-1, 1, (64, 3, 3))
+    hit, toi = topoccd.point_edge_ccd(x_t0, x_t1, min_distance=0.2)
+    for i in range(64):
+        h, t = topoccd.point_edge_ccd(*x_t0[i], *x_t1[i], min_distance=0.2)
+        assert (h, t) == (hit[i], toi[i])
+    pp_hit, pp_toi = topoccd.point_point_ccd(x_t0[:, :2], x_t1[:, :2], min_distance=0.3)
+    assert pp_hit.shape == (64,)
+    with pytest.raises(topoccd.InputError):
+        topoccd.point_point_ccd(x_t0, x_t1)  # (N, 3, 3) is not (N, 2, 3)
+
+
+def test_query_with_free_edges_and_points():
+    # A rod (free edge 0-1) and two particles: 2 falls onto the rod at t=0.25, 3 at t=0.75;
+    # the particles meet each other at t = 4.75 / (17 / 3).
+    x0 = np.array([[-1, 0, 0], [1, 0, 0], [0.5, 0, 0.25], [0.5, 0, 5.0]])
+    x1 = np.array([[-1, 0, 0], [1, 0, 0], [0.5, 0, -0.75], [0.5, 0, -5 / 3]])
+    triangles = np.zeros((0, 3), dtype=np.int64)
+    r = topoccd.query(x0, x1, triangles, edges=[[0, 1]])
+    assert r.ve.tolist() == [[2, 0, 1], [3, 0, 1]]
+    assert r.ve_toi[0] <= 0.25 and r.ve_toi[0] > 0.25 - 1e-6
+    assert r.vv.tolist() == [[2, 3]]
+    assert r.vv_toi[0] <= 4.75 / (17 / 3)
+    assert r.earliest[0] == "ve"
+    # Without edges= the free vertices are ignored, as before.
+    r = topoccd.query(x0, x1, triangles)
+    assert len(r.ve) == 0 and len(r.vv) == 0 and r.earliest is None
+    with pytest.raises(topoccd.InputError, match="edge 0"):
+        topoccd.query(x0, x1, triangles, edges=[[0, 9]])
+
+
+def test_docstring_examples():
+    import doctest
+
+    for obj in (topoccd.point_edge_ccd, topoccd.point_point_ccd):
+        runner = doctest.DocTestRunner()
+        for test in doctest.DocTestFinder(recurse=False).find(obj, globs={}):
+            runner.run(test)
+        assert runner.failures == 0 and runner.tries > 0, obj
+    assert "edges" in topoccd.Ccd.query.__doc__
