@@ -20,9 +20,11 @@ __all__ = [
     "OptionsError",
     "FormatError",
     "__version__",
+    "DEFAULT_MAX_CONTACTS",
 ]
 
 __version__: str
+DEFAULT_MAX_CONTACTS: int
 
 _Path = Union[str, "os.PathLike[str]"]
 _Method = Literal["bvh", "cluster", "brute", "auto"]
@@ -77,6 +79,8 @@ class Report:
     earliest_toi: Optional[float]
     earliest: Optional[_Earliest]
     unresolved: int
+    earliest_complete: bool
+    """Whether every pair within ``tolerance`` of the earliest time is listed."""
     truncated: Optional[dict]
     """``None``, or ``{"reason": "max_contacts", "phase": ..., "tasks": ...}`` when the report
     holds only the first ``max_contacts`` contacts."""
@@ -116,7 +120,7 @@ class Ccd:
         threads: Optional[int] = None,
         geometry: bool = False,
         crack_filter: bool = True,
-        max_contacts: Optional[int] = None,
+        max_contacts: Optional[int] = 1_000_000,
         timeout: Optional[float] = None,
     ) -> Report:
         """Every contact of one step (or the earliest); see ``help(topoccd.Ccd.query)``."""
@@ -166,6 +170,11 @@ def edge_edge_ccd(
     """As :func:`point_triangle_ccd`, for edges ``ea0, ea1, eb0, eb1``."""
 
 def intersecting_triangles(
-    x: npt.ArrayLike, triangles: npt.ArrayLike, *, parents: Optional[npt.ArrayLike] = None
+    x: npt.ArrayLike,
+    triangles: npt.ArrayLike,
+    *,
+    parents: Optional[npt.ArrayLike] = None,
+    max_contacts: Optional[int] = 1_000_000,
+    timeout: Optional[float] = None,
 ) -> npt.NDArray[np.int64]:
     """``(K, 2)`` pairs of triangles (sharing no vertex) that intersect or touch."""
