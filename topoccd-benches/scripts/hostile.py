@@ -20,6 +20,17 @@ Cases:
   ctrl-c        no cap, SIGINT sent 2 s into the query (KeyboardInterrupt expected)
   warning       the delay from the call to the coincident-vertices warning (before the query)
 
+Issue 43's cases (every entry point with its defaults, and each timeout):
+  default-all       topoccd.query with the defaults (max_contacts=DEFAULT_MAX_CONTACTS)
+  default-earliest  mode="earliest" with the defaults
+  line-search       Ccd.query(mode="earliest", max_contacts=1): what the Rust line-search
+                    helpers run (the Python helpers after issue 43's merge note)
+  stepsize          topoccd.collision_free_stepsize with its defaults
+  free              topoccd.is_step_collision_free with its defaults
+  check             topoccd.intersecting_triangles(x0, tris) with its defaults (RuntimeError)
+  earliest-timeout  mode="earliest", max_contacts=None, timeout=1.0 (TimeoutError)
+  check-timeout     intersecting_triangles(max_contacts=None, timeout=1.0) (TimeoutError)
+
 Needs the topoccd Python package (pip install ./topoccd-py) and numpy.
 
 Example:
@@ -60,18 +71,34 @@ else:
         "all-1M": dict(max_contacts=1_000_000),
         "earliest-1M": dict(mode="earliest", max_contacts=1_000_000),
         "earliest-10": dict(mode="earliest", max_contacts=10),
-        "timeout-1s": dict(timeout=1.0),
-        "ctrl-c": dict(),
-    }[case]
+        "timeout-1s": dict(max_contacts=None, timeout=1.0),
+        "ctrl-c": dict(max_contacts=None),
+        "default-all": dict(),
+        "default-earliest": dict(mode="earliest"),
+        "line-search": dict(mode="earliest", max_contacts=1),
+        "earliest-timeout": dict(mode="earliest", max_contacts=None, timeout=1.0),
+    }.get(case, {})
     print("ready", flush=True)
     start = time.perf_counter()
     try:
-        r = topoccd.query(x0, x1, tris, threads=threads, **kwargs)
+        if case == "stepsize":
+            a = topoccd.collision_free_stepsize(x0, x1, tris, threads=threads)
+            out["result"] = f"alpha {a}"
+        elif case == "free":
+            out["result"] = f"free {topoccd.is_step_collision_free(x0, x1, tris, threads=threads)}"
+        elif case in ("check", "check-timeout"):
+            kw = dict(max_contacts=None, timeout=1.0) if case == "check-timeout" else {}
+            out["result"] = f"{len(topoccd.intersecting_triangles(x0, tris, **kw))} pairs"
+        else:
+            r = topoccd.query(x0, x1, tris, threads=threads, **kwargs)
+            out["result"] = (
+                f"{len(r)} contacts, earliest {r.earliest_toi}, truncated {r.truncated}, "
+                f"complete {r.earliest_complete}"
+            )
         out["seconds"] = time.perf_counter() - start
-        out["result"] = f"{len(r)} contacts, earliest {r.earliest_toi}, truncated {r.truncated}"
-    except TimeoutError as e:
+    except (TimeoutError, RuntimeError) as e:
         out["seconds"] = time.perf_counter() - start
-        out["result"] = "TimeoutError"
+        out["result"] = type(e).__name__
     except KeyboardInterrupt:
         out["interrupted_at"] = time.monotonic()
         out["result"] = "KeyboardInterrupt"

@@ -12,6 +12,7 @@ import sys
 import textwrap
 
 import pytest
+import topoccd
 
 #: The address-space limit of each subprocess (the issue's failures: an out-of-memory kill at
 #: 23.5 GB, and an abort on a failed allocation under 3 GB).
@@ -89,7 +90,7 @@ def test_collapsed_step_answers_with_the_defaults(frames):
         out = run(frames, f"collapsed-{mode}")
         assert "error" not in out, out
         assert out["earliest"] == 0.0, out
-        assert out["n"] == 1_000_000, out
+        assert out["n"] == topoccd.DEFAULT_MAX_CONTACTS, out
         assert out["truncated"]["reason"] == "max_contacts", out
         assert out["complete"] is False, out
 
@@ -97,7 +98,7 @@ def test_collapsed_step_answers_with_the_defaults(frames):
 def test_collapsed_static_check_stops_at_its_cap(frames):
     out = run(frames, "collapsed-check")
     assert out.get("error") == "RuntimeError", out
-    assert "more than 1000000 pairs" in out["message"], out
+    assert f"more than {topoccd.DEFAULT_MAX_CONTACTS} pairs" in out["message"], out
 
 
 def test_collapsed_step_without_a_cap_ends_on_its_timeout(frames):

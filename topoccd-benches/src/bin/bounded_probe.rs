@@ -89,8 +89,18 @@ fn main() {
             }
             "check" => {
                 let step = Step::new(&x0, &x0, &tris).expect("a valid step");
-                let r = topoccd::check::step_intersections(&step, topoccd::Frame::Start);
-                format!("{} intersections", r.len())
+                let limits = topoccd::check::CheckLimits {
+                    deadline: deadline(),
+                    ..Default::default()
+                };
+                match topoccd::check::step_intersections_within(
+                    &step,
+                    topoccd::Frame::Start,
+                    &limits,
+                ) {
+                    Ok(r) => format!("{} intersections", r.len()),
+                    Err(e) => format!("error: {e}"),
+                }
             }
             other => {
                 eprintln!("unknown case {other:?}");

@@ -4,6 +4,7 @@
 //!
 //! Usage: `seq_probe DIR [bvh|cluster|brute|auto] [all|earliest] [REPS] [THREADS] [STEPS]`.
 //! Each repetition starts from a new `Ccd`, so step 0 always starts from nothing.
+//! `SEQ_PROBE_MAX_CONTACTS=N` (or `off`) sets `QueryOptions::max_contacts`.
 
 use std::path::Path;
 use std::time::Instant;
@@ -40,8 +41,16 @@ fn main() {
         .num_threads(threads)
         .build_global()
         .expect("a thread pool");
+    // `SEQ_PROBE_MAX_CONTACTS=N` (or `off`) sets the cap; e.g. 1 with `earliest` is the
+    // query the line-search helpers run.
+    let max_contacts = match std::env::var("SEQ_PROBE_MAX_CONTACTS").ok().as_deref() {
+        None => QueryOptions::default().max_contacts,
+        Some("off") => None,
+        Some(n) => Some(n.parse().unwrap_or_else(|_| fail(format!("bad cap {n:?}")))),
+    };
     let options = QueryOptions {
         mode,
+        max_contacts,
         ..QueryOptions::default()
     };
     for rep in 0..reps {

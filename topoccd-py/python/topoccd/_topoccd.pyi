@@ -22,9 +22,11 @@ __all__ = [
     "OptionsError",
     "FormatError",
     "__version__",
+    "DEFAULT_MAX_CONTACTS",
 ]
 
 __version__: str
+DEFAULT_MAX_CONTACTS: int
 
 _Path = Union[str, "os.PathLike[str]"]
 _Method = Literal["bvh", "cluster", "brute", "auto"]
@@ -86,6 +88,8 @@ class Report:
     earliest_toi: Optional[float]
     earliest: Optional[_Earliest]
     unresolved: int
+    earliest_complete: bool
+    """Whether every pair within ``tolerance`` of the earliest time is listed."""
     truncated: Optional[dict]
     """``None``, or ``{"reason": "max_contacts", "phase": ..., "tasks": ...}`` when the report
     holds only the first ``max_contacts`` contacts."""
@@ -126,7 +130,7 @@ class Ccd:
         threads: Optional[int] = None,
         geometry: bool = False,
         crack_filter: bool = True,
-        max_contacts: Optional[int] = None,
+        max_contacts: Optional[int] = 1_000_000,
         timeout: Optional[float] = None,
     ) -> Report:
         """Every contact of one step (or the earliest); see ``help(topoccd.Ccd.query)``."""
@@ -204,6 +208,11 @@ def point_point_ccd(
     ``(N, 2, 3)`` arrays)."""
 
 def intersecting_triangles(
-    x: npt.ArrayLike, triangles: npt.ArrayLike, *, parents: Optional[npt.ArrayLike] = None
+    x: npt.ArrayLike,
+    triangles: npt.ArrayLike,
+    *,
+    parents: Optional[npt.ArrayLike] = None,
+    max_contacts: Optional[int] = 1_000_000,
+    timeout: Optional[float] = None,
 ) -> npt.NDArray[np.int64]:
     """``(K, 2)`` pairs of triangles (sharing no vertex) that intersect or touch."""
