@@ -107,7 +107,8 @@ pub struct topoccd_query_options {
     pub _padding: [u8; 6],
     /// Most contacts the report keeps; 0 for no cap. A query that has more stops, and its
     /// report's `truncated` says so; the contacts kept are the first of a fixed order, the same
-    /// for any thread count. In `TOPOCCD_MODE_EARLIEST` the earliest time stays exact. Default 0.
+    /// for any thread count. In `TOPOCCD_MODE_EARLIEST` the earliest time stays exact. Default
+    /// 1,000,000 (the Rust and Python default), so that memory stays bounded.
     pub max_contacts: u64,
     /// Seconds a query may run; 0 for no limit. A query past it stops within a millisecond of
     /// work per thread; its report holds the earliest contact found by then and `truncated` is
@@ -154,7 +155,7 @@ impl Default for topoccd_query_options {
             geometry: query.geometry,
             crack_filter: query.crack_filter,
             _padding: [0; 6],
-            max_contacts: 0,
+            max_contacts: query.max_contacts.map_or(0, |n| n as u64),
             timeout: 0.0,
         }
     }

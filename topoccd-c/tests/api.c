@@ -171,7 +171,7 @@ static void test_falling_triangle(void) {
      * stopped; without the cap (or a cap the step does not reach) it is complete. */
     CHECK(report_of(ccd)->truncated == TOPOCCD_STOP_REASON_NONE, "a complete report");
     topoccd_query_options_default(&o);
-    CHECK(o.max_contacts == 0 && o.timeout == 0, "no cap, no timeout by default");
+    CHECK(o.max_contacts == 1000000 && o.timeout == 0, "a million contacts, no timeout by default");
     o.max_contacts = 2;
     CHECK_STATUS(topoccd_ccd_query(ccd, &s, &o), TOPOCCD_STATUS_OK, "max_contacts");
     r = report_of(ccd);

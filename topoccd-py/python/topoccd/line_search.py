@@ -89,6 +89,12 @@ def _earliest_query(x0, x1, triangles, ccd, check_start, parents, **options):
     return ccd.query(x0, x1, triangles, mode="earliest", parents=parents, **options)
 
 
+def _at_zero(report) -> bool:
+    """Whether the query stopped on its cap: in ``mode="earliest"`` it does so only once it
+    knows the earliest time is 0 (its kept pairs may then lie within the tolerance of 0)."""
+    return report.truncated is not None and report.truncated["reason"] == "max_contacts"
+
+
 def collision_free_stepsize(
     x0,
     x1,
@@ -104,7 +110,7 @@ def collision_free_stepsize(
     tmax: float = 1.0,
     max_iterations: int = 1_000_000,
     threads: Optional[int] = None,
-    max_contacts: Optional[int] = None,
+    max_contacts: Optional[int] = 1,
     timeout: Optional[float] = None,
     check_start: bool = False,
     return_earliest: bool = False,
@@ -124,9 +130,12 @@ def collision_free_stepsize(
 
     Args:
         x0, x1, triangles, parents, groups, method, tolerance, tmax, max_iterations,
-            threads, max_contacts, timeout: as in :meth:`topoccd.Ccd.query`. ``max_contacts``
-            keeps the earliest time exact; ``timeout`` raises ``TimeoutError`` (no step size
-            is safe from a query cut short).
+            threads, timeout: as in :meth:`topoccd.Ccd.query`. ``timeout`` raises
+            ``TimeoutError`` (no step size is safe from a query cut short).
+        max_contacts: the pairs the query keeps at its earliest time. Default 1: only the
+            earliest contact matters, and the query stops as soon as it proves one at time 0
+            (the answer is then 0), so a collapsed step answers at once. The earliest time
+            stays exact for any cap.
         min_distance: the minimum separation, in coordinate units, >= 0.
         conservative_rescaling: the fraction of the earliest time returned, in (0, 1]. Default 0.8, the
             IPC toolkit's conservative rescaling: the step stops short of the contact.
@@ -185,7 +194,9 @@ def collision_free_stepsize(
         max_contacts=max_contacts,
         timeout=timeout,
     )
-    if report.earliest_toi is None:
+    if _at_zero(report):
+        alpha = 0.0
+    elif report.earliest_toi is None:
         alpha = float(tmax)
     else:
         alpha = conservative_rescaling * report.earliest_toi
@@ -208,7 +219,7 @@ def is_step_collision_free(
     tmax: float = 1.0,
     max_iterations: int = 1_000_000,
     threads: Optional[int] = None,
-    max_contacts: Optional[int] = None,
+    max_contacts: Optional[int] = 1,
     timeout: Optional[float] = None,
     check_start: bool = False,
     **deprecated,
@@ -249,4 +260,4 @@ def is_step_collision_free(
         max_contacts=max_contacts,
         timeout=timeout,
     )
-    return report.earliest_toi is None
+    return report.earliest_toi is None and not _at_zero(report)
