@@ -53,6 +53,8 @@ macro_rules! internal {
 
 internal!(broad, bvh, kdop, math, mesh, narrow, query);
 
+pub mod distance;
+
 pub mod check;
 pub mod io;
 pub mod line_search;
