@@ -54,6 +54,7 @@ macro_rules! internal {
 internal!(broad, bvh, kdop, math, mesh, narrow, query);
 
 pub mod distance;
+mod proximity;
 
 pub mod check;
 pub mod io;
@@ -63,6 +64,10 @@ pub mod pair;
 pub use kdop::DopKind;
 pub use mesh::{CanCollide, Frame, Positions, Step, StepError, Triangles};
 pub use narrow::NarrowOptions;
+pub use proximity::{
+    proximity, Configuration, EeProximity, ProximityError, ProximityMethod, ProximityOptions,
+    ProximityReport, ProximityStats, VeProximity, VfProximity, VvProximity,
+};
 pub use query::{
     query, Ccd, Certainty, ClusterFigures, ClusterGrowth, Contact, EeContact, EeGeometry, Method,
     Mode, OptionsError, QueryOptions, Report, Seconds, Stats, VfContact, VfGeometry,

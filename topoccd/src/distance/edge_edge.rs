@@ -72,12 +72,7 @@ impl EdgeEdgeType {
 /// let (d, ty) = edge_edge_distance(p(0.0, 0.0, 0.0), p(2.0, 0.0, 0.0), p(1.0, 3.0, 0.0), p(4.0, 3.0, 0.0));
 /// assert_eq!((d, ty), (9.0, EdgeEdgeType::Ea1Eb));
 /// ```
-pub fn edge_edge_distance(
-    ea0: DVec3,
-    ea1: DVec3,
-    eb0: DVec3,
-    eb1: DVec3,
-) -> (f64, EdgeEdgeType) {
+pub fn edge_edge_distance(ea0: DVec3, ea1: DVec3, eb0: DVec3, eb1: DVec3) -> (f64, EdgeEdgeType) {
     use EdgeEdgeType::*;
     let u = ea1 - ea0;
     let (b0, b1) = (eb0 - ea0, eb1 - ea0);
@@ -89,8 +84,7 @@ pub fn edge_edge_distance(
         }
     };
     // Endpoints of a against segment b, then endpoints of b against segment a.
-    let pick = |k: PointEdgeType, e0: EdgeEdgeType, e1: EdgeEdgeType, inner: EdgeEdgeType| match k
-    {
+    let pick = |k: PointEdgeType, e0: EdgeEdgeType, e1: EdgeEdgeType, inner: EdgeEdgeType| match k {
         PointEdgeType::E0 => e0,
         PointEdgeType::E1 => e1,
         PointEdgeType::Interior => inner,

@@ -49,18 +49,26 @@ pub fn point_triangle_distance(
     let c = [t0 - p, t1 - p, t2 - p];
     let mut best = (f64::INFINITY, PointTriangleType::T0);
     // Vertices first, so that ties go to them.
-    for (k, ty) in [PointTriangleType::T0, PointTriangleType::T1, PointTriangleType::T2]
-        .into_iter()
-        .enumerate()
+    for (k, ty) in [
+        PointTriangleType::T0,
+        PointTriangleType::T1,
+        PointTriangleType::T2,
+    ]
+    .into_iter()
+    .enumerate()
     {
         let d = c[k].length_squared();
         if d < best.0 {
             best = (d, ty);
         }
     }
-    for (k, ty) in [PointTriangleType::E0, PointTriangleType::E1, PointTriangleType::E2]
-        .into_iter()
-        .enumerate()
+    for (k, ty) in [
+        PointTriangleType::E0,
+        PointTriangleType::E1,
+        PointTriangleType::E2,
+    ]
+    .into_iter()
+    .enumerate()
     {
         let (a, b) = (c[k], c[(k + 1) % 3]);
         // The point (origin) against the segment a b.

@@ -48,7 +48,11 @@ fn point(rng: &mut ChaCha8Rng) -> DVec3 {
 
 #[test]
 fn analytic_point_triangle_types() {
-    let t = [DVec3::ZERO, DVec3::new(2.0, 0.0, 0.0), DVec3::new(0.0, 2.0, 0.0)];
+    let t = [
+        DVec3::ZERO,
+        DVec3::new(2.0, 0.0, 0.0),
+        DVec3::new(0.0, 2.0, 0.0),
+    ];
     let d = |p: [f64; 3]| point_triangle_distance(DVec3::from(p), t[0], t[1], t[2]);
     use PointTriangleType::*;
     assert_eq!(d([0.5, 0.5, -3.0]), (9.0, Interior));
@@ -87,7 +91,10 @@ fn analytic_edge_edge_types() {
     // Crossing: 0.
     assert_eq!(d(a, [p(0.5, -1.0, 0.0), p(0.5, 1.0, 0.0)]).0, 0.0);
     // Swapping the edges swaps the type.
-    for b in [[p(0.5, 1.0, 0.0), p(0.5, 3.0, 0.0)], [p(2.0, 0.0, 0.0), p(2.0, 1.0, 0.0)]] {
+    for b in [
+        [p(0.5, 1.0, 0.0), p(0.5, 3.0, 0.0)],
+        [p(2.0, 0.0, 0.0), p(2.0, 1.0, 0.0)],
+    ] {
         let (x, tx) = d(a, b);
         let (y, ty) = d(b, a);
         assert!((x - y).abs() <= 1e-15);
@@ -115,14 +122,22 @@ fn random_pairs_match_the_reference() {
                 let p = q + n * 1e-12 + (t[1] - t[0]) * 0.1;
                 let (d, _) = point_triangle_distance(p, t[0], t[1], t[2]);
                 let r = reference_pt(p, t);
-                assert!((d.sqrt() - r).abs() <= 1e-9, "case {case}: {} vs {r}", d.sqrt());
+                assert!(
+                    (d.sqrt() - r).abs() <= 1e-9,
+                    "case {case}: {} vs {r}",
+                    d.sqrt()
+                );
                 continue;
             }
             _ => {}
         }
         let (d, _) = point_triangle_distance(p, t[0], t[1], t[2]);
         let r = reference_pt(p, t);
-        assert!((d.sqrt() - r).abs() <= 1e-9, "case {case}: {} vs {r}", d.sqrt());
+        assert!(
+            (d.sqrt() - r).abs() <= 1e-9,
+            "case {case}: {} vs {r}",
+            d.sqrt()
+        );
 
         let a = [point(&mut rng), point(&mut rng)];
         let mut b = [point(&mut rng), point(&mut rng)];
@@ -137,7 +152,11 @@ fn random_pairs_match_the_reference() {
         }
         let (d, _) = edge_edge_distance(a[0], a[1], b[0], b[1]);
         let r = reference_ee(a, b);
-        assert!((d.sqrt() - r).abs() <= 1e-9, "case {case}: {} vs {r}", d.sqrt());
+        assert!(
+            (d.sqrt() - r).abs() <= 1e-9,
+            "case {case}: {} vs {r}",
+            d.sqrt()
+        );
         let (d2, _) = edge_edge_distance(b[0], b[1], a[0], a[1]);
         assert!((d2.sqrt() - r).abs() <= 1e-9, "case {case} swapped");
     }
@@ -164,7 +183,10 @@ fn types_name_the_closest_features() {
                 h * h / n.length_squared()
             }
         };
-        assert!((d.sqrt() - again.sqrt()).abs() <= 1e-12, "{ty:?}: {d} vs {again}");
+        assert!(
+            (d.sqrt() - again.sqrt()).abs() <= 1e-12,
+            "{ty:?}: {d} vs {again}"
+        );
     }
 }
 

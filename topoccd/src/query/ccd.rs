@@ -50,6 +50,8 @@ pub struct Ccd {
     last_tree: Option<(Method, DopKind)>,
     /// Stops the queries from another thread ([`Ccd::cancel_token`]).
     cancel: CancelToken,
+    /// The proximity query's primitives and hierarchy ([`Ccd::proximity`]).
+    pub(crate) proximity: crate::proximity::State,
 }
 
 impl Ccd {
