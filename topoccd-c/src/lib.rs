@@ -17,6 +17,9 @@
 //! - `topoccd_ccd_report` gives the report in place: arrays of `topoccd_vf_contact` and
 //!   `topoccd_ee_contact` (ids, time of impact, certainty, optional geometry), the earliest
 //!   contact and the statistics, owned by the `topoccd_ccd` until its next query;
+//! - `topoccd_proximity` gives, on a `topoccd_ccd`, every primitive pair of one
+//!   `topoccd_configuration` closer than `dhat` (free edges and points included), with
+//!   distances and closest-feature types, in a `topoccd_proximity_report` it owns;
 //! - `topoccd_pair_vertex_face` and `topoccd_pair_edge_edge` are the per-pair tests;
 //! - `topoccd_mesh_read`, `topoccd_frames_read` and `topoccd_sequence_open` read meshes, steps
 //!   and frame sequences into objects that own their arrays.
@@ -62,6 +65,7 @@ mod handle;
 mod io;
 mod options;
 mod pair;
+mod proximity;
 mod report;
 mod status;
 mod step;
@@ -69,6 +73,11 @@ mod step;
 pub use ccd::{
     topoccd_ccd, topoccd_ccd_free, topoccd_ccd_last_error, topoccd_ccd_new, topoccd_ccd_query,
     topoccd_ccd_report,
+};
+pub use proximity::{
+    topoccd_configuration, topoccd_ee_proximity, topoccd_proximity, topoccd_proximity_options,
+    topoccd_proximity_options_default, topoccd_proximity_report, topoccd_ve_proximity,
+    topoccd_vf_proximity, topoccd_vv_proximity,
 };
 pub use error::{topoccd_error, topoccd_error_free, topoccd_error_message, topoccd_error_status};
 pub use io::{

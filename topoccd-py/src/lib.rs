@@ -10,6 +10,7 @@
 //! - `check`: the static intersection check (`intersecting_triangles`).
 //! - `pair`: the per-pair tests (`point_triangle_ccd`, `edge_edge_ccd`).
 //! - `points`: numpy arrays of points in.
+//! - `proximity`: `Ccd.proximity` and its `Proximity` result.
 //! - `errors`: the exceptions.
 
 mod ccd;
@@ -20,6 +21,7 @@ mod input;
 mod options;
 mod pair;
 mod points;
+mod proximity;
 mod report;
 
 use pyo3::prelude::*;
@@ -31,6 +33,7 @@ fn _topoccd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add_class::<ccd::Ccd>()?;
     m.add_class::<report::Report>()?;
+    m.add_class::<proximity::Proximity>()?;
     m.add_class::<files::Sequence>()?;
     m.add_function(wrap_pyfunction!(files::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(files::read_sequence, m)?)?;
