@@ -74,11 +74,6 @@ pub use ccd::{
     topoccd_ccd, topoccd_ccd_free, topoccd_ccd_last_error, topoccd_ccd_new, topoccd_ccd_query,
     topoccd_ccd_report,
 };
-pub use proximity::{
-    topoccd_configuration, topoccd_ee_proximity, topoccd_proximity, topoccd_proximity_options,
-    topoccd_proximity_options_default, topoccd_proximity_report, topoccd_ve_proximity,
-    topoccd_vf_proximity, topoccd_vv_proximity,
-};
 pub use error::{topoccd_error, topoccd_error_free, topoccd_error_message, topoccd_error_status};
 pub use io::{
     topoccd_frames, topoccd_frames_face_origin, topoccd_frames_free, topoccd_frames_note,
@@ -93,6 +88,11 @@ pub use options::{
 pub use pair::{
     topoccd_edge_edge, topoccd_outcome, topoccd_pair_edge_edge, topoccd_pair_vertex_face,
     topoccd_vertex_face,
+};
+pub use proximity::{
+    topoccd_configuration, topoccd_ee_proximity, topoccd_proximity, topoccd_proximity_options,
+    topoccd_proximity_options_default, topoccd_proximity_report, topoccd_ve_proximity,
+    topoccd_vf_proximity, topoccd_vv_proximity,
 };
 pub use report::{
     topoccd_certainty, topoccd_cluster_figures, topoccd_contact_kind, topoccd_ee_contact,

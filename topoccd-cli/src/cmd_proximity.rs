@@ -64,7 +64,11 @@ struct ProximityOut<'a> {
 fn pair_lines(r: &ProximityReport) -> String {
     let mut s = String::with_capacity(r.len() * 40);
     for p in &r.vf {
-        let _ = writeln!(s, "vf,{},{},{:e},{}", p.vertex, p.face, p.distance, PT[p.kind as usize]);
+        let _ = writeln!(
+            s,
+            "vf,{},{},{:e},{}",
+            p.vertex, p.face, p.distance, PT[p.kind as usize]
+        );
     }
     for p in &r.ee {
         let _ = writeln!(

@@ -55,8 +55,9 @@ impl EdgeEdgeType {
 }
 
 /// The squared distance between the segments `ea0 ea1` and `eb0 eb1` and their closest
-/// features, computed relative to `ea0`: the minimum over the four endpoint-segment
-/// sub-cases and, for segments not parallel (squared sine of their angle at least
+/// features, computed relative to `ea0`. Segments not nearly parallel (squared sine of their
+/// angle at least 1e-2) solve the normal equations, clamped; the others take the minimum over
+/// the four endpoint-segment sub-cases and, for segments not parallel (squared sine of their angle at least
 /// [`PARALLEL_SIN2`]), the interior-interior sub-case, taken as the distance from the point of
 /// edge a at the lines' closest parameter (when strictly inside) to segment b. On a tie the
 /// endpoint sub-cases win, in the order of the type.
@@ -73,10 +74,74 @@ impl EdgeEdgeType {
 /// assert_eq!((d, ty), (9.0, EdgeEdgeType::Ea1Eb));
 /// ```
 pub fn edge_edge_distance(ea0: DVec3, ea1: DVec3, eb0: DVec3, eb1: DVec3) -> (f64, EdgeEdgeType) {
-    use EdgeEdgeType::*;
     let u = ea1 - ea0;
     let (b0, b1) = (eb0 - ea0, eb1 - ea0);
     let v = b1 - b0;
+    let (a, b, c) = (u.dot(u), u.dot(v), v.dot(v));
+    let det = a * c - b * b;
+    // Well-conditioned (not nearly parallel) segments: the distance is strictly convex in the
+    // two parameters, and the clamped solution of the normal equations is its minimiser
+    // (Ericson, Real-Time Collision Detection, 5.1.9); its points lie on the segments.
+    if a > 0.0 && c > 0.0 && det >= WELL_CONDITIONED * a * c {
+        let (d, e) = (-u.dot(b0), -v.dot(b0)); // u.w, v.w with w = ea0 - eb0
+        let mut s = ((b * e - c * d) / det).clamp(0.0, 1.0);
+        let mut t = (b * s + e) / c;
+        if t <= 0.0 {
+            t = 0.0;
+            s = (-d / a).clamp(0.0, 1.0);
+        } else if t >= 1.0 {
+            t = 1.0;
+            s = ((b - d) / a).clamp(0.0, 1.0);
+        }
+        let gap = u * s - b0 - v * t;
+        return (gap.length_squared(), type_of(s, t));
+    }
+    robust(u, b0, b1, v, (a, b, c, det))
+}
+
+/// The squared sine of the angle between the edges from which [`edge_edge_distance`] solves
+/// the normal equations directly; below, the minimum over the sub-cases.
+pub(crate) const WELL_CONDITIONED: f64 = 1e-2;
+
+/// The type of the closest points at parameters `s` (edge a) and `t` (edge b), each exactly
+/// 0 or 1 at an endpoint.
+#[inline]
+fn type_of(s: f64, t: f64) -> EdgeEdgeType {
+    use EdgeEdgeType::*;
+    let end = |p: f64| {
+        if p == 0.0 {
+            0
+        } else if p == 1.0 {
+            1
+        } else {
+            2
+        }
+    };
+    match (end(s), end(t)) {
+        (0, 0) => Ea0Eb0,
+        (0, 1) => Ea0Eb1,
+        (1, 0) => Ea1Eb0,
+        (1, 1) => Ea1Eb1,
+        (2, 0) => EaEb0,
+        (2, 1) => EaEb1,
+        (0, _) => Ea0Eb,
+        (1, _) => Ea1Eb,
+        _ => EaEb,
+    }
+}
+
+/// The minimum over the sub-cases, for nearly parallel or degenerate edges (see
+/// [`edge_edge_distance`]); `u` is edge a, `b0`, `b1` edge b's ends relative to `ea0`, `v`
+/// edge b, and `(a, b, c, det)` the normal equations' terms.
+#[inline(never)]
+fn robust(
+    u: DVec3,
+    b0: DVec3,
+    b1: DVec3,
+    v: DVec3,
+    (a, b, c, det): (f64, f64, f64, f64),
+) -> (f64, EdgeEdgeType) {
+    use EdgeEdgeType::*;
     let mut best = (f64::INFINITY, Ea0Eb0);
     let mut take = |d: f64, ty: EdgeEdgeType| {
         if d < best.0 {
@@ -98,8 +163,6 @@ pub fn edge_edge_distance(ea0: DVec3, ea1: DVec3, eb0: DVec3, eb1: DVec3) -> (f6
     let (d, k) = segment(b1, u);
     take(d, pick(k, Ea0Eb1, Ea1Eb1, EaEb1));
     // The interiors: the closest parameter on a of the two lines, then that point against b.
-    let (a, b, c) = (u.dot(u), u.dot(v), v.dot(v));
-    let det = a * c - b * b;
     if det > PARALLEL_SIN2 * a * c {
         let w = -b0; // ea0 - eb0
         let (d_, e) = (u.dot(w), v.dot(w));

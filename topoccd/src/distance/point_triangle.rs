@@ -47,6 +47,11 @@ pub fn point_triangle_distance(
 ) -> (f64, PointTriangleType) {
     // Relative to p: the corners.
     let c = [t0 - p, t1 - p, t2 - p];
+    // The common case first: the projection strictly inside a well-shaped triangle is the
+    // closest point (the minimum below would pick it too).
+    if let Some(d) = interior(c, WELL_SHAPED) {
+        return (d, PointTriangleType::Interior);
+    }
     let mut best = (f64::INFINITY, PointTriangleType::T0);
     // Vertices first, so that ties go to them.
     for (k, ty) in [
@@ -77,7 +82,7 @@ pub fn point_triangle_distance(
             best = (d, ty);
         }
     }
-    if let Some(d) = interior(c) {
+    if let Some(d) = interior(c, 0.0) {
         if d < best.0 {
             best = (d, PointTriangleType::Interior);
         }
@@ -85,18 +90,22 @@ pub fn point_triangle_distance(
     best
 }
 
+/// Triangles whose squared sine of the angle at `t0` is at least this take their interior
+/// sub-case first.
+const WELL_SHAPED: f64 = 1e-2;
+
 /// The squared distance from the origin to its projection on the plane of the triangle with
 /// corners `c`, when that projection falls strictly inside; `None` otherwise or for a
-/// degenerate triangle. The projection's barycentric coordinates solve the 2x2 normal
+/// triangle whose squared sine at its first corner is not above `shape` (0: degenerate). The projection's barycentric coordinates solve the 2x2 normal
 /// equations, and the distance is that of the point they give, which lies on the triangle up
 /// to rounding.
 #[inline]
-fn interior(c: [DVec3; 3]) -> Option<f64> {
+fn interior(c: [DVec3; 3], shape: f64) -> Option<f64> {
     let (e1, e2) = (c[1] - c[0], c[2] - c[0]);
     let w = -c[0];
     let (a, b, d) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
     let det = a * d - b * b;
-    if !(det > 0.0) {
+    if !(det > shape * a * d) {
         return None;
     }
     let (we1, we2) = (w.dot(e1), w.dot(e2));
