@@ -10,6 +10,11 @@
 //! and a [`Report`] of [`VfContact`]s and [`EeContact`]s, each with a [`Certainty`] and, on
 //! request, its geometry. [`io`] reads and writes meshes and frame sequences.
 //!
+//! For a contact solver's barrier, [`Ccd::proximity`] gives every primitive pair of one
+//! [`Configuration`] closer than `dhat` (free edges and points included), with distances and
+//! closest-feature types ([`distance`]), in a [`ProximityReport`]; the `Ccd` keeps its
+//! hierarchy across a solver's iterations and refits it.
+//!
 //! A step across a cut: vertex 4 is split from vertex 1 and starts at its position, then a
 //! vertex of the cut-off piece falls through the other piece.
 //!

@@ -105,7 +105,8 @@ fn interior(c: [DVec3; 3], shape: f64) -> Option<f64> {
     let w = -c[0];
     let (a, b, d) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
     let det = a * d - b * b;
-    if !(det > shape * a * d) {
+    // (A NaN fails the test too.)
+    if det.partial_cmp(&(shape * a * d)) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
     let (we1, we2) = (w.dot(e1), w.dot(e2));

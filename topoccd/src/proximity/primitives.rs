@@ -57,8 +57,11 @@ pub(crate) struct Primitives {
     /// The leaves: triangles, free edges, free points.
     pub leaves: Vec<LeafPrim>,
     /// The input they were derived from: triangles, edges as given, vertex count.
-    key: Option<(Vec<[u32; 3]>, Vec<[u32; 2]>, usize)>,
+    key: Option<Key>,
 }
+
+/// What the primitives were derived from: the triangles, the edges as given, the vertex count.
+type Key = (Vec<[u32; 3]>, Vec<[u32; 2]>, usize);
 
 impl Primitives {
     /// Whether `config` has the very triangles, edges and vertex count these were derived
