@@ -142,7 +142,7 @@ pub struct topoccd_proximity_report {
     pub ee: *const topoccd_ee_proximity,
     /// Their number.
     pub ee_count: usize,
-    /// Free point-edge pairs.
+    /// Free point-free edge pairs.
     pub ve: *const topoccd_ve_proximity,
     /// Their number.
     pub ve_count: usize,
@@ -224,7 +224,7 @@ fn failure(e: ProximityError) -> Failure {
 }
 
 /// Every primitive pair of `config` closer than `dhat + dmin`: vertex-face, edge-edge
-/// (triangles' edges and free edges), free point-edge and free point-free point, with their
+/// (triangles' edges and free edges), free point-free edge and free point-free point, with their
 /// distances and closest-feature types; `*report` receives a pointer to them, valid until the
 /// next `topoccd_proximity` on `ccd` or `topoccd_ccd_free`. `options` may be NULL for the
 /// defaults. Features sharing a vertex are not paired; groups apply. No pair closer than the

@@ -419,7 +419,7 @@ impl Ccd {
     }
 
     /// Every primitive pair of one configuration closer than ``dhat + dmin``: vertex-face,
-    /// edge-edge (triangles' edges and free ``edges``), free point-edge and free point-free
+    /// edge-edge (triangles' edges and free ``edges``), free point-free edge and free point-free
     /// point, with distances and closest-feature types. Keeps the hierarchy in this ``Ccd``:
     /// call it every solver iteration with the same triangles and edges, and it is refitted,
     /// not rebuilt.

@@ -28,7 +28,8 @@ use crate::report::{array1, array2};
 ///     ee_distance (numpy.ndarray): ``(M,)`` float64.
 ///     ee_type (numpy.ndarray): ``(M,)`` uint8, ``EA0_EB0`` (0) to ``EA_EB`` (8).
 ///     ve (numpy.ndarray): ``(K, 3)`` int64, ``(vertex, e0, e1)``: a free point (in no
-///         triangle and no edge) and an edge.
+///         triangle and no edge) and a free edge (a free point near a triangle's edge is a
+///         vertex-face pair).
 ///     ve_distance (numpy.ndarray): ``(K,)`` float64.
 ///     ve_type (numpy.ndarray): ``(K,)`` uint8: 0 ``P_E0``, 1 ``P_E1``, 2 ``P_E``.
 ///     vv (numpy.ndarray): ``(L, 2)`` int64, two free points, ``a < b``.

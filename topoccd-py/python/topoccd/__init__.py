@@ -181,7 +181,7 @@ def proximity(
 ) -> Proximity:
     """Every primitive pair of one configuration closer than ``dhat + dmin``.
 
-    Vertex-face, edge-edge (the triangles' edges and the free ``edges``), free point-edge and
+    Vertex-face, edge-edge (the triangles' edges and the free ``edges``), free point-free edge and
     free point-free point pairs (free points: vertices in no triangle and no edge), with their
     distances (not squared) and closest-feature types, each kind sorted. Features sharing a
     vertex are not paired; ``groups`` apply as in :meth:`Ccd.query`. No pair closer than

@@ -8,7 +8,7 @@ use super::primitives::Primitives;
 use super::run::Stop;
 
 /// Every vertex against every triangle not containing it, every edge against every edge
-/// sharing no vertex, every free point against every edge and every other free point. Rows
+/// sharing no vertex, every free point against every free edge and every other free point. Rows
 /// (a vertex, an edge, a free point) run in parallel; a stop is checked once per row.
 pub(crate) fn brute(prims: &Primitives, tris: &[[u32; 3]], test: &Test<'_>, stop: &Stop) -> Found {
     let n = test.x.len() as u32;
@@ -45,7 +45,7 @@ pub(crate) fn brute(prims: &Primitives, tris: &[[u32; 3]], test: &Test<'_>, stop
             return out;
         }
         let p = points[i];
-        for &e in edges {
+        for &e in &edges[prims.mesh_edges..] {
             test.ve(p, e, &mut out);
         }
         for &q in &points[i + 1..] {

@@ -220,7 +220,7 @@ impl Test<'_> {
     }
 
     /// The pairs of the vertices `la` owns against leaf `lb` (id `b`): vertex-face when `lb`
-    /// is a triangle, and a free point against `lb`'s owned edges.
+    /// is a triangle, and a free point against a free edge.
     #[inline]
     fn one_way(&self, prims: &Primitives, la: &LeafPrim, b: u32, lb: &LeafPrim, out: &mut Found) {
         if lb.kind == Kind::Triangle {
@@ -230,7 +230,9 @@ impl Test<'_> {
                 }
             }
         }
-        if la.kind == Kind::Point {
+        // A free point against a free edge: its pairs with a triangle's edges are covered by
+        // its vertex-face pairs with the triangle (never farther).
+        if la.kind == Kind::Point && lb.kind == Kind::Edge {
             for &e in &lb.owned_e[..lb.ne as usize] {
                 self.ve(la.verts[0], prims.edges[e as usize], out);
             }

@@ -33,7 +33,8 @@ pub struct EeProximity {
     pub kind: EdgeEdgeType,
 }
 
-/// A free point (in no triangle and no edge) closer than the threshold to an edge.
+/// A free point (in no triangle and no edge) closer than the threshold to a free edge (in no
+/// triangle). A free point near a triangle's edge is near the triangle: a vertex-face pair.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct VeProximity {
@@ -89,7 +90,7 @@ pub struct ProximityReport {
     /// Edge-edge pairs: every edge (of a triangle, or free) against every edge sharing no
     /// vertex with it.
     pub ee: Vec<EeProximity>,
-    /// Free point against edge pairs.
+    /// Free point against free edge pairs.
     pub ve: Vec<VeProximity>,
     /// Free point against free point pairs.
     pub vv: Vec<VvProximity>,

@@ -60,7 +60,8 @@ impl Stop<'_> {
 
 impl Ccd {
     /// Every primitive pair of `config` closer than `options.dhat + options.dmin`: vertex-face,
-    /// edge-edge (triangles' edges and free edges), free point-edge and free point-free point,
+    /// edge-edge (triangles' edges and free edges), free point-free edge and free point-free
+    /// point,
     /// with the distance and the closest features' type, after checking `options`. Features
     /// that share a vertex are not paired; groups and `can_collide` apply.
     ///
