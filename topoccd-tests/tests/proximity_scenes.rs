@@ -39,8 +39,14 @@ fn add_codim(x0: &mut Vec<[f64; 3]>, x1: &mut Vec<[f64; 3]>, seed: u64, gap: f64
             prev = Some(v);
         }
     }
-    for _ in 0..200 {
-        let at = rng.random_range(0..n);
+    let rods_end = x0.len();
+    for k in 0..200 {
+        // Every fourth particle near a rod's vertex, the others near the mesh's.
+        let at = if k % 4 == 0 {
+            rng.random_range(n..rods_end)
+        } else {
+            rng.random_range(0..n)
+        };
         let (a, b) = (jitter(&mut rng, x0[at]), jitter(&mut rng, x1[at]));
         x0.push(a);
         x1.push(b);
