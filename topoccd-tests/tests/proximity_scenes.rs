@@ -23,7 +23,7 @@ fn add_codim(x0: &mut Vec<[f64; 3]>, x1: &mut Vec<[f64; 3]>, seed: u64, gap: f64
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let n = x0.len();
     let mut edges = Vec::new();
-    let mut jitter = |rng: &mut ChaCha8Rng, p: [f64; 3]| p.map(|c| c + rng.random_range(-gap..gap));
+    let jitter = |rng: &mut ChaCha8Rng, p: [f64; 3]| p.map(|c| c + rng.random_range(-gap..gap));
     for _ in 0..20 {
         let mut prev: Option<u32> = None;
         let start = rng.random_range(0..n);

@@ -223,14 +223,12 @@ fn bad_input_is_named() {
     assert_eq!(proximity(&config, &o), Err(ProximityError::Dmin(-1.0)));
 }
 
+/// Positions, triangles, free edges.
+type Soup = (Vec<[f64; 3]>, Vec<[u32; 3]>, Vec<[u32; 2]>);
+
 /// A random soup in the unit cube: `nt` small triangles, `ne` free edges (some sharing
 /// vertices: strands), `np` free points.
-fn soup(
-    seed: u64,
-    nt: usize,
-    ne: usize,
-    np: usize,
-) -> (Vec<[f64; 3]>, Vec<[u32; 3]>, Vec<[u32; 2]>) {
+fn soup(seed: u64, nt: usize, ne: usize, np: usize) -> Soup {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut x = Vec::new();
     let p = |rng: &mut ChaCha8Rng| {
