@@ -79,7 +79,7 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:exitcode=23"
 export UBSAN_OPTIONS="print_stacktrace=1"
 
 echo "== C and C++: the examples with plain cc and g++"
-for ex in step line_search; do
+for ex in step line_search proximity; do
     "$CC" "${cflags[@]}" -I"$include" "topoccd-c/examples/$ex.c" "$lib" "${system_libs[@]}" \
         -o "$work/plain/$ex"
     # shellcheck disable=SC2086

@@ -628,6 +628,126 @@ typedef struct topoccd_edge_edge {
   double eb1_t1[3];
 } topoccd_edge_edge;
 
+// The options of `topoccd_proximity`. `topoccd_proximity_options_default()` gives the
+// defaults.
+typedef struct topoccd_proximity_options {
+  // The distance threshold, finite, > 0. Default 1e-3.
+  double dhat;
+  // The minimum distance offset, finite, >= 0: pairs closer than `dhat + dmin` are
+  // reported. Default 0.
+  double dmin;
+  // Most pairs the report keeps; 0 for no cap (`truncated` says when it cut). Default 0.
+  uint64_t max_contacts;
+  // Seconds the query may run; 0 for no limit. Default 0.
+  double timeout;
+  // Threads: 0 for one per core, else a count in [1, 4096]. Default 0.
+  uint32_t threads;
+} topoccd_proximity_options;
+
+// One configuration: positions, triangles, free edges (rods, hair) and optional groups,
+// borrowed for the call. Vertices in no triangle and no edge are free points.
+//
+// ```c
+// topoccd_configuration config = {0};
+// config.x = x; config.vertex_count = 4;
+// config.triangles = triangles; config.triangle_count = 1;
+// ```
+typedef struct topoccd_configuration {
+  // Positions: `vertex_count` rows of 3 doubles.
+  const double *x;
+  // Number of vertices.
+  size_t vertex_count;
+  // Triangles: `triangle_count` rows of 3 vertex indices.
+  const uint32_t *triangles;
+  // Number of triangles.
+  size_t triangle_count;
+  // NULL, or `edge_count` rows of 2 vertex indices: free edges (an edge of a triangle
+  // given here counts once).
+  const uint32_t *edges;
+  // Number of free edges.
+  size_t edge_count;
+  // NULL, or one group id per vertex: features whose vertices all share one group are not
+  // paired.
+  const uint32_t *groups;
+  // Number of group ids (`vertex_count` when `groups` is not NULL).
+  size_t group_count;
+} topoccd_configuration;
+
+// A vertex closer than the threshold to a triangle. `type` is ipctk's
+// `PointTriangleDistanceType`: 0-2 a corner, 3-5 an edge (edge k from corner k to k+1),
+// 6 the interior.
+typedef struct topoccd_vf_proximity {
+  // The vertex.
+  uint32_t vertex;
+  // The triangle.
+  uint32_t face;
+  // The distance (not squared).
+  double distance;
+  // The triangle's closest feature.
+  uint32_t type;
+} topoccd_vf_proximity;
+
+// Two edges closer than the threshold, each `[i, j]` with `i < j`, `a < b`. `type` is
+// ipctk's `EdgeEdgeDistanceType`, 0 (`EA0_EB0`) to 8 (`EA_EB`).
+typedef struct topoccd_ee_proximity {
+  // The first edge.
+  uint32_t a[2];
+  // The second edge.
+  uint32_t b[2];
+  // The distance (not squared).
+  double distance;
+  // The closest features.
+  uint32_t type;
+} topoccd_ee_proximity;
+
+// A free point closer than the threshold to an edge. `type`: 0 `P_E0`, 1 `P_E1`, 2 `P_E`.
+typedef struct topoccd_ve_proximity {
+  // The free point.
+  uint32_t vertex;
+  // The edge, `[i, j]` with `i < j`.
+  uint32_t edge[2];
+  // The distance (not squared).
+  double distance;
+  // The edge's closest feature.
+  uint32_t type;
+} topoccd_ve_proximity;
+
+// Two free points closer than the threshold, `a < b`.
+typedef struct topoccd_vv_proximity {
+  // The first point.
+  uint32_t a;
+  // The second point.
+  uint32_t b;
+  // The distance (not squared).
+  double distance;
+} topoccd_vv_proximity;
+
+// The pairs of the last `topoccd_proximity` call, each kind sorted by its indices, owned by
+// the `topoccd_ccd` until its next proximity call.
+typedef struct topoccd_proximity_report {
+  // Vertex-face pairs.
+  const struct topoccd_vf_proximity *vf;
+  // Their number.
+  size_t vf_count;
+  // Edge-edge pairs.
+  const struct topoccd_ee_proximity *ee;
+  // Their number.
+  size_t ee_count;
+  // Free point-edge pairs.
+  const struct topoccd_ve_proximity *ve;
+  // Their number.
+  size_t ve_count;
+  // Free point-free point pairs.
+  const struct topoccd_vv_proximity *vv;
+  // Their number.
+  size_t vv_count;
+  // Whether `max_contacts` cut the report.
+  bool truncated;
+  // Whether the hierarchy was refitted (the same primitives as the last call) rather than
+  // built.
+  bool refitted;
+} topoccd_proximity_report;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -1013,6 +1133,47 @@ topoccd_status topoccd_pair_edge_edge(const struct topoccd_edge_edge *query,
                                       const struct topoccd_query_options *options,
                                       struct topoccd_outcome *outcome,
                                       struct topoccd_error **error);
+
+// The proximity options' defaults.
+struct topoccd_proximity_options topoccd_proximity_options_default(void);
+
+// Every primitive pair of `config` closer than `dhat + dmin`: vertex-face, edge-edge
+// (triangles' edges and free edges), free point-edge and free point-free point, with their
+// distances and closest-feature types; `*report` receives a pointer to them, valid until the
+// next `topoccd_proximity` on `ccd` or `topoccd_ccd_free`. `options` may be NULL for the
+// defaults. Features sharing a vertex are not paired; groups apply. No pair closer than the
+// threshold is missed; a pair beyond it is reported only within a rounding bound (about 1e-14
+// times the pair's size). The `ccd` keeps the hierarchy: called again with the same
+// triangles and edges, it refits it.
+//
+// Returns `TOPOCCD_STATUS_OK`, or `TOPOCCD_STATUS_NULL_POINTER`,
+// `TOPOCCD_STATUS_INVALID_HANDLE`, `TOPOCCD_STATUS_BUSY`, `TOPOCCD_STATUS_INVALID_OPTIONS`
+// (the message names the option), `TOPOCCD_STATUS_INVALID_STEP` (the message names the
+// element: `edge 2 names vertex 9, but there are only 4 vertices`), or
+// `TOPOCCD_STATUS_INVALID_ARGUMENT` after `timeout` (a deadline, not an error of the input:
+// the message says how many pairs were found by then).
+//
+// ```c
+// /* A vertex (3) 0.5e-3 above a triangle. */
+// const double x[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0.2, 0.2, 0.5e-3};
+// const uint32_t triangles[] = {0, 1, 2};
+// topoccd_configuration config = {0};
+// config.x = x; config.vertex_count = 4;
+// config.triangles = triangles; config.triangle_count = 1;
+// topoccd_proximity_options options = topoccd_proximity_options_default();
+// const topoccd_proximity_report *r = NULL;
+// topoccd_proximity(ccd, &config, &options, &r);
+// /* r->vf_count == 1, r->vf[0].vertex == 3, r->vf[0].type == 6 (the interior) */
+// ```
+//
+// # Safety
+// `ccd` is NULL or a `topoccd_ccd` this library returned; `config` is NULL or points to a
+// `topoccd_configuration` whose arrays are NULL or valid for reads of their counts' rows;
+// `options` is NULL or points to options; `report` is NULL or valid for a write of a pointer.
+topoccd_status topoccd_proximity(struct topoccd_ccd *ccd,
+                                 const struct topoccd_configuration *config,
+                                 const struct topoccd_proximity_options *options,
+                                 const struct topoccd_proximity_report **report);
 
 // The name of a status code (a `topoccd_status`) as text, e.g.
 // `"TOPOCCD_STATUS_INVALID_STEP"`. Never NULL: an unknown code gives

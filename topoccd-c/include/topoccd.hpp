@@ -500,6 +500,60 @@ struct StepSize {
   double alpha;
   /// The Earliest query's report.
   Report report;
+/// The options of a proximity query, with the library's defaults; chained setters:
+/// `topoccd::ProximityOptions().dhat(1e-3).dmin(1e-4)`.
+class ProximityOptions {
+ public:
+  ProximityOptions() noexcept : c_(topoccd_proximity_options_default()) {}
+  /// The distance threshold, > 0. Default 1e-3.
+  ProximityOptions& dhat(double d) & noexcept { c_.dhat = d; return *this; }
+  ProximityOptions&& dhat(double d) && noexcept { return std::move(this->dhat(d)); }
+  /// The minimum distance offset, >= 0: pairs closer than dhat + dmin. Default 0.
+  ProximityOptions& dmin(double d) & noexcept { c_.dmin = d; return *this; }
+  ProximityOptions&& dmin(double d) && noexcept { return std::move(this->dmin(d)); }
+  /// Most pairs kept, 0 for no cap (the default): see `Proximity::truncated`.
+  ProximityOptions& max_contacts(std::uint64_t n) & noexcept { c_.max_contacts = n; return *this; }
+  ProximityOptions&& max_contacts(std::uint64_t n) && noexcept {
+    return std::move(this->max_contacts(n));
+  }
+  /// Seconds the query may run, 0 for no limit (the default).
+  ProximityOptions& timeout(double s) & noexcept { c_.timeout = s; return *this; }
+  ProximityOptions&& timeout(double s) && noexcept { return std::move(this->timeout(s)); }
+  /// 0 for one thread per core (the default), else a pool of n kept by the Ccd.
+  ProximityOptions& threads(std::uint32_t n) & noexcept { c_.threads = n; return *this; }
+  ProximityOptions&& threads(std::uint32_t n) && noexcept { return std::move(this->threads(n)); }
+  /// The C struct, only on an lvalue (a reference into a temporary would dangle).
+  const topoccd_proximity_options& c() const& noexcept { return c_; }
+  const topoccd_proximity_options& c() const&& = delete;
+
+ private:
+  topoccd_proximity_options c_;
+};
+
+/// The pairs of a proximity query, read in place from its Ccd: valid until the Ccd's next
+/// proximity query or destruction. Each kind is sorted by its indices.
+class Proximity {
+ public:
+  explicit Proximity(const topoccd_proximity_report* r) noexcept : r_(r) {}
+  /// Vertex-face pairs (vertex, face, distance, type: ipctk's PointTriangleDistanceType).
+  Span<const topoccd_vf_proximity> vf() const noexcept { return {r_->vf, r_->vf_count}; }
+  /// Edge-edge pairs (a[2], b[2], distance, type: ipctk's EdgeEdgeDistanceType).
+  Span<const topoccd_ee_proximity> ee() const noexcept { return {r_->ee, r_->ee_count}; }
+  /// Free point-edge pairs.
+  Span<const topoccd_ve_proximity> ve() const noexcept { return {r_->ve, r_->ve_count}; }
+  /// Free point-free point pairs.
+  Span<const topoccd_vv_proximity> vv() const noexcept { return {r_->vv, r_->vv_count}; }
+  std::size_t size() const noexcept {
+    return r_->vf_count + r_->ee_count + r_->ve_count + r_->vv_count;
+  }
+  /// Whether max_contacts cut the report.
+  bool truncated() const noexcept { return r_->truncated; }
+  /// Whether the Ccd's hierarchy was refitted rather than built.
+  bool refitted() const noexcept { return r_->refitted; }
+  const topoccd_proximity_report& c() const noexcept { return *r_; }
+
+ private:
+  const topoccd_proximity_report* r_;
 };
 
 /// A reusable query: keep one per simulation (its buffers are reused) and per thread.
@@ -543,6 +597,27 @@ class Ccd {
     topoccd_line_search_options c = options.c();
     check(topoccd_is_step_collision_free(p_.get(), &step.c(), &c, &collision_free));
     return collision_free;
+  /// Every primitive pair closer than dhat + dmin at positions `x`: vertex-face, edge-edge
+  /// (the triangles' edges and the free `edges`), free point-edge, free point-free point.
+  /// The hierarchy is kept in this Ccd and refitted while the primitives stay the same.
+  Proximity proximity(Points x, Indices triangles, Rows<std::uint32_t, 2> edges,
+                      const ProximityOptions& options = ProximityOptions()) {
+    topoccd_configuration config{};
+    config.x = x.data();
+    config.vertex_count = x.rows();
+    config.triangles = triangles.data();
+    config.triangle_count = triangles.rows();
+    config.edges = edges.data();
+    config.edge_count = edges.rows();
+    const topoccd_proximity_report* r = nullptr;
+    check(topoccd_proximity(p_.get(), &config, &options.c(), &r));
+    return Proximity(r);
+  }
+
+  /// Triangles only (their vertices; vertices in no triangle are free points).
+  Proximity proximity(Points x, Indices triangles,
+                      const ProximityOptions& options = ProximityOptions()) {
+    return proximity(x, triangles, Rows<std::uint32_t, 2>(), options);
   }
 
   /// The report of the last query (empty before the first and after a failed one).

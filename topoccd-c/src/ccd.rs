@@ -46,6 +46,37 @@ pub(crate) struct State {
     pub(crate) report: ReportBuffers,
     /// The message of the last call that failed, `""` after a call that succeeded.
     error: CString,
+    /// The arrays of the last proximity report (`topoccd_proximity`).
+    pub(crate) proximity: crate::proximity::ProximityBuffers,
+}
+
+/// Runs `work` on the `Ccd` of `state`, on its kept pool of `threads` threads (built when the
+/// count changes), or on the process's pool for 0.
+pub(crate) fn run_on<T: Send>(
+    state: &mut State,
+    threads: usize,
+    work: impl FnOnce(&mut Ccd) -> T + Send,
+) -> Result<T, Failure> {
+    let State { ccd, pool, .. } = state;
+    if threads == 0 {
+        return Ok(work(ccd));
+    }
+    if pool.as_ref().map(|(n, _)| *n) != Some(threads) {
+        let built = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| {
+                Failure::new(
+                    topoccd_status::InvalidOptions,
+                    format!("cannot start {threads} threads: {e}"),
+                )
+            })?;
+        *pool = Some((threads, built));
+    }
+    match pool {
+        Some((_, p)) => Ok(p.install(|| work(ccd))),
+        None => Ok(work(ccd)),
+    }
 }
 
 /// The state of a `topoccd_ccd`, locked for one call.

@@ -19,6 +19,9 @@
 //!   contact and the statistics, owned by the `topoccd_ccd` until its next query;
 //! - `topoccd_collision_free_stepsize` and `topoccd_is_step_collision_free` are a line
 //!   search's questions, with `topoccd_line_search_options`;
+//! - `topoccd_proximity` gives, on a `topoccd_ccd`, every primitive pair of one
+//!   `topoccd_configuration` closer than `dhat` (free edges and points included), with
+//!   distances and closest-feature types, in a `topoccd_proximity_report` it owns;
 //! - `topoccd_pair_vertex_face` and `topoccd_pair_edge_edge` are the per-pair tests;
 //! - `topoccd_mesh_read`, `topoccd_frames_read` and `topoccd_sequence_open` read meshes, steps
 //!   and frame sequences into objects that own their arrays.
@@ -65,6 +68,7 @@ mod io;
 mod line_search;
 mod options;
 mod pair;
+mod proximity;
 mod report;
 mod status;
 mod step;
@@ -91,6 +95,11 @@ pub use options::{
 pub use pair::{
     topoccd_edge_edge, topoccd_outcome, topoccd_pair_edge_edge, topoccd_pair_vertex_face,
     topoccd_vertex_face,
+};
+pub use proximity::{
+    topoccd_configuration, topoccd_ee_proximity, topoccd_proximity, topoccd_proximity_options,
+    topoccd_proximity_options_default, topoccd_proximity_report, topoccd_ve_proximity,
+    topoccd_vf_proximity, topoccd_vv_proximity,
 };
 pub use report::{
     topoccd_certainty, topoccd_cluster_figures, topoccd_contact_kind, topoccd_ee_contact,

@@ -833,6 +833,50 @@ static void test_line_search(void) {
     free(x0);
     free(x1);
     free(tris);
+/* Proximity: a vertex above a triangle, a rod crossing over two of its edges, two particles;
+ * each pair's kind, distance and type against the analytic values; refitted on the second
+ * call; errors named. */
+static void test_proximity(void) {
+    const double x[] = {0, 0, 0, 1, 0, 0, 0, 1, 0,      /* triangle 0 1 2 */
+                        0.2, 0.2, 0.5e-3,              /* 3: a particle above the interior */
+                        0.5, -0.5, 0.2e-3, 0.6, 0.5, 0.2e-3, /* 4-5: a rod */
+                        3, 3, 3, 3, 3, 3.0004};         /* 6-7: two particles */
+    const uint32_t tris[] = {0, 1, 2};
+    const uint32_t edges[] = {5, 4};
+    topoccd_configuration config = {0};
+    config.x = x; config.vertex_count = 8;
+    config.triangles = tris; config.triangle_count = 1;
+    config.edges = edges; config.edge_count = 1;
+    topoccd_proximity_options options = topoccd_proximity_options_default();
+    CHECK(options.dhat == 1e-3 && options.dmin == 0 && options.max_contacts == 0, "defaults");
+    topoccd_ccd *ccd = topoccd_ccd_new();
+    const topoccd_proximity_report *r = NULL;
+    CHECK_STATUS(topoccd_proximity(ccd, &config, &options, &r), TOPOCCD_STATUS_OK, "proximity");
+    CHECK(r->vf_count == 1 && r->vf[0].vertex == 3 && r->vf[0].face == 0 && r->vf[0].type == 6,
+          "vf: %zu", r->vf_count);
+    CHECK(fabs(r->vf[0].distance - 0.5e-3) < 1e-15, "vf distance %g", r->vf[0].distance);
+    CHECK(r->ee_count == 2, "ee: %zu", r->ee_count);
+    for (size_t i = 0; i < r->ee_count; i++) {
+        CHECK(r->ee[i].b[0] == 4 && r->ee[i].b[1] == 5 && r->ee[i].type == 8, "ee %zu", i);
+        CHECK(fabs(r->ee[i].distance - 0.2e-3) < 1e-15, "ee distance %g", r->ee[i].distance);
+    }
+    CHECK(r->vv_count == 1 && r->vv[0].a == 6 && r->vv[0].b == 7, "vv: %zu", r->vv_count);
+    CHECK(fabs(r->vv[0].distance - 0.4e-3) < 1e-12, "vv distance %g", r->vv[0].distance);
+    CHECK(r->ve_count == 0 && !r->truncated && !r->refitted, "ve, first build");
+    CHECK_STATUS(topoccd_proximity(ccd, &config, NULL, &r), TOPOCCD_STATUS_OK, "again");
+    CHECK(r->refitted && r->vf_count == 1, "refitted");
+    options.max_contacts = 1;
+    CHECK_STATUS(topoccd_proximity(ccd, &config, &options, &r), TOPOCCD_STATUS_OK, "capped");
+    CHECK(r->truncated && r->vf_count + r->ee_count + r->vv_count == 1, "truncated");
+    options = topoccd_proximity_options_default();
+    options.dhat = -1;
+    CHECK_STATUS(topoccd_proximity(ccd, &config, &options, &r), TOPOCCD_STATUS_INVALID_OPTIONS, "dhat");
+    CHECK(contains(topoccd_ccd_last_error(ccd), "dhat"), "%s", topoccd_ccd_last_error(ccd));
+    const uint32_t bad[] = {5, 9};
+    config.edges = bad;
+    CHECK_STATUS(topoccd_proximity(ccd, &config, NULL, &r), TOPOCCD_STATUS_INVALID_STEP, "edge");
+    CHECK(contains(topoccd_ccd_last_error(ccd), "edge 0 names vertex 9"), "%s", topoccd_ccd_last_error(ccd));
+    CHECK_STATUS(topoccd_proximity(ccd, NULL, NULL, &r), TOPOCCD_STATUS_NULL_POINTER, "no config");
     topoccd_ccd_free(&ccd);
 }
 
@@ -847,6 +891,7 @@ int main(void) {
     test_pairs();
     test_line_search();
     test_files();
+    test_proximity();
     printf("%d passed, %d failed\n", passed, failed);
     return failed != 0;
 }

@@ -270,6 +270,20 @@ static void test_line_search() {
   CHECK(timed.query().timeout() == 60 && timed.query().max_contacts() == 1, "query options kept");
   CHECK(ccd.collision_free_stepsize(step, timed).alpha == 0.8 * *ccd.report().earliest_toi(),
         "a timeout that does not pass and a cap");
+// Proximity through the wrapper: the pairs of a vertex above a triangle and a rod over it.
+static void test_proximity() {
+  const std::vector<std::array<double, 3>> x = {
+      {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.2, 0.2, 0.5e-3}, {0.5, -0.5, 0.2e-3}, {0.6, 0.5, 0.2e-3}};
+  const std::vector<std::array<std::uint32_t, 3>> tris = {{0, 1, 2}};
+  const std::vector<std::array<std::uint32_t, 2>> rods = {{4, 5}};
+  topoccd::Ccd ccd;
+  auto p = ccd.proximity(x, tris, rods, topoccd::ProximityOptions().dhat(1e-3));
+  CHECK(p.vf().size() == 1 && p.vf()[0].vertex == 3 && p.vf()[0].type == 6, "vf");
+  CHECK(p.ee().size() == 2 && p.ee()[0].type == 8, "ee");
+  CHECK(p.size() == 3 && !p.refitted(), "count, built");
+  CHECK(ccd.proximity(x, tris, rods).refitted(), "refitted");
+  expect_error([&] { ccd.proximity(x, tris, topoccd::ProximityOptions().dhat(0)); },
+               TOPOCCD_STATUS_INVALID_OPTIONS, "dhat", "dhat 0");
 }
 
 int main() {
@@ -278,6 +292,7 @@ int main() {
   test_cut();
   test_pairs_and_files();
   test_line_search();
+  test_proximity();
 #if defined(TOPOCCD_HAS_EIGEN)
   test_eigen();
   std::printf("(with Eigen %d.%d.%d) ", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION);

@@ -4,6 +4,7 @@ mod cmd_bench;
 mod cmd_check;
 mod cmd_demo;
 mod cmd_gen;
+mod cmd_proximity;
 mod cmd_queries;
 mod cmd_render;
 mod cmd_run;
@@ -55,6 +56,9 @@ enum Command {
     /// The pairs of triangles of one frame that intersect or touch (sharing no vertex),
     /// decided exactly; exit status 1 when there are any. A CCD step assumes none at its start.
     Check(cmd_check::Args),
+    /// Every primitive pair of one frame closer than --dhat, with its distance and
+    /// closest-feature type (the proximity set of an IPC solver's barrier).
+    Proximity(cmd_proximity::Args),
 }
 
 /// The most threads `--threads` takes (the Python package's `threads=` has the same range).
@@ -96,6 +100,7 @@ fn main() -> ExitCode {
         Command::Render(args) => cmd_render::run(&args),
         Command::Gen(args) => cmd_gen::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Check(args) => cmd_check::run(&args),
+        Command::Proximity(args) => cmd_proximity::run(&args),
     };
     match result {
         Ok(code) => code,

@@ -32,14 +32,14 @@ use crate::report::{Report, StepFacts};
 ///     ([[3, 0], [4, 0], [5, 0]], [0.5, 0.75, 0.75], ('vf', 3, 0))
 #[pyclass(module = "topoccd")]
 pub struct Ccd {
-    inner: LibCcd,
+    pub(crate) inner: LibCcd,
     /// The thread pool of the last `threads=N` query, kept for the next.
-    pool: Option<(usize, rayon::ThreadPool)>,
+    pub(crate) pool: Option<(usize, rayon::ThreadPool)>,
 }
 
 impl Ccd {
     /// Builds the thread pool for `threads`, unless the one kept has that many threads.
-    fn ensure_pool(&mut self, threads: usize) -> PyResult<()> {
+    pub(crate) fn ensure_pool(&mut self, threads: usize) -> PyResult<()> {
         if self.pool.as_ref().map(|(n, _)| *n) != Some(threads) {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
@@ -441,6 +441,66 @@ impl Ccd {
             geometry: options.geometry,
         };
         Report::new(py, &report, &facts)
+    }
+
+    /// Every primitive pair of one configuration closer than ``dhat + dmin``: vertex-face,
+    /// edge-edge (triangles' edges and free ``edges``), free point-free edge and free point-free
+    /// point, with distances and closest-feature types. Keeps the hierarchy in this ``Ccd``:
+    /// call it every solver iteration with the same triangles and edges, and it is refitted,
+    /// not rebuilt.
+    ///
+    /// Args:
+    ///     x: ``(n, 3)`` float positions.
+    ///     triangles: ``(m, 3)`` integer triangles (``(0, 3)`` for none).
+    ///     dhat: the distance threshold, > 0.
+    ///     edges: ``(k, 2)`` free edges (rods, hair); edges of the triangles may be given too,
+    ///         they count once. Vertices in no triangle and no edge are free points.
+    ///     dmin: the minimum distance offset, >= 0: pairs closer than ``dhat + dmin``.
+    ///     groups: one id per vertex; features whose vertices share one group are not paired.
+    ///     max_contacts: keep at most this many pairs (``truncated`` says so).
+    ///     timeout: seconds; ``TimeoutError`` after it.
+    ///     threads: ``None`` for one thread per core, or a count.
+    ///
+    /// Returns:
+    ///     Proximity: numpy arrays per kind (see :class:`Proximity`).
+    ///
+    /// Example: a vertex 0.5e-3 above a triangle.
+    ///     >>> import topoccd
+    ///     >>> x = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0.2, 0.2, 0.5e-3]]
+    ///     >>> p = topoccd.Ccd().proximity(x, [[0, 1, 2]], 1e-3)
+    ///     >>> p.vf.tolist(), p.vf_distance.round(6).tolist(), p.vf_type.tolist()
+    ///     ([[3, 0]], [0.0005], [6])
+    #[pyo3(signature = (
+        x, triangles, dhat, *, edges=None, dmin=0.0, groups=None, max_contacts=None,
+        timeout=None, threads=None
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn proximity(
+        slf: &Bound<'_, Self>,
+        py: Python<'_>,
+        x: &Bound<'_, PyAny>,
+        triangles: &Bound<'_, PyAny>,
+        dhat: f64,
+        edges: Option<&Bound<'_, PyAny>>,
+        dmin: f64,
+        groups: Option<&Bound<'_, PyAny>>,
+        max_contacts: Option<i64>,
+        timeout: Option<f64>,
+        threads: Option<i64>,
+    ) -> PyResult<crate::proximity::Proximity> {
+        crate::proximity::ccd_proximity(
+            slf,
+            py,
+            x,
+            triangles,
+            dhat,
+            edges,
+            dmin,
+            groups,
+            max_contacts,
+            timeout,
+            threads,
+        )
     }
 
     fn __repr__(&self) -> String {

@@ -11,6 +11,7 @@
 //! - `pair`: the per-pair tests (`point_triangle_ccd`, `edge_edge_ccd`, `point_edge_ccd`,
 //!   `point_point_ccd`).
 //! - `points`: numpy arrays of points in.
+//! - `proximity`: `Ccd.proximity` and its `Proximity` result.
 //! - `errors`: the exceptions.
 //! - `deprecated`: the keyword names of earlier versions.
 
@@ -23,6 +24,7 @@ mod input;
 mod options;
 mod pair;
 mod points;
+mod proximity;
 mod report;
 
 use pyo3::prelude::*;
@@ -34,6 +36,7 @@ fn _topoccd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add_class::<ccd::Ccd>()?;
     m.add_class::<report::Report>()?;
+    m.add_class::<proximity::Proximity>()?;
     m.add_class::<files::Sequence>()?;
     m.add_function(wrap_pyfunction!(files::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(files::read_sequence, m)?)?;

@@ -126,7 +126,7 @@ fn certainty_code(c: Certainty) -> u8 {
     }
 }
 
-fn array2<T: numpy::Element>(
+pub(crate) fn array2<T: numpy::Element>(
     py: Python<'_>,
     rows: usize,
     cols: usize,
@@ -137,7 +137,7 @@ fn array2<T: numpy::Element>(
     Ok(array.into_pyarray(py).unbind())
 }
 
-fn array1<T: numpy::Element>(py: Python<'_>, v: Vec<T>) -> Py<PyArray1<T>> {
+pub(crate) fn array1<T: numpy::Element>(py: Python<'_>, v: Vec<T>) -> Py<PyArray1<T>> {
     Array1::from_vec(v).into_pyarray(py).unbind()
 }
 

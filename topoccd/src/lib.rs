@@ -10,6 +10,11 @@
 //! and a [`Report`] of [`VfContact`]s and [`EeContact`]s, each with a [`Certainty`] and, on
 //! request, its geometry. [`io`] reads and writes meshes and frame sequences.
 //!
+//! For a contact solver's barrier, [`Ccd::proximity`] gives every primitive pair of one
+//! [`Configuration`] closer than `dhat` (free edges and points included), with distances and
+//! closest-feature types ([`distance`]), in a [`ProximityReport`]; the `Ccd` keeps its
+//! hierarchy across a solver's iterations and refits it.
+//!
 //! A step across a cut: vertex 4 is split from vertex 1 and starts at its position, then a
 //! vertex of the cut-off piece falls through the other piece.
 //!
@@ -54,6 +59,9 @@ macro_rules! internal {
 
 internal!(broad, bvh, contact, kdop, math, mesh, narrow, query);
 
+pub mod distance;
+mod proximity;
+
 pub mod check;
 pub mod io;
 pub mod line_search;
@@ -63,6 +71,10 @@ pub use kdop::DopKind;
 pub use mesh::{CanCollide, Frame, Positions, Step, StepError, Triangles};
 pub use narrow::NarrowOptions;
 pub use query::DEFAULT_MAX_CONTACTS;
+pub use proximity::{
+    proximity, Configuration, EeProximity, ProximityError, ProximityMethod, ProximityOptions,
+    ProximityReport, ProximityStats, VeProximity, VfProximity, VvProximity,
+};
 pub use query::{
     query, Ccd, Certainty, ClusterFigures, ClusterGrowth, Contact, EeContact, EeGeometry, Method,
     Mode, OptionsError, QueryOptions, Report, Seconds, Stats, VeContact, VfContact, VfGeometry,

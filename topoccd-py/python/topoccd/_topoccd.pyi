@@ -106,10 +106,43 @@ class Report:
     def __len__(self) -> int: ...
 
 @final
+class Proximity:
+    """The primitive pairs of one configuration closer than ``dhat + dmin``."""
+
+    vf: npt.NDArray[np.int64]
+    vf_distance: npt.NDArray[np.float64]
+    vf_type: npt.NDArray[np.uint8]
+    ee: npt.NDArray[np.int64]
+    ee_distance: npt.NDArray[np.float64]
+    ee_type: npt.NDArray[np.uint8]
+    ve: npt.NDArray[np.int64]
+    ve_distance: npt.NDArray[np.float64]
+    ve_type: npt.NDArray[np.uint8]
+    vv: npt.NDArray[np.int64]
+    vv_distance: npt.NDArray[np.float64]
+    vv_type: npt.NDArray[np.uint8]
+    truncated: Optional[str]
+    refitted: bool
+    seconds: float
+    def __len__(self) -> int: ...
+
 class Ccd:
     """A reusable query: keep one per simulation, call ``query`` once per step."""
 
     def __init__(self) -> None: ...
+    def proximity(
+        self,
+        x: npt.ArrayLike,
+        triangles: npt.ArrayLike,
+        dhat: float,
+        *,
+        edges: Optional[npt.ArrayLike] = None,
+        dmin: float = 0.0,
+        groups: Optional[npt.ArrayLike] = None,
+        max_contacts: Optional[int] = None,
+        timeout: Optional[float] = None,
+        threads: Optional[int] = None,
+    ) -> Proximity: ...
     def query(
         self,
         x0: npt.ArrayLike,

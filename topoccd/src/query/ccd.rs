@@ -55,6 +55,8 @@ pub struct Ccd {
     cancel: CancelToken,
     /// With free edges or points: the driver's edges (`broad::codim::combined_edges`).
     codim_edges: Vec<[u32; 2]>,
+    /// The proximity query's primitives and hierarchy ([`Ccd::proximity`]).
+    pub(crate) proximity: crate::proximity::State,
 }
 
 impl Ccd {

@@ -1,0 +1,241 @@
+//! The feature pairs of one leaf pair and the distance test that keeps or drops each: shared
+//! by the hierarchy's traversal and the brute-force oracle.
+
+use crate::distance::{
+    edge_edge_distance, extent, point_edge_distance, point_point_distance, point_triangle_distance,
+    rounding_bound, sin2,
+};
+use crate::math::DVec3;
+use crate::mesh::CanCollide;
+
+use super::primitives::{Kind, LeafPrim, Primitives};
+use super::report::{EeProximity, VeProximity, VfProximity, VvProximity};
+
+/// The largest extra term of [`rounding_bound`] for nearly parallel edges, per unit of
+/// extent: `max_s min(s, 16 u / s) = 4 sqrt(u)`, rounded up.
+pub(crate) const PARALLEL_EXTRA: f64 = 4.3e-8;
+
+/// The pairs found by one task (or the whole query), unsorted, and the distances computed.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Found {
+    pub vf: Vec<VfProximity>,
+    pub ee: Vec<EeProximity>,
+    pub ve: Vec<VeProximity>,
+    pub vv: Vec<VvProximity>,
+    pub tests: u64,
+}
+
+impl Found {
+    pub fn len(&self) -> usize {
+        self.vf.len() + self.ee.len() + self.ve.len() + self.vv.len()
+    }
+
+    pub fn append(&mut self, other: &mut Found) {
+        self.vf.append(&mut other.vf);
+        self.ee.append(&mut other.ee);
+        self.ve.append(&mut other.ve);
+        self.vv.append(&mut other.vv);
+        self.tests += other.tests;
+    }
+}
+
+/// The distance test of one query: the positions, the threshold and the pair filter.
+#[derive(Clone, Copy)]
+pub(crate) struct Test<'a> {
+    pub x: &'a [DVec3],
+    /// `dhat + dmin`.
+    pub r: f64,
+    pub groups: Option<&'a [u32]>,
+    pub can_collide: Option<CanCollide<'a>>,
+}
+
+impl Test<'_> {
+    /// Rules 3 and 4 of the pair filter (`mesh::filter`): whether some vertex pair across
+    /// the features may collide. Features sharing a vertex never reach here.
+    #[inline]
+    fn allowed(&self, a: &[u32], b: &[u32]) -> bool {
+        if let Some(groups) = self.groups {
+            let g = |v: u32| groups[v as usize];
+            if !a.iter().any(|&x| b.iter().any(|&y| g(x) != g(y))) {
+                return false;
+            }
+        }
+        if let Some(can) = self.can_collide {
+            if !a.iter().any(|&x| b.iter().any(|&y| can(x, y))) {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Whether a computed squared distance `d2` of a pair of this extent is kept: below the
+    /// threshold inflated by the rounding bound (`sin2` of the edges for an edge-edge pair,
+    /// computed only when needed).
+    #[inline]
+    fn keep(&self, d2: f64, extent: f64, sin2: impl FnOnce() -> f64) -> bool {
+        let base = self.r + rounding_bound(extent, 1.0);
+        if d2 < base * base {
+            return true;
+        }
+        let loose = base + PARALLEL_EXTRA * extent;
+        if d2 >= loose * loose {
+            return false;
+        }
+        let tight = self.r + rounding_bound(extent, sin2());
+        d2 < tight * tight
+    }
+
+    /// The largest distance a kept pair of this extent may have (the threshold, the bound on
+    /// the computed distance's excess and on its shortfall), plus a margin: pairs whose boxes
+    /// are farther apart than this are dropped before their distance is computed.
+    #[inline]
+    fn reach(&self, extent: f64) -> f64 {
+        (self.r + 2.0 * rounding_bound(extent, 1.0) + PARALLEL_EXTRA * extent) * (1.0 + 1e-12)
+    }
+
+    /// Vertex `v` against triangle `face` (not containing `v`).
+    #[inline]
+    pub fn vf(&self, v: u32, face: u32, f: [u32; 3], out: &mut Found) {
+        let x = self.x;
+        let p = x[v as usize];
+        let c = f.map(|i| x[i as usize]);
+        let ext = extent(p, &c);
+        // The point against the face's box, with the reach.
+        let reach = self.reach(ext);
+        let (lo, hi) = (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
+        if ((lo - p).max_element() > reach) | ((p - hi).max_element() > reach) {
+            return;
+        }
+        if !self.allowed(&[v], &f) {
+            return;
+        }
+        out.tests += 1;
+        let (d2, kind) = point_triangle_distance(p, c[0], c[1], c[2]);
+        if self.keep(d2, ext, || 1.0) {
+            out.vf.push(VfProximity {
+                vertex: v,
+                face,
+                distance: d2.sqrt(),
+                kind,
+            });
+        }
+    }
+
+    /// Two edges sharing no vertex, each `[i, j]` with `i < j`.
+    #[inline]
+    pub fn ee(&self, a: [u32; 2], b: [u32; 2], out: &mut Found) {
+        let (a, b) = if a <= b { (a, b) } else { (b, a) };
+        let x = self.x;
+        let (a0, a1, b0, b1) = (
+            x[a[0] as usize],
+            x[a[1] as usize],
+            x[b[0] as usize],
+            x[b[1] as usize],
+        );
+        let ext = extent(a0, &[a1, b0, b1]);
+        let reach = self.reach(ext);
+        let (alo, ahi, blo, bhi) = (a0.min(a1), a0.max(a1), b0.min(b1), b0.max(b1));
+        if ((alo - bhi).max_element() > reach) | ((blo - ahi).max_element() > reach) {
+            return;
+        }
+        if !self.allowed(&a, &b) {
+            return;
+        }
+        out.tests += 1;
+        let (d2, kind) = edge_edge_distance(a0, a1, b0, b1);
+        if self.keep(d2, ext, || sin2(a1 - a0, b1 - b0)) {
+            out.ee.push(EeProximity {
+                a,
+                b,
+                distance: d2.sqrt(),
+                kind,
+            });
+        }
+    }
+
+    /// Free point `v` against edge `e` (`[i, j]`, `i < j`).
+    #[inline]
+    pub fn ve(&self, v: u32, e: [u32; 2], out: &mut Found) {
+        let x = self.x;
+        let (p, e0, e1) = (x[v as usize], x[e[0] as usize], x[e[1] as usize]);
+        let ext = extent(p, &[e0, e1]);
+        let reach = self.reach(ext);
+        if ((e0.min(e1) - p).max_element() > reach) | ((p - e0.max(e1)).max_element() > reach) {
+            return;
+        }
+        if !self.allowed(&[v], &e) {
+            return;
+        }
+        out.tests += 1;
+        let (d2, kind) = point_edge_distance(p, e0, e1);
+        if self.keep(d2, ext, || 1.0) {
+            out.ve.push(VeProximity {
+                vertex: v,
+                edge: e,
+                distance: d2.sqrt(),
+                kind,
+            });
+        }
+    }
+
+    /// Two free points.
+    #[inline]
+    pub fn vv(&self, a: u32, b: u32, out: &mut Found) {
+        let (a, b) = (a.min(b), a.max(b));
+        let (p, q) = (self.x[a as usize], self.x[b as usize]);
+        let ext = extent(p, &[q]);
+        if (q - p).abs().max_element() > self.reach(ext) || !self.allowed(&[a], &[b]) {
+            return;
+        }
+        out.tests += 1;
+        let d2 = point_point_distance(p, q);
+        if self.keep(d2, ext, || 1.0) {
+            out.vv.push(VvProximity {
+                a,
+                b,
+                distance: d2.sqrt(),
+            });
+        }
+    }
+
+    /// Every feature pair that the leaf pair `(a, b)` (`a != b`) owns (see `primitives`).
+    #[inline]
+    pub fn leaf_pair(&self, prims: &Primitives, a: u32, b: u32, out: &mut Found) {
+        let (la, lb) = (&prims.leaves[a as usize], &prims.leaves[b as usize]);
+        self.one_way(prims, la, b, lb, out);
+        self.one_way(prims, lb, a, la, out);
+        // Edges owned by both: each pair once, a's edge first.
+        for &ea in &la.owned_e[..la.ne as usize] {
+            let ea = prims.edges[ea as usize];
+            for &eb in &lb.owned_e[..lb.ne as usize] {
+                let eb = prims.edges[eb as usize];
+                if ea[0] != eb[0] && ea[0] != eb[1] && ea[1] != eb[0] && ea[1] != eb[1] {
+                    self.ee(ea, eb, out);
+                }
+            }
+        }
+        if la.kind == Kind::Point && lb.kind == Kind::Point {
+            self.vv(la.verts[0], lb.verts[0], out);
+        }
+    }
+
+    /// The pairs of the vertices `la` owns against leaf `lb` (id `b`): vertex-face when `lb`
+    /// is a triangle, and a free point against a free edge.
+    #[inline]
+    fn one_way(&self, prims: &Primitives, la: &LeafPrim, b: u32, lb: &LeafPrim, out: &mut Found) {
+        if lb.kind == Kind::Triangle {
+            for &v in &la.owned_v[..la.nv as usize] {
+                if !lb.verts.contains(&v) {
+                    self.vf(v, b, lb.verts, out);
+                }
+            }
+        }
+        // A free point against a free edge: its pairs with a triangle's edges are covered by
+        // its vertex-face pairs with the triangle (never farther).
+        if la.kind == Kind::Point && lb.kind == Kind::Edge {
+            for &e in &lb.owned_e[..lb.ne as usize] {
+                self.ve(la.verts[0], prims.edges[e as usize], out);
+            }
+        }
+    }
+}

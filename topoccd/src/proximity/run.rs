@@ -1,0 +1,207 @@
+//! The proximity query: [`Ccd::proximity`] (its primitives and hierarchy kept in the `Ccd`)
+//! and the one-shot [`proximity`].
+
+use std::ops::ControlFlow;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use crate::bvh::{BvhWorkspace, ParOptions, TestAll};
+use crate::query::{CancelToken, StopReason};
+use crate::Ccd;
+
+use super::brute::brute;
+use super::pairs::{Found, Test};
+use super::primitives::Primitives;
+use super::report::ProximityStats;
+use super::tree::ProximityTree;
+use super::{Configuration, ProximityError, ProximityMethod, ProximityOptions, ProximityReport};
+
+/// What a [`Ccd`] keeps for its proximity queries: the primitives and their hierarchy.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct State {
+    prims: Primitives,
+    tree: ProximityTree,
+    ws: BvhWorkspace,
+}
+
+/// The deadline and the cancel token of one query, and whether it stopped (and why).
+pub(crate) struct Stop<'a> {
+    deadline: Option<Instant>,
+    cancel: &'a CancelToken,
+    stopped: AtomicBool,
+    cancelled: AtomicBool,
+}
+
+impl Stop<'_> {
+    /// Whether the query must stop now (and records it).
+    pub fn check(&self) -> bool {
+        if self.stopped.load(Ordering::Relaxed) {
+            return true;
+        }
+        let cancelled = self.cancel.is_cancelled();
+        if cancelled || self.deadline.is_some_and(|d| Instant::now() >= d) {
+            self.cancelled.store(cancelled, Ordering::Relaxed);
+            self.stopped.store(true, Ordering::Relaxed);
+            return true;
+        }
+        false
+    }
+
+    fn reason(&self) -> Option<StopReason> {
+        self.stopped.load(Ordering::Relaxed).then(|| {
+            if self.cancelled.load(Ordering::Relaxed) {
+                StopReason::Cancelled
+            } else {
+                StopReason::Deadline
+            }
+        })
+    }
+}
+
+impl Ccd {
+    /// Every primitive pair of `config` closer than `options.dhat + options.dmin`: vertex-face,
+    /// edge-edge (triangles' edges and free edges), free point-free edge and free point-free
+    /// point,
+    /// with the distance and the closest features' type, after checking `options`. Features
+    /// that share a vertex are not paired; groups and `can_collide` apply.
+    ///
+    /// No pair closer than the threshold is missed; a pair is reported beyond it only within
+    /// the rounding bound of [`crate::distance::rounding_bound`] (relative to the pair's size).
+    /// The primitives and their hierarchy are kept in this `Ccd`: while the triangles, edges
+    /// and vertex count stay the same (compared exactly every call), the hierarchy is refitted
+    /// to the new positions, not rebuilt. Runs on the caller's rayon pool; the report is the
+    /// same for any thread count.
+    ///
+    /// ```
+    /// use topoccd::{Ccd, Configuration, ProximityOptions};
+    /// use topoccd::distance::PointTriangleType;
+    /// // A vertex (3) 0.5e-3 above a triangle, and a far one (4).
+    /// let x = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.2, 0.2, 0.5e-3], [0.2, 0.2, 1.0]];
+    /// let config = Configuration::new(&x, &[[0u32, 1, 2]], &[[3, 4]])?;
+    /// let mut ccd = Ccd::new(); // keep it across a solver's iterations
+    /// let report = ccd.proximity(&config, &ProximityOptions { dhat: 1e-3, ..Default::default() })?;
+    /// assert_eq!(report.vf.len(), 1);
+    /// assert_eq!((report.vf[0].vertex, report.vf[0].face), (3, 0));
+    /// assert_eq!(report.vf[0].kind, PointTriangleType::Interior);
+    /// assert!((report.vf[0].distance - 0.5e-3).abs() < 1e-15);
+    /// # Ok::<(), topoccd::ProximityError>(())
+    /// ```
+    pub fn proximity(
+        &mut self,
+        config: &Configuration<'_>,
+        options: &ProximityOptions,
+    ) -> Result<ProximityReport, ProximityError> {
+        options.validate()?;
+        let token = self.cancel_token();
+        let state = &mut self.proximity;
+        if rayon::current_thread_index().is_some() {
+            Ok(state.run(config, options, &token))
+        } else {
+            // One job on the pool rather than a hand-off per parallel part.
+            Ok(rayon::scope(|_| state.run(config, options, &token)))
+        }
+    }
+}
+
+/// [`Ccd::proximity`] with a fresh `Ccd` (for one configuration; a solver keeps a `Ccd`).
+///
+/// ```
+/// use topoccd::{proximity, Configuration, ProximityOptions};
+/// // Two free points 1e-4 apart, and a third far away.
+/// let x = [[0.0, 0.0, 0.0], [1e-4, 0.0, 0.0], [1.0, 0.0, 0.0]];
+/// let config = Configuration::new(&x, &[] as &[[u32; 3]], &[])?;
+/// let report = proximity(&config, &ProximityOptions { dhat: 1e-3, ..Default::default() })?;
+/// assert_eq!((report.vv[0].a, report.vv[0].b), (0, 1));
+/// assert_eq!(report.len(), 1);
+/// # Ok::<(), topoccd::ProximityError>(())
+/// ```
+pub fn proximity(
+    config: &Configuration<'_>,
+    options: &ProximityOptions,
+) -> Result<ProximityReport, ProximityError> {
+    Ccd::new().proximity(config, options)
+}
+
+impl State {
+    fn run(
+        &mut self,
+        config: &Configuration<'_>,
+        options: &ProximityOptions,
+        token: &CancelToken,
+    ) -> ProximityReport {
+        let start = Instant::now();
+        let stop = Stop {
+            deadline: options.deadline,
+            cancel: token,
+            stopped: AtomicBool::new(false),
+            cancelled: AtomicBool::new(false),
+        };
+        let step = config.step();
+        let test = Test {
+            x: config.pos(),
+            r: options.threshold(),
+            groups: step.groups(),
+            can_collide: step.can_collide(),
+        };
+        if !self.prims.same(config) {
+            self.prims.derive(config);
+            self.tree.invalidate();
+        }
+        let mut stats = ProximityStats::default();
+        let mut capped = false;
+        let max = options.max_contacts.unwrap_or(usize::MAX);
+        let found = match options.method {
+            ProximityMethod::Brute => {
+                stats.build_seconds = start.elapsed().as_secs_f64();
+                brute(&self.prims, config.triangles(), &test, &stop)
+            }
+            ProximityMethod::Bvh => {
+                stats.refitted = self.tree.fit(&self.prims, test.x, test.r, &mut self.ws);
+                stats.build_seconds = start.elapsed().as_secs_f64();
+                let prims = &self.prims;
+                let mut found = Found::default();
+                let skip = |_: &Found| stop.check();
+                let consume = |mut f: Found| {
+                    found.append(&mut f);
+                    if found.len() >= max {
+                        capped = true;
+                        ControlFlow::Break(())
+                    } else {
+                        ControlFlow::Continue(())
+                    }
+                };
+                stats.bv_tests = self.tree.bvh.par_self_pairs_until(
+                    &mut self.ws,
+                    &ParOptions::default(),
+                    &TestAll,
+                    |_| Found::default(),
+                    |acc, a, b| test.leaf_pair(prims, a, b, acc),
+                    |_| {},
+                    consume,
+                    &skip,
+                );
+                found
+            }
+        };
+        let t = Instant::now();
+        stats.distance_tests = found.tests;
+        let mut report = ProximityReport {
+            vf: found.vf,
+            ee: found.ee,
+            ve: found.ve,
+            vv: found.vv,
+            truncated: None,
+            stats,
+        };
+        report.sort();
+        if report.len() > max {
+            report.truncate(max);
+            capped = true;
+        }
+        report.truncated = stop.reason().or(capped.then_some(StopReason::MaxContacts));
+        report.stats.traverse_seconds =
+            t.elapsed().as_secs_f64() + (t - start).as_secs_f64() - report.stats.build_seconds;
+        report.stats.total_seconds = start.elapsed().as_secs_f64();
+        report
+    }
+}

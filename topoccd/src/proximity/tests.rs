@@ -1,0 +1,414 @@
+//! The proximity query against analytic cases, near the threshold, and against the
+//! brute-force oracle on random soups of triangles, free edges and free points (refitted and
+//! rebuilt, on one and two threads).
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::*;
+use crate::distance::{EdgeEdgeType, PointEdgeType, PointTriangleType};
+use crate::{Ccd, StopReason};
+
+fn opts(dhat: f64) -> ProximityOptions {
+    ProximityOptions {
+        dhat,
+        ..ProximityOptions::default()
+    }
+}
+
+fn run(
+    x: &[[f64; 3]],
+    tris: &[[u32; 3]],
+    edges: &[[u32; 2]],
+    o: &ProximityOptions,
+) -> ProximityReport {
+    let config = Configuration::new(x, tris, edges).expect("valid input");
+    proximity(&config, o).expect("valid options")
+}
+
+/// The pairs without the figures.
+fn pairs(r: &ProximityReport) -> ProximityReport {
+    ProximityReport {
+        stats: ProximityStats::default(),
+        ..r.clone()
+    }
+}
+
+#[test]
+fn every_kind_with_its_type() {
+    // Triangle 0-1-2 in z=0; vertex 3 above its interior; edge 4-5 crossing over edge 0-1;
+    // free point 6 near edge 4-5's end; free point 7 near 6.
+    let x = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.25, 0.25, 0.004],   // 3
+        [0.5, -1.0, 0.003],    // 4
+        [0.5, -0.2, 0.003],    // 5
+        [0.5, -0.198, 0.003],  // 6: 0.002 beyond 5 along the edge
+        [0.5, -0.198, 0.0075], // 7: 0.0045 above 6
+    ];
+    let tris = [[0u32, 1, 2]];
+    let edges = [[3u32, 4], [5, 4]];
+    let r = run(&x, &tris, &edges, &opts(0.005));
+    assert_eq!(r.vf.len(), 1);
+    assert_eq!(
+        (r.vf[0].vertex, r.vf[0].face, r.vf[0].kind),
+        (3, 0, PointTriangleType::Interior)
+    );
+    assert!((r.vf[0].distance - 0.004).abs() < 1e-15);
+    // Edge [4, 5] against [0, 1]: 0.2 from it in y, so not; edge [3, 4] runs from above the
+    // triangle to beyond it, crossing above edge [0, 1]... at what height? Check with the
+    // kernel instead of by hand.
+    for p in &r.ee {
+        assert!(p.a < p.b && p.a[0] < p.a[1] && p.b[0] < p.b[1]);
+        assert!(p.distance < 0.005);
+    }
+    // Point 6 beyond the end 5 of edge [4, 5]; point 7 above it, sqrt(0.002^2 + 0.0045^2)
+    // = 0.00492 from that end.
+    assert_eq!(r.ve.len(), 2, "{:?}", r.ve);
+    assert_eq!(
+        (r.ve[0].vertex, r.ve[0].edge, r.ve[0].kind),
+        (6, [4, 5], PointEdgeType::E1)
+    );
+    assert!((r.ve[0].distance - 0.002).abs() < 1e-12);
+    assert_eq!((r.ve[1].vertex, r.ve[1].kind), (7, PointEdgeType::E1));
+    assert!((r.ve[1].distance - 0.002f64.hypot(0.0045)).abs() < 1e-12);
+    assert_eq!(r.vv.len(), 1);
+    assert_eq!((r.vv[0].a, r.vv[0].b), (6, 7));
+    assert!((r.vv[0].distance - 0.0045).abs() < 1e-12);
+    let r2 = run(&x, &tris, &edges, &opts(0.0049));
+    assert_eq!(r2.ve.len(), 1);
+    assert_eq!(
+        pairs(&r),
+        pairs(&run(
+            &x,
+            &tris,
+            &edges,
+            &ProximityOptions {
+                method: ProximityMethod::Brute,
+                ..opts(0.005)
+            }
+        ))
+    );
+}
+
+#[test]
+fn edge_edge_types_in_the_report_order() {
+    // Edge [2, 3] lies above edge [0, 1], crossing it at right angles: EaEb. The report
+    // orders a < b, so a = [0, 1].
+    let x = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.5, -0.5, 0.001],
+        [0.5, 0.5, 0.001],
+    ];
+    let r = run(&x, &[], &[[3, 2], [0, 1]], &opts(0.002));
+    assert_eq!(r.ee.len(), 1);
+    assert_eq!(
+        (r.ee[0].a, r.ee[0].b, r.ee[0].kind),
+        ([0, 1], [2, 3], EdgeEdgeType::EaEb)
+    );
+    // Edge [2, 3] from beyond vertex 1: Ea1Eb0 with a = [0, 1].
+    let x = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.001, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+    ];
+    let r = run(&x, &[], &[[2, 3], [0, 1]], &opts(0.002));
+    assert_eq!(
+        (r.ee[0].a, r.ee[0].b, r.ee[0].kind),
+        ([0, 1], [2, 3], EdgeEdgeType::Ea1Eb0)
+    );
+    assert!(r.vv.is_empty() && r.ve.is_empty());
+}
+
+/// Around the threshold: a vertex at `dhat (1 -+ delta)` above a face's interior, far from
+/// the origin. Below is always kept; beyond by more than the documented bound never.
+#[test]
+fn near_the_threshold() {
+    let dhat = 1e-3;
+    for offset in [0.0, 1.0, 1e3, -7.5e4] {
+        for (delta, kept) in [(-1e-9, true), (-1e-12, true), (1e-9, false), (1e-6, false)] {
+            let z = dhat * (1.0 + delta);
+            let x = [
+                [offset, offset, offset],
+                [offset + 0.01, offset, offset],
+                [offset, offset + 0.01, offset],
+                [offset + 0.002, offset + 0.002, offset + z],
+            ];
+            let r = run(&x, &[[0, 1, 2]], &[], &opts(dhat));
+            // The input's own rounding: z is stored relative to `offset`.
+            let input = (offset.abs() + z) * f64::EPSILON;
+            let exact = (x[3][2] - x[0][2]).abs();
+            if exact < dhat - input {
+                assert_eq!(r.vf.len(), 1, "offset {offset} delta {delta}: missed");
+            }
+            let bound = crate::distance::rounding_bound(0.01 + offset.abs() * 0.0 + 0.002, 1.0);
+            if exact > dhat + 2.0 * bound + input {
+                assert!(
+                    r.vf.is_empty(),
+                    "offset {offset} delta {delta}: beyond the bound"
+                );
+            }
+            let _ = kept;
+        }
+    }
+}
+
+#[test]
+fn dmin_widens_the_threshold() {
+    let x = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.2, 0.2, 0.0015],
+    ];
+    let t = [[0u32, 1, 2]];
+    assert!(run(&x, &t, &[], &opts(1e-3)).vf.is_empty());
+    let with = ProximityOptions {
+        dmin: 1e-3,
+        ..opts(1e-3)
+    };
+    assert_eq!(run(&x, &t, &[], &with).vf.len(), 1);
+}
+
+#[test]
+fn groups_and_can_collide_apply() {
+    let x = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.2, 0.2, 1e-4],
+    ];
+    let t = [[0u32, 1, 2]];
+    let config = Configuration::new(&x, &t, &[]).unwrap();
+    assert_eq!(proximity(&config, &opts(1e-3)).unwrap().vf.len(), 1);
+    let groups = [1u32, 1, 1, 1];
+    let config = Configuration::new(&x, &t, &[])
+        .unwrap()
+        .with_groups(&groups)
+        .unwrap();
+    assert!(proximity(&config, &opts(1e-3)).unwrap().is_empty());
+    let never = |_: u32, _: u32| false;
+    let config = Configuration::new(&x, &t, &[])
+        .unwrap()
+        .with_can_collide(&never);
+    assert!(proximity(&config, &opts(1e-3)).unwrap().is_empty());
+}
+
+#[test]
+fn bad_input_is_named() {
+    let x = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
+    assert!(matches!(
+        Configuration::new(&x, &[] as &[[u32; 3]], &[[0, 0]]),
+        Err(ProximityError::EdgeRepeatedVertex { edge: 0, vertex: 0 })
+    ));
+    let nan = [[f64::NAN, 0.0, 0.0]];
+    assert!(matches!(
+        Configuration::new(&nan, &[] as &[[u32; 3]], &[]),
+        Err(ProximityError::Input(_))
+    ));
+    let config = Configuration::new(&x, &[] as &[[u32; 3]], &[]).unwrap();
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let err = proximity(&config, &opts(bad)).unwrap_err();
+        assert!(matches!(err, ProximityError::Dhat(_)), "{err}");
+        assert!(err.to_string().starts_with("dhat must be finite and > 0"));
+    }
+    let o = ProximityOptions {
+        dmin: -1.0,
+        ..opts(1.0)
+    };
+    assert_eq!(proximity(&config, &o), Err(ProximityError::Dmin(-1.0)));
+}
+
+/// Positions, triangles, free edges.
+type Soup = (Vec<[f64; 3]>, Vec<[u32; 3]>, Vec<[u32; 2]>);
+
+/// A random soup in the unit cube: `nt` small triangles, `ne` free edges (some sharing
+/// vertices: strands), `np` free points.
+fn soup(seed: u64, nt: usize, ne: usize, np: usize) -> Soup {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut x = Vec::new();
+    let p = |rng: &mut ChaCha8Rng| {
+        [
+            rng.random_range(0.0..1.0),
+            rng.random_range(0.0..1.0),
+            rng.random_range(0.0..1.0),
+        ]
+    };
+    let mut tris = Vec::new();
+    for _ in 0..nt {
+        let c = p(&mut rng);
+        let base = x.len() as u32;
+        for _ in 0..3 {
+            x.push([
+                c[0] + rng.random_range(-0.05..0.05),
+                c[1] + rng.random_range(-0.05..0.05),
+                c[2] + rng.random_range(-0.05..0.05),
+            ]);
+        }
+        tris.push([base, base + 1, base + 2]);
+        // A neighbour sharing an edge.
+        if rng.random_range(0..2) == 0 {
+            x.push([
+                c[0] + rng.random_range(-0.05..0.05),
+                c[1] + rng.random_range(-0.05..0.05),
+                c[2],
+            ]);
+            tris.push([base + 1, base, base + 3]);
+        }
+    }
+    let mut edges = Vec::new();
+    let mut last = None;
+    for _ in 0..ne {
+        let a = match last {
+            Some(v) if rng.random_range(0..3) > 0 => v,
+            _ => {
+                x.push(p(&mut rng));
+                x.len() as u32 - 1
+            }
+        };
+        let q = x[a as usize];
+        x.push([
+            q[0] + rng.random_range(-0.06..0.06),
+            q[1] + rng.random_range(-0.06..0.06),
+            q[2] + rng.random_range(-0.06..0.06),
+        ]);
+        let b = x.len() as u32 - 1;
+        edges.push([a, b]);
+        last = Some(b);
+    }
+    // Some free edges along triangle sides (counted once) and a repeated one.
+    if !tris.is_empty() {
+        edges.push([tris[0][1], tris[0][0]]);
+    }
+    if let Some(&e) = edges.first() {
+        edges.push(e);
+    }
+    for _ in 0..np {
+        x.push(p(&mut rng));
+    }
+    (x, tris, edges)
+}
+
+#[test]
+fn tree_equals_brute_force_on_soups() {
+    let mut ccd = Ccd::new();
+    let two = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let (mut ve, mut vv) = (0, 0);
+    for seed in 0..6 {
+        let (mut x, tris, edges) = soup(seed, 300, 200, 300);
+        for (round, dhat) in [0.02, 0.05, 0.05, 0.1].into_iter().enumerate() {
+            if round == 2 {
+                // Move everything a little: the same primitives, refitted.
+                let mut rng = ChaCha8Rng::seed_from_u64(seed + 100);
+                for p in &mut x {
+                    for c in p.iter_mut() {
+                        *c += rng.random_range(-0.02..0.02);
+                    }
+                }
+            }
+            let config = Configuration::new(&x, &tris, &edges).unwrap();
+            let brute = proximity(
+                &config,
+                &ProximityOptions {
+                    method: ProximityMethod::Brute,
+                    ..opts(dhat)
+                },
+            )
+            .unwrap();
+            let tree = two.install(|| ccd.proximity(&config, &opts(dhat)).unwrap());
+            // Built first; refitted after a small move (a wider dhat may loosen it enough to
+            // be rebuilt).
+            if round < 3 {
+                assert_eq!(tree.stats.refitted, round > 0, "seed {seed} round {round}");
+            }
+            assert_eq!(pairs(&tree), pairs(&brute), "seed {seed} dhat {dhat}");
+            let single = one.install(|| Ccd::new().proximity(&config, &opts(dhat)).unwrap());
+            assert_eq!(pairs(&single), pairs(&tree));
+            assert!(
+                brute.vf.len() > 10 && brute.ee.len() > 10,
+                "seed {seed}: {} {}",
+                brute.vf.len(),
+                brute.ee.len()
+            );
+            ve += brute.ve.len();
+            vv += brute.vv.len();
+            // Every pair is within the threshold (plus the bound) by the kernels themselves.
+            assert!(brute.vf.iter().all(|p| p.distance < dhat * (1.0 + 1e-9)));
+        }
+    }
+    assert!(
+        ve > 10 && vv > 10,
+        "{ve} point-edge, {vv} point-point pairs"
+    );
+}
+
+#[test]
+fn max_contacts_and_deadline_truncate() {
+    let (x, tris, edges) = soup(3, 300, 200, 300);
+    let config = Configuration::new(&x, &tris, &edges).unwrap();
+    let all = proximity(&config, &opts(0.05)).unwrap();
+    assert!(all.truncated.is_none());
+    let capped = ProximityOptions {
+        max_contacts: Some(10),
+        ..opts(0.05)
+    };
+    let r = proximity(&config, &capped).unwrap();
+    assert_eq!(r.truncated, Some(StopReason::MaxContacts));
+    assert_eq!(r.len(), 10);
+    let again = proximity(&config, &capped).unwrap();
+    assert_eq!(pairs(&again), pairs(&r));
+    let late = ProximityOptions {
+        deadline: Some(std::time::Instant::now()),
+        ..opts(0.05)
+    };
+    let r = proximity(&config, &late).unwrap();
+    assert_eq!(r.truncated, Some(StopReason::Deadline));
+    assert!(r.len() < all.len());
+}
+
+#[test]
+fn refit_follows_big_moves_and_topology_changes() {
+    let mut ccd = Ccd::new();
+    let (x, tris, edges) = soup(9, 200, 100, 100);
+    let config = Configuration::new(&x, &tris, &edges).unwrap();
+    let first = ccd.proximity(&config, &opts(0.05)).unwrap();
+    assert!(!first.stats.refitted);
+    // Mirrored: the same primitives far from where the tree was built.
+    let mirrored: Vec<[f64; 3]> = x.iter().map(|p| [1.0 - p[0], p[2], p[1]]).collect();
+    let config = Configuration::new(&mirrored, &tris, &edges).unwrap();
+    let r = ccd.proximity(&config, &opts(0.05)).unwrap();
+    let brute = proximity(
+        &config,
+        &ProximityOptions {
+            method: ProximityMethod::Brute,
+            ..opts(0.05)
+        },
+    )
+    .unwrap();
+    assert_eq!(pairs(&r), pairs(&brute));
+    // Other triangles: derived again, rebuilt.
+    let fewer = &tris[..100];
+    let config = Configuration::new(&mirrored, fewer, &edges).unwrap();
+    let r = ccd.proximity(&config, &opts(0.05)).unwrap();
+    assert!(!r.stats.refitted);
+    let brute = proximity(
+        &config,
+        &ProximityOptions {
+            method: ProximityMethod::Brute,
+            ..opts(0.05)
+        },
+    )
+    .unwrap();
+    assert_eq!(pairs(&r), pairs(&brute));
+}
