@@ -9,8 +9,7 @@ use topoccd::io::sequence::step_from_frames;
 use topoccd::Ccd;
 use topoccd_scenes::paper::{generate, GenOptions, PaperScene};
 
-use crate::cmd_bench::{bench_source, print_text, Source};
-use crate::cmd_run::progress;
+use crate::common::*;
 use crate::query_args::{MethodArg, QueryArgs};
 
 /// Arguments of `topoccd demo` (all optional).
@@ -98,24 +97,6 @@ pub fn run(args: &Args) -> Result<()> {
     }
     println!("All three methods report the same pairs with the same times on every step.");
     Ok(())
-}
-
-/// `n` and `word`, with an `s` unless `n` is 1 (`1 step`, `2 steps`).
-pub fn plural(n: usize, word: &str) -> String {
-    format!("{} {word}{}", thousands(n), if n == 1 { "" } else { "s" })
-}
-
-/// `n` with commas between groups of three digits (`12,444`).
-pub fn thousands(n: usize) -> String {
-    let digits = n.to_string();
-    let mut out = String::with_capacity(digits.len() + digits.len() / 3);
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i).is_multiple_of(3) {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
 }
 
 /// What the steps' meshes are, in plain words: triangle counts, how many steps change the
@@ -207,21 +188,5 @@ impl Found {
             None => s.push_str(": nothing touches."),
         }
         s
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn plain_numbers() {
-        assert_eq!(thousands(0), "0");
-        assert_eq!(thousands(999), "999");
-        assert_eq!(thousands(12444), "12,444");
-        assert_eq!(thousands(1234567), "1,234,567");
-        assert_eq!(plural(1, "step"), "1 step");
-        assert_eq!(plural(2, "piece"), "2 pieces");
-        assert_eq!(plural(1000, "step"), "1,000 steps");
     }
 }

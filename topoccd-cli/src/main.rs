@@ -8,6 +8,7 @@ mod cmd_queries;
 mod cmd_render;
 mod cmd_run;
 mod cmd_step;
+mod common;
 mod plot;
 mod query_args;
 mod render;
