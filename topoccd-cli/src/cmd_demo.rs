@@ -11,6 +11,7 @@ use topoccd_scenes::paper::{generate, GenOptions, PaperScene};
 
 use crate::common::*;
 use crate::query_args::{MethodArg, QueryArgs};
+use crate::record::Recorder;
 
 /// Arguments of `topoccd demo` (all optional).
 #[derive(clap::Args, Debug)]
@@ -27,6 +28,8 @@ pub struct Args {
     /// Seed of the generator.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    #[command(flatten)]
+    record: RecordArgs,
 }
 
 fn parse_scene(s: &str) -> Result<PaperScene, String> {
@@ -38,6 +41,8 @@ fn parse_scene(s: &str) -> Result<PaperScene, String> {
 
 /// Runs the demo.
 pub fn run(args: &Args) -> Result<()> {
+    let name = format!("topoccd demo --scene {} --scale {}", args.scene, args.scale);
+    let mut recorder = Recorder::open(&args.record, &name, &[])?;
     let options = GenOptions {
         scale: args.scale,
         frames: args.frames,
@@ -84,8 +89,20 @@ pub fn run(args: &Args) -> Result<()> {
     let mut ccd = Ccd::new();
     // What was detected, in plain words: the default method's contacts of every step.
     let mut found = Found::default();
+    // The recording shows each contact's point and normal (the tables are timed without).
+    let mut found_options = options;
+    found_options.geometry |= recorder.is_some();
     for (k, step) in steps.iter().enumerate() {
-        found.add(k, &ccd.query(step, topoccd::Method::Bvh, &options)?);
+        let method = topoccd::Method::Bvh;
+        let report = ccd.query(step, method, &found_options)?;
+        if let Some(recorder) = &mut recorder {
+            let summary = StepOut::new(step, method, found_options.mode, &report, false).text();
+            recorder.step(k, step, &report, &ccd, method, &summary)?;
+        }
+        found.add(k, &report);
+    }
+    if let Some(recorder) = recorder {
+        recorder.finish()?;
     }
     let mut ccds = vec![Ccd::new(); methods.len()];
     let (tables, _) = bench_source(&name, &Source::Memory(steps), &methods, &options, &mut ccds)?;

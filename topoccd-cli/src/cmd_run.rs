@@ -13,6 +13,7 @@ use topoccd::{Ccd, Frame, Step};
 
 use crate::common::*;
 use crate::query_args::{MethodArgs, QueryArgs};
+use crate::record::Recorder;
 
 /// Arguments of `topoccd run`.
 #[derive(clap::Args, Debug)]
@@ -37,6 +38,8 @@ pub struct Args {
     /// format of `topoccd step --pairs`.
     #[arg(long, value_name = "DIR")]
     pairs_dir: Option<PathBuf>,
+    #[command(flatten)]
+    record: RecordArgs,
     /// Skip the static check of each step's start (a warning on stderr when a frame starts
     /// intersecting: see `topoccd check`).
     #[arg(long)]
@@ -118,7 +121,7 @@ impl IntersectionWatch {
 
 /// Runs the command.
 pub fn run(args: &Args) -> Result<()> {
-    let options = args.query.options()?;
+    let mut options = args.query.options()?;
     let sequence = Sequence::open(&args.seq_dir)?;
     if let Some(w) = left_out_warning(&sequence) {
         eprintln!("{w}");
@@ -127,6 +130,11 @@ pub fn run(args: &Args) -> Result<()> {
         prepare_dir(dir)?;
     }
     warn_first_frame(&sequence)?;
+    let inputs: Vec<&Path> = sequence.frames.iter().map(PathBuf::as_path).collect();
+    let name = format!("topoccd run {}", args.seq_dir.display());
+    let mut recorder = Recorder::open(&args.record, &name, &inputs)?;
+    // The recording shows each contact's point and normal.
+    options.geometry |= recorder.is_some();
     let started = Instant::now();
     let bar = progress(sequence.steps(), "steps");
     // Keep the elapsed time moving during a long step.
@@ -147,6 +155,9 @@ pub fn run(args: &Args) -> Result<()> {
             write_pairs(&dir.join(format!("{k:04}.csv")), &report, &inputs, None)?;
         }
         let out = StepOut::new(&step, method, options.mode, &report, args.with_pairs);
+        if let Some(recorder) = &mut recorder {
+            recorder.step(k, &step, &report, &ccd, method, &out.text())?;
+        }
         summary.steps += 1;
         summary.vf += report.vf.len();
         summary.ee += report.ee.len();
@@ -172,6 +183,9 @@ pub fn run(args: &Args) -> Result<()> {
     }
     if let (false, Some((k, step))) = (args.no_check, &last) {
         watch.check(step, Frame::End, &sequence.frames[k + 1], &bar);
+    }
+    if let Some(recorder) = recorder {
+        recorder.finish()?;
     }
     bar.finish_and_clear();
     summary.wall_seconds = started.elapsed().as_secs_f64();

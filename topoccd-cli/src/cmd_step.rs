@@ -7,6 +7,7 @@ use topoccd::Ccd;
 
 use crate::common::*;
 use crate::query_args::{MethodArgs, QueryArgs};
+use crate::record::Recorder;
 
 /// Arguments of `topoccd step`.
 #[derive(clap::Args, Debug)]
@@ -49,6 +50,8 @@ pub struct Args {
     /// memory available (MemAvailable of /proc/meminfo; no check where that is unknown).
     #[arg(long, value_name = "SIZE", value_parser = parse_memory_limit)]
     max_memory: Option<MemoryLimit>,
+    #[command(flatten)]
+    record: RecordArgs,
 }
 
 /// Runs the command.
@@ -57,7 +60,7 @@ pub fn run(args: &Args) -> Result<()> {
         Some(limit) => limit,
         None => MemoryLimit::from_env()?,
     };
-    let options = args.query.options_within(limit)?;
+    let mut options = args.query.options_within(limit)?;
     let to_stdout = args.pairs.as_deref() == Some(Path::new("-"));
     if to_stdout && args.json {
         bail!("--pairs - and --json would both write to stdout; use --json --with-pairs to have the pairs in the JSON");
@@ -68,6 +71,10 @@ pub fn run(args: &Args) -> Result<()> {
             writable(p)?;
         }
     }
+    let name = format!("topoccd step {} {}", args.t0.display(), args.t1.display());
+    let recorder = Recorder::open(&args.record, &name, &[&args.t0, &args.t1])?;
+    // The recording shows each contact's point and normal.
+    options.geometry |= recorder.is_some();
     let input = read_step_input(
         &args.t0,
         &args.t1,
@@ -83,6 +90,12 @@ pub fn run(args: &Args) -> Result<()> {
     let mut report = with_spinner("querying the step", || {
         ccd.query(&input.step, method, &options)
     })?;
+    if let Some(mut recorder) = recorder {
+        // In the step's ids (welded ones included), before the renaming to the files' ids.
+        let summary = StepOut::new(&input.step, method, options.mode, &report, false).text();
+        recorder.step(0, &input.step, &report, &ccd, method, &summary)?;
+        recorder.finish()?;
+    }
     rename(
         &mut report,
         input.vertex_ids.as_deref(),

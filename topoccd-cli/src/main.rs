@@ -11,6 +11,7 @@ mod cmd_step;
 mod common;
 mod plot;
 mod query_args;
+mod record;
 mod render;
 
 use std::process::ExitCode;

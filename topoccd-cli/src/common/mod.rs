@@ -6,6 +6,7 @@
 pub mod files;
 pub mod memory;
 pub mod progress;
+pub mod record_args;
 pub mod step_input;
 pub mod step_out;
 pub mod tables;
@@ -15,6 +16,7 @@ pub mod words;
 pub use files::{prepare_dir, refuse_overwrite, same_file, writable};
 pub use memory::{parse_memory_limit, MemoryLimit};
 pub use progress::{progress, with_spinner};
+pub use record_args::{RecordArgs, RecordTarget};
 pub use step_input::{input_warning_lines, left_out_warning, read_step_input};
 pub use step_out::{rename, write_pairs, StepOut};
 pub use tables::{bench_source, Source};
