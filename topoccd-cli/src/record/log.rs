@@ -1,10 +1,15 @@
 //! A [`StepScene`] into Rerun's archetypes, on the `step` timeline (feature `rerun`).
 
 use anyhow::{bail, Context, Result};
+use re_sdk::blueprint::{
+    Blueprint, BlueprintPanel, Horizontal, SelectionPanel, Spatial3DView, TextLogView,
+    TimeSeriesView, Vertical,
+};
 use re_sdk::{RecordingStream, RecordingStreamBuilder};
 use re_sdk_types::archetypes::{
     Arrows3D, Boxes3D, LineStrips3D, Mesh3D, Points3D, Scalars, TextLog,
 };
+use re_sdk_types::blueprint::components::PanelState;
 use re_sdk_types::components::TextLogLevel;
 
 use super::scene::StepScene;
@@ -17,6 +22,26 @@ const APP_ID: &str = "topoccd";
 
 /// The colour of the earliest contact's marker.
 const EARLIEST: [u8; 3] = [230, 20, 140];
+
+/// The viewer's default layout: the 3D view beside the plots of the figures and the notes, the
+/// side panels collapsed (the Python helpers' `topoccd.rerun.blueprint()` is the same).
+fn blueprint() -> Blueprint {
+    let scene = Spatial3DView::new("contacts")
+        .with_origin("/topoccd")
+        .with_contents(["+ /topoccd/**", "- /topoccd/stats/**", "- /topoccd/notes"]);
+    let seconds = TimeSeriesView::new("seconds by phase").with_origin("/topoccd/stats/seconds");
+    let work = TimeSeriesView::new("candidates and contacts")
+        .with_origin("/topoccd/stats")
+        .with_contents([
+            "+ /topoccd/stats/candidates/**",
+            "+ /topoccd/stats/contacts",
+        ]);
+    let notes = TextLogView::new("notes").with_origin("/topoccd/notes");
+    let side = Vertical::new([seconds.into(), work.into(), notes.into()]);
+    Blueprint::new(Horizontal::new([scene.into(), side.into()]).with_column_shares([2.0, 1.0]))
+        .with_blueprint_panel(BlueprintPanel::from_state(PanelState::Collapsed))
+        .with_selection_panel(SelectionPanel::from_state(PanelState::Collapsed))
+}
 
 /// An open recording stream.
 pub struct Stream {
@@ -44,7 +69,8 @@ impl Stream {
         // `enabled(true)`: the environment variable RERUN=off does not silently drop it.
         let builder = RecordingStreamBuilder::new(APP_ID)
             .recording_name(name)
-            .enabled(true);
+            .enabled(true)
+            .with_default_blueprint(blueprint());
         let rec = match target {
             RecordTarget::File(path) => builder
                 .save(path)

@@ -54,7 +54,15 @@ except ImportError as _err:  # pragma: no cover - the message is the point
         "(or pip install rerun-sdk==0.36.3)"
     ) from _err
 
-__all__ = ["log_step", "log_report", "toi_color", "RERUN_VERSION", "DEFAULT_MAX_PRIMITIVES", "main"]
+__all__ = [
+    "log_step",
+    "log_report",
+    "blueprint",
+    "toi_color",
+    "RERUN_VERSION",
+    "DEFAULT_MAX_PRIMITIVES",
+    "main",
+]
 
 #: The rerun-sdk version whose recordings the ``topoccd`` command writes too.
 RERUN_VERSION = "0.36.3"
@@ -66,6 +74,35 @@ DEFAULT_MAX_PRIMITIVES = 1_000_000
 _NEUTRAL = (205, 205, 200)
 _CRACK = (240, 165, 20)
 _EARLIEST = (230, 20, 140)
+
+
+def blueprint() -> Any:
+    """The viewer's layout the command sends as its default: the 3D view beside the plots of
+    the figures and the notes, the side panels collapsed. ``rec.send_blueprint(topoccd.rerun.blueprint())`` in a loop of
+    your own, or pass it to ``rec.save(path, default_blueprint=...)``."""
+    import rerun.blueprint as rrb
+
+    return rrb.Blueprint(
+        rrb.Horizontal(
+            rrb.Spatial3DView(
+                name="contacts",
+                origin="/topoccd",
+                contents=["+ /topoccd/**", "- /topoccd/stats/**", "- /topoccd/notes"],
+            ),
+            rrb.Vertical(
+                rrb.TimeSeriesView(name="seconds by phase", origin="/topoccd/stats/seconds"),
+                rrb.TimeSeriesView(
+                    name="candidates and contacts",
+                    origin="/topoccd/stats",
+                    contents=["+ /topoccd/stats/candidates/**", "+ /topoccd/stats/contacts"],
+                ),
+                rrb.TextLogView(name="notes", origin="/topoccd/notes"),
+            ),
+            column_shares=[2, 1],
+        ),
+        rrb.BlueprintPanel(state="collapsed"),
+        rrb.SelectionPanel(state="collapsed"),
+    )
 
 
 def _oklch(lightness: float, chroma: float, hue_turns: float) -> Tuple[int, int, int]:
@@ -382,7 +419,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         try:
             with open(args.out, "ab"):
                 pass
-            rec.save(args.out)
+            rec.save(args.out, default_blueprint=blueprint())
         except OSError as err:
             print(f"error: {args.out}: cannot write the recording: {err}", file=sys.stderr)
             return 2
@@ -395,7 +432,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 file=sys.stderr,
             )
             return 2
-        rec.spawn()
+        rec.spawn(default_blueprint=blueprint())
     ccd = topoccd.Ccd()
     warned = False
     try:
