@@ -24,28 +24,44 @@ MAIN = {
 
 
 def dump(path):
-    """``{"application_id": ..., "entities": {path: {step: {"count": n, "values": [...]}}}}``;
-    a step an entity was logged at more than once (the notes) gets the rows in order."""
+    """``{"application_id": ..., "entities": {path: {step: {"count": n, "values": [...]}}}}``.
+    The count is the viewer's (latest-at): a step that logs an entity without its main
+    component (a mesh's positions only) keeps the count of the latest step that logged it.
+    A step an entity was logged at more than once (the notes) gets the values in order."""
     reader = RrdReader(path)
     recordings = reader.recordings()
     out = {"recordings": len(recordings), "entities": {}}
     if recordings:
         out["application_id"] = recordings[0].application_id
+    rows = {}  # entity -> step -> [archetype, count or None, values]
     for chunk in reader.stream():
         batch = chunk.to_record_batch()
         names = batch.schema.names
         if "step" not in names:
             continue
         steps = batch.column("step").to_pylist()
-        entity = out["entities"].setdefault(chunk.entity_path, {})
+        entity = rows.setdefault(chunk.entity_path, {})
         for archetype, column in MAIN.items():
-            if column not in names:
+            if not any(n.startswith(archetype + ":") for n in names):
                 continue
-            for step, cell in zip(steps, batch.column(column).to_pylist()):
-                row = entity.setdefault(str(step), {"archetype": archetype, "count": 0, "values": []})
-                row["count"] += 0 if cell is None else len(cell)
-                if archetype in ("Scalars", "TextLog") and cell is not None:
-                    row["values"].extend(cell)
+            cells = batch.column(column).to_pylist() if column in names else [None] * len(steps)
+            for step, cell in zip(steps, cells):
+                row = entity.setdefault(step, [archetype, None, []])
+                if cell is not None:
+                    row[1] = (row[1] or 0) + len(cell)
+                    if archetype in ("Scalars", "TextLog"):
+                        row[2].extend(cell)
+    for path, entity in rows.items():
+        latest = 0
+        out["entities"][path] = {}
+        for step in sorted(entity):
+            archetype, count, values = entity[step]
+            latest = latest if count is None else count
+            out["entities"][path][str(step)] = {
+                "archetype": archetype,
+                "count": latest,
+                "values": values,
+            }
     return out
 
 

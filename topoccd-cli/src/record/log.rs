@@ -47,6 +47,9 @@ fn blueprint() -> Blueprint {
 pub struct Stream {
     rec: RecordingStream,
     target: RecordTarget,
+    /// The mesh's triangles as last logged: a step with the same ones logs its positions only
+    /// (the viewer keeps the latest triangles), a third of the mesh's bytes.
+    last_triangles: Option<Vec<[u32; 3]>>,
 }
 
 /// Whether an executable named `name` is on the PATH.
@@ -92,6 +95,7 @@ impl Stream {
         Ok(Self {
             rec,
             target: target.clone(),
+            last_triangles: None,
         })
     }
 
@@ -105,18 +109,32 @@ impl Stream {
         let rec = &self.rec;
         rec.set_time_sequence("step", k as i64);
         match &s.mesh {
-            Some((positions, triangles)) => rec.log(
-                "topoccd/mesh",
-                &Mesh3D::new(positions.iter().copied())
-                    .with_triangle_indices(triangles.iter().copied())
-                    .with_albedo_factor(palette::NEUTRAL),
-            )?,
+            Some((positions, triangles))
+                if self.last_triangles.as_deref() == Some(triangles.as_slice()) =>
+            {
+                rec.log(
+                    "topoccd/mesh",
+                    &Mesh3D::update_fields().with_vertex_positions(positions.iter().copied()),
+                )?
+            }
+            Some((positions, triangles)) => {
+                rec.log(
+                    "topoccd/mesh",
+                    &Mesh3D::new(positions.iter().copied())
+                        .with_triangle_indices(triangles.iter().copied())
+                        .with_albedo_factor(palette::NEUTRAL),
+                )?;
+                self.last_triangles = Some(triangles.clone());
+            }
             // An empty mesh: the previous step's does not linger.
-            None => rec.log(
-                "topoccd/mesh",
-                &Mesh3D::new(std::iter::empty::<[f32; 3]>())
-                    .with_triangle_indices(std::iter::empty::<[u32; 3]>()),
-            )?,
+            None => {
+                rec.log(
+                    "topoccd/mesh",
+                    &Mesh3D::new(std::iter::empty::<[f32; 3]>())
+                        .with_triangle_indices(std::iter::empty::<[u32; 3]>()),
+                )?;
+                self.last_triangles = None;
+            }
         }
         // The contact faces as one mesh of separate triangles, so each has its own colour.
         let corners = s.faces.iter().flatten().copied();
