@@ -308,6 +308,54 @@ mod with_feature {
     }
 
     #[test]
+    fn a_mesh_that_keeps_its_triangles_is_counted_at_every_step() {
+        // nidus has no cut: after step 0 only the positions are logged, the viewer (and the
+        // reader) keep the triangles.
+        let Some(tools) = Tools::find("nocut") else {
+            return;
+        };
+        let dir = TempDir::new("rerun", "nocut");
+        let seq = dir.0.join("seq");
+        let g = run(
+            None,
+            &[
+                "gen",
+                "nidus",
+                seq.to_str().unwrap(),
+                "--scale",
+                "0.02",
+                "--frames",
+                "4",
+            ],
+            &[],
+        );
+        assert!(g.output.status.success(), "{}", g.stderr);
+        let rrd = dir.0.join("nocut.rrd");
+        let r = run(
+            None,
+            &[
+                "run",
+                seq.to_str().unwrap(),
+                "--json",
+                "--rerun",
+                rrd.to_str().unwrap(),
+            ],
+            &[],
+        );
+        assert!(r.output.status.success(), "{}", r.stderr);
+        let steps = steps_json(&r.stdout);
+        let rec = tools.read(&rrd);
+        assert_eq!(steps_of(&rec, "/topoccd/mesh"), [0, 1, 2]);
+        for (k, s) in steps.iter().enumerate() {
+            assert_eq!(
+                count(&rec, "/topoccd/mesh", k),
+                s["triangles"].as_u64().unwrap()
+            );
+            assert_eq!(count(&rec, "/topoccd/cracks/vertices", k), 0);
+        }
+    }
+
+    #[test]
     fn volumes_step_and_demo_record_too() {
         let Some(tools) = Tools::find("more") else {
             return;

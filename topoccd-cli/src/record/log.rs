@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context, Result};
 use re_sdk::blueprint::{
-    Blueprint, BlueprintPanel, Horizontal, SelectionPanel, Spatial3DView, TextLogView,
+    Blueprint, BlueprintPanel, Horizontal, SelectionPanel, Spatial3DView, TextLogView, TimePanel,
     TimeSeriesView, Vertical,
 };
 use re_sdk::{RecordingStream, RecordingStreamBuilder};
@@ -41,6 +41,11 @@ fn blueprint() -> Blueprint {
     Blueprint::new(Horizontal::new([scene.into(), side.into()]).with_column_shares([2.0, 1.0]))
         .with_blueprint_panel(BlueprintPanel::from_state(PanelState::Collapsed))
         .with_selection_panel(SelectionPanel::from_state(PanelState::Collapsed))
+        .with_time_panel(
+            TimePanel::new()
+                .with_state(PanelState::Collapsed)
+                .with_timeline("step"),
+        )
 }
 
 /// An open recording stream.

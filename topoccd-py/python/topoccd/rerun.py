@@ -102,6 +102,7 @@ def blueprint() -> Any:
         ),
         rrb.BlueprintPanel(state="collapsed"),
         rrb.SelectionPanel(state="collapsed"),
+        rrb.TimePanel(state="collapsed", timeline="step"),
     )
 
 
