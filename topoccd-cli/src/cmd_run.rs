@@ -126,15 +126,15 @@ pub fn run(args: &Args) -> Result<()> {
     if let Some(w) = left_out_warning(&sequence) {
         eprintln!("{w}");
     }
-    if let Some(dir) = &args.pairs_dir {
-        prepare_dir(dir)?;
-    }
-    warn_first_frame(&sequence)?;
     let inputs: Vec<&Path> = sequence.frames.iter().map(PathBuf::as_path).collect();
     let name = format!("topoccd run {}", args.seq_dir.display());
     let mut recorder = Recorder::open(&args.record, &name, &inputs)?;
     // The recording shows each contact's point and normal.
     options.geometry |= recorder.is_some();
+    if let Some(dir) = &args.pairs_dir {
+        prepare_dir(dir)?;
+    }
+    warn_first_frame(&sequence)?;
     let started = Instant::now();
     let bar = progress(sequence.steps(), "steps");
     // Keep the elapsed time moving during a long step.
