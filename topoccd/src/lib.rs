@@ -70,11 +70,11 @@ pub mod pair;
 pub use kdop::DopKind;
 pub use mesh::{CanCollide, Frame, Positions, Step, StepError, Triangles};
 pub use narrow::NarrowOptions;
-pub use query::DEFAULT_MAX_CONTACTS;
 pub use proximity::{
     proximity, Configuration, EeProximity, ProximityError, ProximityMethod, ProximityOptions,
     ProximityReport, ProximityStats, VeProximity, VfProximity, VvProximity,
 };
+pub use query::DEFAULT_MAX_CONTACTS;
 pub use query::{
     query, Ccd, Certainty, ClusterFigures, ClusterGrowth, Contact, EeContact, EeGeometry, Method,
     Mode, OptionsError, QueryOptions, Report, Seconds, Stats, VeContact, VfContact, VfGeometry,
