@@ -349,7 +349,8 @@ typedef struct topoccd_query_options {
   uint8_t _padding[6];
   // Most contacts the report keeps; 0 for no cap. A query that has more stops, and its
   // report's `truncated` says so; the contacts kept are the first of a fixed order, the same
-  // for any thread count. In `TOPOCCD_MODE_EARLIEST` the earliest time stays exact. Default 0.
+  // for any thread count. In `TOPOCCD_MODE_EARLIEST` the earliest time stays exact. Default
+  // 1,000,000 (the Rust and Python default), so that memory stays bounded.
   uint64_t max_contacts;
   // Seconds a query may run; 0 for no limit. A query past it stops within a millisecond of
   // work per thread; its report holds the earliest contact found by then and `truncated` is
@@ -733,7 +734,7 @@ typedef struct topoccd_proximity_report {
   const struct topoccd_ee_proximity *ee;
   // Their number.
   size_t ee_count;
-  // Free point-edge pairs.
+  // Free point-free edge pairs.
   const struct topoccd_ve_proximity *ve;
   // Their number.
   size_t ve_count;
@@ -1138,7 +1139,7 @@ topoccd_status topoccd_pair_edge_edge(const struct topoccd_edge_edge *query,
 struct topoccd_proximity_options topoccd_proximity_options_default(void);
 
 // Every primitive pair of `config` closer than `dhat + dmin`: vertex-face, edge-edge
-// (triangles' edges and free edges), free point-edge and free point-free point, with their
+// (triangles' edges and free edges), free point-free edge and free point-free point, with their
 // distances and closest-feature types; `*report` receives a pointer to them, valid until the
 // next `topoccd_proximity` on `ccd` or `topoccd_ccd_free`. `options` may be NULL for the
 // defaults. Features sharing a vertex are not paired; groups apply. No pair closer than the
