@@ -40,7 +40,10 @@ fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
         .install(f)
 }
 
-fn pairs(r: &Report) -> (Vec<(u32, u32, u64)>, Vec<([u32; 2], [u32; 2], u64)>) {
+/// A report's vertex-face and edge-edge pairs, each with its time's bits.
+type Pairs = (Vec<(u32, u32, u64)>, Vec<([u32; 2], [u32; 2], u64)>);
+
+fn pairs(r: &Report) -> Pairs {
     (
         r.vf.iter()
             .map(|c| (c.vertex, c.face, c.toi.to_bits()))
