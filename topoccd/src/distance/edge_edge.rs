@@ -58,7 +58,7 @@ impl EdgeEdgeType {
 /// features, computed relative to `ea0`. Segments not nearly parallel (squared sine of their
 /// angle at least 1e-2) solve the normal equations, clamped; the others take the minimum over
 /// the four endpoint-segment sub-cases and, for segments not parallel (squared sine of their angle at least
-/// [`PARALLEL_SIN2`]), the interior-interior sub-case, taken as the distance from the point of
+/// 1e-20), the interior-interior sub-case, taken as the distance from the point of
 /// edge a at the lines' closest parameter (when strictly inside) to segment b. On a tie the
 /// endpoint sub-cases win, in the order of the type.
 ///
