@@ -392,6 +392,8 @@ pub unsafe extern "C" fn topoccd_frames_step(
             parent_count: s.parents.len(),
             groups: ptr::null(),
             group_count: 0,
+            edges: ptr::null(),
+            edge_count: 0,
         };
         Ok(())
     });
