@@ -59,7 +59,9 @@ scripts/test-c.sh  # the C API and the C++ wrapper: examples, tests under ASan, 
 echo "== Python package: sdist, manylinux abi3 wheel, fresh venv without Rust, pytest"
 # The suite compares with the CLI (target/release/topoccd) and reads the shared data; with
 # CI=true it fails rather than skips where either is absent.
-cargo build --release --quiet -p topoccd-cli
+# With the feature `rerun` (--rerun recordings), which test_rerun.py and the CLI's own
+# recording test below check.
+cargo build --release --quiet -p topoccd-cli --features rerun
 # The wheel as scripts/wheel.sh builds it (its build tools live in a venv kept between runs).
 BUILD_VENV=target/wheel-build-venv
 DIST=target/dist
@@ -89,7 +91,7 @@ rm -rf "$VENV"
 "$PYTHON_BIN" -m venv "$VENV"
 no_rust() { env PATH="$PWD/$VENV/bin:$NO_RUST_PATH" CARGO_HOME=/nonexistent RUSTUP_HOME=/nonexistent "$@"; }
 no_rust python -m pip install --quiet --upgrade pip
-no_rust python -m pip install --quiet --only-binary topoccd "$wheel[ray,test]" tqdm
+no_rust python -m pip install --quiet --only-binary topoccd "$wheel[ray,test,rerun]" tqdm
 no_rust python -c "import topoccd; print('topoccd', topoccd.__version__, 'imported from', topoccd.__file__)"
 set +e
 no_rust python -m pytest topoccd-py/tests -q -rs
@@ -98,6 +100,12 @@ set -e
 if [ "$status" -eq 5 ]; then
     echo "error: pytest collected no tests" >&2
     exit 1
+fi
+# The CLI's recordings (feature `rerun`), read back with the venv's rerun-sdk (its `rerun`
+# command and Python first on the PATH).
+echo "== topoccd --rerun recordings (feature rerun)"
+if ! PATH="$PWD/$VENV/bin:$PATH" cargo test --release --quiet -p topoccd-cli --features rerun --test rerun; then
+    status=1
 fi
 if [ -n "$missing" ]; then
     echo "$missing" >&2

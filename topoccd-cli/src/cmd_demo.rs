@@ -9,9 +9,9 @@ use topoccd::io::sequence::step_from_frames;
 use topoccd::Ccd;
 use topoccd_scenes::paper::{generate, GenOptions, PaperScene};
 
-use crate::cmd_bench::{bench_source, print_text, Source};
-use crate::cmd_run::progress;
+use crate::common::*;
 use crate::query_args::{MethodArg, QueryArgs};
+use crate::record::Recorder;
 
 /// Arguments of `topoccd demo` (all optional).
 #[derive(clap::Args, Debug)]
@@ -28,6 +28,8 @@ pub struct Args {
     /// Seed of the generator.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    #[command(flatten)]
+    record: RecordArgs,
 }
 
 fn parse_scene(s: &str) -> Result<PaperScene, String> {
@@ -39,6 +41,8 @@ fn parse_scene(s: &str) -> Result<PaperScene, String> {
 
 /// Runs the demo.
 pub fn run(args: &Args) -> Result<()> {
+    let name = format!("topoccd demo --scene {} --scale {}", args.scene, args.scale);
+    let mut recorder = Recorder::open(&args.record, &name, &[])?;
     let options = GenOptions {
         scale: args.scale,
         frames: args.frames,
@@ -85,8 +89,20 @@ pub fn run(args: &Args) -> Result<()> {
     let mut ccd = Ccd::new();
     // What was detected, in plain words: the default method's contacts of every step.
     let mut found = Found::default();
+    // The recording shows each contact's point and normal (the tables are timed without).
+    let mut found_options = options;
+    found_options.geometry |= recorder.is_some();
     for (k, step) in steps.iter().enumerate() {
-        found.add(k, &ccd.query(step, topoccd::Method::Bvh, &options)?);
+        let method = topoccd::Method::Bvh;
+        let report = ccd.query(step, method, &found_options)?;
+        if let Some(recorder) = &mut recorder {
+            let summary = StepOut::new(step, method, found_options.mode, &report, false).text();
+            recorder.step(k, step, &report, &ccd, method, &summary)?;
+        }
+        found.add(k, &report);
+    }
+    if let Some(recorder) = recorder {
+        recorder.finish()?;
     }
     let mut ccds = vec![Ccd::new(); methods.len()];
     let (tables, _) = bench_source(&name, &Source::Memory(steps), &methods, &options, &mut ccds)?;
@@ -98,24 +114,6 @@ pub fn run(args: &Args) -> Result<()> {
     }
     println!("All three methods report the same pairs with the same times on every step.");
     Ok(())
-}
-
-/// `n` and `word`, with an `s` unless `n` is 1 (`1 step`, `2 steps`).
-pub fn plural(n: usize, word: &str) -> String {
-    format!("{} {word}{}", thousands(n), if n == 1 { "" } else { "s" })
-}
-
-/// `n` with commas between groups of three digits (`12,444`).
-pub fn thousands(n: usize) -> String {
-    let digits = n.to_string();
-    let mut out = String::with_capacity(digits.len() + digits.len() / 3);
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i).is_multiple_of(3) {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
 }
 
 /// What the steps' meshes are, in plain words: triangle counts, how many steps change the
@@ -207,21 +205,5 @@ impl Found {
             None => s.push_str(": nothing touches."),
         }
         s
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn plain_numbers() {
-        assert_eq!(thousands(0), "0");
-        assert_eq!(thousands(999), "999");
-        assert_eq!(thousands(12444), "12,444");
-        assert_eq!(thousands(1234567), "1,234,567");
-        assert_eq!(plural(1, "step"), "1 step");
-        assert_eq!(plural(2, "piece"), "2 pieces");
-        assert_eq!(plural(1000, "step"), "1,000 steps");
     }
 }

@@ -15,7 +15,7 @@ use std::str::FromStr;
 use anyhow::{anyhow, bail, Context, Result};
 use topoccd::broad::cluster::{cluster, ClusterOptions};
 
-use crate::cmd_demo::plural;
+use crate::common::*;
 use crate::query_args::GrowthArg;
 use topoccd::io::{frame_number, read_mesh, sequence::step_between};
 use topoccd::math::DVec3;
@@ -560,49 +560,6 @@ fn check_output(args: &Args) -> Result<()> {
         }
     }
     writable(out)
-}
-
-/// Fails now, before any work, if `out` cannot be written: its folder is missing, it is a
-/// folder, or the file cannot be opened for writing (a probe that leaves an existing file as it
-/// is, and removes the empty one it made).
-pub fn writable(out: &Path) -> Result<()> {
-    let folder = match out.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    if !folder.is_dir() {
-        bail!(
-            "{}: cannot write: the folder {} does not exist",
-            out.display(),
-            folder.display()
-        );
-    }
-    if out.is_dir() {
-        bail!("{}: cannot write: it is a folder", out.display());
-    }
-    let existed = out.exists();
-    std::fs::OpenOptions::new()
-        .write(true)
-        .create(true)
-        .truncate(false)
-        .open(out)
-        .with_context(|| format!("{}: cannot write", out.display()))?;
-    if !existed {
-        // The probe's empty file: the picture replaces it once drawn.
-        let _ = std::fs::remove_file(out);
-    }
-    Ok(())
-}
-
-/// Whether two paths name the same file (the same text, or the same file once resolved).
-fn same_file(a: &Path, b: &Path) -> bool {
-    if a == b {
-        return true;
-    }
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
-    }
 }
 
 #[cfg(test)]

@@ -1,19 +1,19 @@
 //! `topoccd run SEQ_DIR`: every step of a frame sequence, with a progress bar.
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use anyhow::{bail, Context, Result};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use anyhow::Result;
+use indicatif::ProgressBar;
 use serde::Serialize;
 use topoccd::check::step_intersections;
 use topoccd::io::read_mesh;
 use topoccd::io::sequence::Sequence;
 use topoccd::{Ccd, Frame, Step};
 
-use crate::cmd_step::{input_warning_lines, write_pairs, StepOut};
+use crate::common::*;
 use crate::query_args::{MethodArgs, QueryArgs};
+use crate::record::Recorder;
 
 /// Arguments of `topoccd run`.
 #[derive(clap::Args, Debug)]
@@ -38,6 +38,8 @@ pub struct Args {
     /// format of `topoccd step --pairs`.
     #[arg(long, value_name = "DIR")]
     pairs_dir: Option<PathBuf>,
+    #[command(flatten)]
+    record: RecordArgs,
     /// Skip the static check of each step's start (a warning on stderr when a frame starts
     /// intersecting: see `topoccd check`).
     #[arg(long)]
@@ -62,85 +64,6 @@ struct Summary {
     earliest_toi: Option<f64>,
     query_seconds: f64,
     wall_seconds: f64,
-}
-
-/// A progress bar on stderr (hidden when stderr is not a terminal).
-pub fn progress(len: usize, what: &str) -> ProgressBar {
-    let bar = ProgressBar::new(len as u64);
-    let style =
-        ProgressStyle::with_template("{prefix} [{elapsed_precise}] {bar:30} {pos}/{len} {msg}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar());
-    bar.set_style(style);
-    bar.set_prefix(what.to_string());
-    bar
-}
-
-/// Runs `work`, showing a spinner with `what` on stderr if it takes more than a second (and
-/// stderr is a terminal: a hidden bar draws nothing).
-pub fn with_spinner<T>(what: &str, work: impl FnOnce() -> T) -> T {
-    let spinner = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
-    spinner.set_style(
-        ProgressStyle::with_template("{spinner} {msg} [{elapsed_precise}]")
-            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
-    );
-    spinner.set_message(what.to_string());
-    let done = AtomicBool::new(false);
-    std::thread::scope(|scope| {
-        scope.spawn(|| {
-            let started = Instant::now();
-            while started.elapsed() < Duration::from_secs(1) {
-                if done.load(Ordering::Acquire) {
-                    return;
-                }
-                std::thread::sleep(Duration::from_millis(20));
-            }
-            if !done.load(Ordering::Acquire) {
-                spinner.set_draw_target(ProgressDrawTarget::stderr());
-                spinner.enable_steady_tick(Duration::from_millis(120));
-            }
-        });
-        let result = work();
-        done.store(true, Ordering::Release);
-        spinner.finish_and_clear();
-        result
-    })
-}
-
-/// Creates the pairs folder, refusing a path that exists and is not a folder.
-pub fn prepare_dir(dir: &Path) -> Result<()> {
-    if dir.exists() && !dir.is_dir() {
-        bail!("{}: exists and is not a folder", dir.display());
-    }
-    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))
-}
-
-/// A warning naming the files of the sequence's folder that are not its frames (at most 12),
-/// `None` when there are none: a folder holding two frames among other files is then not taken
-/// as a sequence silently.
-pub fn left_out_warning(sequence: &Sequence) -> Option<String> {
-    const SHOWN: usize = 12;
-    let ignored = &sequence.ignored;
-    if ignored.is_empty() {
-        return None;
-    }
-    let name = |p: &PathBuf| {
-        p.file_name()
-            .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
-    };
-    let more = if ignored.len() > SHOWN {
-        format!(" and {} more", ignored.len() - SHOWN)
-    } else {
-        String::new()
-    };
-    Some(format!(
-        "warning: {}: the sequence is the {} frames {} ... {} ({} steps); left out: {}{more}",
-        sequence.dir.display(),
-        sequence.frames.len(),
-        name(&sequence.frames[0]),
-        name(&sequence.frames[sequence.frames.len() - 1]),
-        sequence.steps(),
-        ignored[..ignored.len().min(SHOWN)].join(", "),
-    ))
 }
 
 /// Prints the reader's notes on the first frame, and a warning if vertices of it coincide.
@@ -198,11 +121,16 @@ impl IntersectionWatch {
 
 /// Runs the command.
 pub fn run(args: &Args) -> Result<()> {
-    let options = args.query.options()?;
+    let mut options = args.query.options()?;
     let sequence = Sequence::open(&args.seq_dir)?;
     if let Some(w) = left_out_warning(&sequence) {
         eprintln!("{w}");
     }
+    let inputs: Vec<&Path> = sequence.frames.iter().map(PathBuf::as_path).collect();
+    let name = format!("topoccd run {}", args.seq_dir.display());
+    let mut recorder = Recorder::open(&args.record, &name, &inputs)?;
+    // The recording shows each contact's point and normal.
+    options.geometry |= recorder.is_some();
     if let Some(dir) = &args.pairs_dir {
         prepare_dir(dir)?;
     }
@@ -227,6 +155,9 @@ pub fn run(args: &Args) -> Result<()> {
             write_pairs(&dir.join(format!("{k:04}.csv")), &report, &inputs, None)?;
         }
         let out = StepOut::new(&step, method, options.mode, &report, args.with_pairs);
+        if let Some(recorder) = &mut recorder {
+            recorder.step(k, &step, &report, &ccd, method, &out.text())?;
+        }
         summary.steps += 1;
         summary.vf += report.vf.len();
         summary.ee += report.ee.len();
@@ -252,6 +183,9 @@ pub fn run(args: &Args) -> Result<()> {
     }
     if let (false, Some((k, step))) = (args.no_check, &last) {
         watch.check(step, Frame::End, &sequence.frames[k + 1], &bar);
+    }
+    if let Some(recorder) = recorder {
+        recorder.finish()?;
     }
     bar.finish_and_clear();
     summary.wall_seconds = started.elapsed().as_secs_f64();

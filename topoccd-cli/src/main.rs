@@ -8,8 +8,10 @@ mod cmd_queries;
 mod cmd_render;
 mod cmd_run;
 mod cmd_step;
+mod common;
 mod plot;
 mod query_args;
+mod record;
 mod render;
 
 use std::process::ExitCode;

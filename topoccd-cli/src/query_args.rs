@@ -4,7 +4,7 @@
 
 use anyhow::Result;
 
-use crate::cmd_step::MemoryLimit;
+use crate::common::MemoryLimit;
 use topoccd::{ClusterGrowth, DopKind, Method, Mode, NarrowOptions, QueryOptions};
 
 /// The whole-step query's method, as named on the command line.
