@@ -869,7 +869,8 @@ topoccd_status topoccd_frames_read(const char *t0,
 
 // The step of `frames`, borrowed: `*step` is filled with pointers into `frames` (valid until
 // `topoccd_frames_free`), with parents when the step is a topology change (more vertices at
-// t=1, or a parents file with rows). Pass it to `topoccd_ccd_query`.
+// t=1, or a parents file with rows), and with edges when frame k + 1 has free edges (PLY
+// `edge` elements, OBJ `l` lines). Pass it to `topoccd_ccd_query`.
 //
 // # Safety
 // `frames` is NULL or a `topoccd_frames` this library returned; `step` is NULL or valid for a

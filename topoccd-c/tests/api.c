@@ -691,6 +691,25 @@ static void test_files(void) {
                  "t1 is NULL", "NULL t1");
     CHECK(frames == NULL, "no frames after a failure");
 
+    /* Free edges from the files (OBJ l lines): a particle falls across a rod at t=0.5. */
+    CHECK_STATUS(topoccd_frames_read(p0, p1, pp, &frames, &error), TOPOCCD_STATUS_OK, "again");
+    topoccd_frames_step(frames, &s);
+    CHECK(s.edges == NULL && s.edge_count == 0, "files without edges give no edges");
+    topoccd_frames_free(&frames);
+    const char *r0 = file("rod-a.obj", "v 0 0 0\nv 1 0 0\nv 0.5 0 1\nl 1 2\n");
+    char q0[128];
+    snprintf(q0, sizeof q0, "%s", r0);
+    const char *q1 = file("rod-b.obj", "v 0 0 0\nv 1 0 0\nv 0.5 0 -1\nl 1 2\n");
+    CHECK_STATUS(topoccd_frames_read(q0, q1, NULL, &frames, &error), TOPOCCD_STATUS_OK, "%s",
+                 topoccd_error_message(error));
+    topoccd_frames_step(frames, &s);
+    CHECK(s.edge_count == 1 && s.edges != NULL && s.edges[0] == 0 && s.edges[1] == 1, "the rod's edge");
+    CHECK_STATUS(topoccd_ccd_query(ccd, &s, NULL), TOPOCCD_STATUS_OK, "%s", topoccd_ccd_last_error(ccd));
+    r = report_of(ccd);
+    CHECK(r->ve_count == 1 && r->ve[0].vertex == 2 && r->ve[0].toi <= 0.5 && r->ve[0].toi > 0.5 - 1e-6,
+          "the particle crosses the rod read from files: %zu ve", r->ve_count);
+    topoccd_frames_free(&frames);
+
     /* A sequence: the folder holds 0000.obj, 0001.obj and 0001.parents. */
     topoccd_sequence *seq = NULL;
     expect_error(topoccd_sequence_open(file("no-such-folder", NULL), &seq, &error), TOPOCCD_STATUS_IO, &error,
