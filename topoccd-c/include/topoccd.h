@@ -104,6 +104,10 @@ enum topoccd_contact_kind
   TOPOCCD_CONTACT_KIND_VF = 1,
   // An edge-edge contact.
   TOPOCCD_CONTACT_KIND_EE = 2,
+  // A contact of a free point with a free edge (`ve`).
+  TOPOCCD_CONTACT_KIND_VE = 3,
+  // A contact of two free points (`vv`).
+  TOPOCCD_CONTACT_KIND_VV = 4,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -267,6 +271,11 @@ typedef struct topoccd_sequence topoccd_sequence;
 // - `groups`: NULL, or `group_count` = `x1_count` group ids, one per vertex: two features are
 //   tested only if some vertex of one is in another group than some vertex of the other (give
 //   each object its own id to turn off its self-collision).
+// - `edges`: NULL, or `edge_count` rows of 2 vertex indices (codimensional geometry). Those
+//   in no triangle are free edges (rods, hair, yarn); with `edges` given, vertices in no
+//   triangle and no edge are free points (particles). Contacts of a free point with a free
+//   edge are reported in the report's `ve`, of two free points in `vv`. Edges of the
+//   triangles may be listed too; they change nothing.
 typedef struct topoccd_step {
   // Positions at t=0: `x0_count` rows of 3 doubles.
   const double *x0;
@@ -288,6 +297,10 @@ typedef struct topoccd_step {
   const uint32_t *groups;
   // Number of group ids (`x1_count` when `groups` is not NULL).
   size_t group_count;
+  // NULL, or `edge_count` rows of 2 vertex indices: free edges, and free points.
+  const uint32_t *edges;
+  // Number of edges.
+  size_t edge_count;
 } topoccd_step;
 
 // The options of `topoccd_ccd_query` and of the per-pair tests (which read `tolerance`,
@@ -480,6 +493,43 @@ typedef struct topoccd_stats {
   struct topoccd_cluster_figures cluster;
 } topoccd_stats;
 
+// A free point (a vertex in no triangle and no edge) and a free edge that (may) touch during
+// the step (codimensional geometry: the step's `edges`).
+typedef struct topoccd_ve_contact {
+  // The point's vertex.
+  uint32_t vertex;
+  // The edge, `[i, j]` with `i < j`.
+  uint32_t edge[2];
+  // Time of impact in [0, tmax], never later than the first contact.
+  double toi;
+  // A `topoccd_certainty`.
+  topoccd_certainty certainty;
+  // Whether `geometry` holds the contact's geometry (with the option `geometry`); else it
+  // is zero.
+  bool has_geometry;
+  // The contact's geometry, as for two edges: the point is edge `a` of length zero
+  // (`a_param` 0), the edge is edge `b`.
+  struct topoccd_ee_geometry geometry;
+} topoccd_ve_contact;
+
+// Two free points that (may) touch during the step (codimensional geometry).
+typedef struct topoccd_vv_contact {
+  // The smaller vertex index.
+  uint32_t a;
+  // The larger one.
+  uint32_t b;
+  // Time of impact in [0, tmax], never later than the first contact.
+  double toi;
+  // A `topoccd_certainty`.
+  topoccd_certainty certainty;
+  // Whether `geometry` holds the contact's geometry (with the option `geometry`); else it
+  // is zero.
+  bool has_geometry;
+  // The contact's geometry, as for two edges of length zero (both parameters 0, the normal
+  // from `b` to `a`).
+  struct topoccd_ee_geometry geometry;
+} topoccd_vv_contact;
+
 // The result of the last query of a `topoccd_ccd`, read in place: its arrays belong to the
 // `topoccd_ccd` and stay valid, unchanged, until its next query or `topoccd_ccd_free`. Before
 // the first query, and after a query that failed, it is empty.
@@ -497,7 +547,8 @@ typedef struct topoccd_report {
   // A `topoccd_contact_kind`: which array holds the earliest contact, or
   // `TOPOCCD_CONTACT_KIND_NONE` when nothing collides.
   topoccd_contact_kind earliest_kind;
-  // The earliest contact's index in `vf` or `ee` (by `earliest_kind`); 0 when none.
+  // The earliest contact's index in `vf`, `ee`, `ve` or `vv` (by `earliest_kind`); 0 when
+  // none.
   size_t earliest_index;
   // The earliest time of impact; NaN when nothing collides.
   double earliest_toi;
@@ -515,6 +566,15 @@ typedef struct topoccd_report {
   // found more such pairs than `max_contacts` and kept the earliest of them (the earliest
   // time is exact either way).
   bool earliest_complete;
+  // Colliding pairs of a free point and a free edge (a step with `edges`), sorted by
+  // `(vertex, edge)`. Valid for `ve_count` elements.
+  const struct topoccd_ve_contact *ve;
+  // Number of vertex-edge contacts.
+  size_t ve_count;
+  // Colliding pairs of two free points, sorted by `(a, b)`. Valid for `vv_count` elements.
+  const struct topoccd_vv_contact *vv;
+  // Number of vertex-vertex contacts.
+  size_t vv_count;
 } topoccd_report;
 
 // The arrays of a `topoccd_mesh`, borrowed from it: valid until `topoccd_mesh_free`.
@@ -930,7 +990,8 @@ topoccd_status topoccd_frames_read(const char *t0,
 
 // The step of `frames`, borrowed: `*step` is filled with pointers into `frames` (valid until
 // `topoccd_frames_free`), with parents when the step is a topology change (more vertices at
-// t=1, or a parents file with rows). Pass it to `topoccd_ccd_query`.
+// t=1, or a parents file with rows), and with edges when frame k + 1 has free edges (PLY
+// `edge` elements, OBJ `l` lines). Pass it to `topoccd_ccd_query`.
 //
 // # Safety
 // `frames` is NULL or a `topoccd_frames` this library returned; `step` is NULL or valid for a

@@ -340,6 +340,8 @@ using Indices = Rows<std::uint32_t, 3>;
 using ParentRows = Rows<std::uint32_t, 2>;
 /// One group id per vertex.
 using GroupIds = Rows<std::uint32_t, 1>;
+/// Edges (codimensional geometry): rows of two vertex indices.
+using EdgeRows = Rows<std::uint32_t, 2>;
 
 /// The input of one step, borrowed (see topoccd_step): positions at t=0 and t=1, triangles,
 /// and optionally the parents of a topology change and group ids.
@@ -384,6 +386,16 @@ class Step {
     return std::move(groups(ids));
   }
 
+  /// Edges (codimensional geometry): those in no triangle are free edges (rods, hair), and
+  /// vertices in no triangle and no edge are free points (particles). Their contacts are the
+  /// report's ve() and vv().
+  Step& edges(EdgeRows rows) & noexcept {
+    c_.edges = rows.data();
+    c_.edge_count = rows.rows();
+    return *this;
+  }
+  Step&& edges(EdgeRows rows) && noexcept { return std::move(this->edges(rows)); }
+
   /// The C struct. Only on a Step that outlives the reference: `frames.step().c()` would
   /// point into a temporary, so it does not compile (keep the Step in a variable).
   const topoccd_step& c() const& noexcept { return c_; }
@@ -397,7 +409,8 @@ class Step {
 
 /// The report of a query, read in place from its Ccd: valid until the Ccd's next query or
 /// destruction. Contacts are the C structs topoccd_vf_contact (vertex, face, toi, certainty,
-/// geometry) and topoccd_ee_contact (a[2], b[2], toi, ...).
+/// geometry), topoccd_ee_contact (a[2], b[2], toi, ...), topoccd_ve_contact (vertex, edge[2],
+/// ...) and topoccd_vv_contact (a, b, ...).
 class Report {
  public:
   explicit Report(const topoccd_report* r) noexcept : r_(r) {}
@@ -406,7 +419,14 @@ class Report {
   Span<const topoccd_vf_contact> vf() const noexcept { return {r_->vf, r_->vf_count}; }
   /// Edge-edge contacts, sorted by (a, b).
   Span<const topoccd_ee_contact> ee() const noexcept { return {r_->ee, r_->ee_count}; }
-  std::size_t contact_count() const noexcept { return r_->vf_count + r_->ee_count; }
+  /// Contacts of a free point with a free edge, sorted by (vertex, edge).
+  Span<const topoccd_ve_contact> ve() const noexcept { return {r_->ve, r_->ve_count}; }
+  /// Contacts of two free points, sorted by (a, b).
+  Span<const topoccd_vv_contact> vv() const noexcept { return {r_->vv, r_->vv_count}; }
+  /// Contacts of every kind.
+  std::size_t contact_count() const noexcept {
+    return r_->vf_count + r_->ee_count + r_->ve_count + r_->vv_count;
+  }
   /// The earliest time of impact, or none when nothing collides.
   std::optional<double> earliest_toi() const noexcept {
     if (r_->earliest_kind == TOPOCCD_CONTACT_KIND_NONE) {
@@ -421,6 +441,14 @@ class Report {
   /// The earliest contact if it is an edge-edge one, else nullptr.
   const topoccd_ee_contact* earliest_ee() const noexcept {
     return r_->earliest_kind == TOPOCCD_CONTACT_KIND_EE ? r_->ee + r_->earliest_index : nullptr;
+  }
+  /// The earliest contact if it is a vertex-edge one, else nullptr.
+  const topoccd_ve_contact* earliest_ve() const noexcept {
+    return r_->earliest_kind == TOPOCCD_CONTACT_KIND_VE ? r_->ve + r_->earliest_index : nullptr;
+  }
+  /// The earliest contact if it is a vertex-vertex one, else nullptr.
+  const topoccd_vv_contact* earliest_vv() const noexcept {
+    return r_->earliest_kind == TOPOCCD_CONTACT_KIND_VV ? r_->vv + r_->earliest_index : nullptr;
   }
   /// Contacts where the search gave up (their times are only lower bounds).
   std::size_t unresolved() const noexcept { return r_->unresolved; }

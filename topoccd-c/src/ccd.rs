@@ -328,6 +328,8 @@ mod tests {
             parent_count: 0,
             groups: ptr::null(),
             group_count: 0,
+            edges: ptr::null(),
+            edge_count: 0,
         };
         let status = unsafe { topoccd_ccd_query(ccd, &step, ptr::null()) };
         assert_eq!(status, topoccd_status::Ok);

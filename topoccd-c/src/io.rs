@@ -361,7 +361,8 @@ pub unsafe extern "C" fn topoccd_frames_read(
 
 /// The step of `frames`, borrowed: `*step` is filled with pointers into `frames` (valid until
 /// `topoccd_frames_free`), with parents when the step is a topology change (more vertices at
-/// t=1, or a parents file with rows). Pass it to `topoccd_ccd_query`.
+/// t=1, or a parents file with rows), and with edges when frame k + 1 has free edges (PLY
+/// `edge` elements, OBJ `l` lines). Pass it to `topoccd_ccd_query`.
 ///
 /// # Safety
 /// `frames` is NULL or a `topoccd_frames` this library returned; `step` is NULL or valid for a
@@ -392,6 +393,13 @@ pub unsafe extern "C" fn topoccd_frames_step(
             parent_count: s.parents.len(),
             groups: ptr::null(),
             group_count: 0,
+            // NULL without edges: then vertices in no triangle stay ignored.
+            edges: if s.edges.is_empty() {
+                ptr::null()
+            } else {
+                s.edges.as_ptr().cast()
+            },
+            edge_count: s.edges.len(),
         };
         Ok(())
     });

@@ -103,8 +103,8 @@ pub use proximity::{
 };
 pub use report::{
     topoccd_certainty, topoccd_cluster_figures, topoccd_contact_kind, topoccd_ee_contact,
-    topoccd_ee_geometry, topoccd_report, topoccd_seconds, topoccd_stats, topoccd_vf_contact,
-    topoccd_vf_geometry,
+    topoccd_ee_geometry, topoccd_report, topoccd_seconds, topoccd_stats, topoccd_ve_contact,
+    topoccd_vf_contact, topoccd_vf_geometry, topoccd_vv_contact,
 };
 pub use status::{topoccd_status, topoccd_status_name, topoccd_version};
 pub use step::topoccd_step;

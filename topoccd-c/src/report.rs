@@ -2,7 +2,8 @@
 //! owns and reuses from query to query, read in place.
 
 use topoccd::{
-    Certainty, ClusterFigures, Contact, EeContact, Report, Seconds, Stats, StopReason, VfContact,
+    Certainty, ClusterFigures, Contact, EeContact, EeGeometry, Report, Seconds, Stats, StopReason,
+    VeContact, VfContact, VvContact,
 };
 
 use crate::options::method_code;
@@ -42,6 +43,10 @@ pub enum topoccd_contact_kind {
     Vf = 1,
     /// An edge-edge contact.
     Ee = 2,
+    /// A contact of a free point with a free edge (`ve`).
+    Ve = 3,
+    /// A contact of two free points (`vv`).
+    Vv = 4,
 }
 
 /// Where a vertex-face contact is, at its time of impact.
@@ -111,6 +116,47 @@ pub struct topoccd_ee_contact {
     /// is zero.
     pub has_geometry: bool,
     /// The contact's geometry.
+    pub geometry: topoccd_ee_geometry,
+}
+
+/// A free point (a vertex in no triangle and no edge) and a free edge that (may) touch during
+/// the step (codimensional geometry: the step's `edges`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct topoccd_ve_contact {
+    /// The point's vertex.
+    pub vertex: u32,
+    /// The edge, `[i, j]` with `i < j`.
+    pub edge: [u32; 2],
+    /// Time of impact in [0, tmax], never later than the first contact.
+    pub toi: f64,
+    /// A `topoccd_certainty`.
+    pub certainty: topoccd_certainty,
+    /// Whether `geometry` holds the contact's geometry (with the option `geometry`); else it
+    /// is zero.
+    pub has_geometry: bool,
+    /// The contact's geometry, as for two edges: the point is edge `a` of length zero
+    /// (`a_param` 0), the edge is edge `b`.
+    pub geometry: topoccd_ee_geometry,
+}
+
+/// Two free points that (may) touch during the step (codimensional geometry).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct topoccd_vv_contact {
+    /// The smaller vertex index.
+    pub a: u32,
+    /// The larger one.
+    pub b: u32,
+    /// Time of impact in [0, tmax], never later than the first contact.
+    pub toi: f64,
+    /// A `topoccd_certainty`.
+    pub certainty: topoccd_certainty,
+    /// Whether `geometry` holds the contact's geometry (with the option `geometry`); else it
+    /// is zero.
+    pub has_geometry: bool,
+    /// The contact's geometry, as for two edges of length zero (both parameters 0, the normal
+    /// from `b` to `a`).
     pub geometry: topoccd_ee_geometry,
 }
 
@@ -199,7 +245,8 @@ pub struct topoccd_report {
     /// A `topoccd_contact_kind`: which array holds the earliest contact, or
     /// `TOPOCCD_CONTACT_KIND_NONE` when nothing collides.
     pub earliest_kind: topoccd_contact_kind,
-    /// The earliest contact's index in `vf` or `ee` (by `earliest_kind`); 0 when none.
+    /// The earliest contact's index in `vf`, `ee`, `ve` or `vv` (by `earliest_kind`); 0 when
+    /// none.
     pub earliest_index: usize,
     /// The earliest time of impact; NaN when nothing collides.
     pub earliest_toi: f64,
@@ -217,6 +264,15 @@ pub struct topoccd_report {
     /// found more such pairs than `max_contacts` and kept the earliest of them (the earliest
     /// time is exact either way).
     pub earliest_complete: bool,
+    /// Colliding pairs of a free point and a free edge (a step with `edges`), sorted by
+    /// `(vertex, edge)`. Valid for `ve_count` elements.
+    pub ve: *const topoccd_ve_contact,
+    /// Number of vertex-edge contacts.
+    pub ve_count: usize,
+    /// Colliding pairs of two free points, sorted by `(a, b)`. Valid for `vv_count` elements.
+    pub vv: *const topoccd_vv_contact,
+    /// Number of vertex-vertex contacts.
+    pub vv_count: usize,
 }
 
 /// Why a query stopped before the end ([`topoccd_report::truncated`]).
@@ -239,7 +295,9 @@ pub enum topoccd_stop_reason {
 pub(crate) struct ReportBuffers {
     vf: Vec<topoccd_vf_contact>,
     ee: Vec<topoccd_ee_contact>,
-    /// Points into `vf` and `ee`: rebuilt whenever they change.
+    ve: Vec<topoccd_ve_contact>,
+    vv: Vec<topoccd_vv_contact>,
+    /// Points into `vf`, `ee`, `ve` and `vv`: rebuilt whenever they change.
     view: topoccd_report,
 }
 
@@ -252,6 +310,8 @@ impl Default for ReportBuffers {
         let mut buffers = Self {
             vf: Vec::new(),
             ee: Vec::new(),
+            ve: Vec::new(),
+            vv: Vec::new(),
             view: empty_view(),
         };
         buffers.clear();
@@ -272,6 +332,10 @@ fn empty_view() -> topoccd_report {
         stats: topoccd_stats::default(),
         truncated: topoccd_stop_reason::None,
         earliest_complete: false,
+        ve: std::ptr::null(),
+        ve_count: 0,
+        vv: std::ptr::null(),
+        vv_count: 0,
     }
 }
 
@@ -292,15 +356,43 @@ fn vf_contact(c: &VfContact) -> topoccd_vf_contact {
     }
 }
 
-fn ee_contact(c: &EeContact) -> topoccd_ee_contact {
-    let g = c.geometry.map(|g| topoccd_ee_geometry {
+fn ee_geometry(g: EeGeometry) -> topoccd_ee_geometry {
+    topoccd_ee_geometry {
         a_param: g.a_param,
         b_param: g.b_param,
         point: g.point,
         normal: g.normal,
         distance: g.distance,
-    });
+    }
+}
+
+fn ee_contact(c: &EeContact) -> topoccd_ee_contact {
+    let g = c.geometry.map(ee_geometry);
     topoccd_ee_contact {
+        a: c.a,
+        b: c.b,
+        toi: c.toi,
+        certainty: c.certainty.into(),
+        has_geometry: g.is_some(),
+        geometry: g.unwrap_or_default(),
+    }
+}
+
+fn ve_contact(c: &VeContact) -> topoccd_ve_contact {
+    let g = c.geometry.map(ee_geometry);
+    topoccd_ve_contact {
+        vertex: c.vertex,
+        edge: c.edge,
+        toi: c.toi,
+        certainty: c.certainty.into(),
+        has_geometry: g.is_some(),
+        geometry: g.unwrap_or_default(),
+    }
+}
+
+fn vv_contact(c: &VvContact) -> topoccd_vv_contact {
+    let g = c.geometry.map(ee_geometry);
+    topoccd_vv_contact {
         a: c.a,
         b: c.b,
         toi: c.toi,
@@ -354,9 +446,13 @@ impl ReportBuffers {
     pub fn clear(&mut self) {
         self.vf.clear();
         self.ee.clear();
+        self.ve.clear();
+        self.vv.clear();
         self.view = topoccd_report {
             vf: self.vf.as_ptr(),
             ee: self.ee.as_ptr(),
+            ve: self.ve.as_ptr(),
+            vv: self.vv.as_ptr(),
             ..empty_view()
         };
     }
@@ -366,6 +462,8 @@ impl ReportBuffers {
         self.clear();
         self.vf.extend(report.vf.iter().map(vf_contact));
         self.ee.extend(report.ee.iter().map(ee_contact));
+        self.ve.extend(report.ve.iter().map(ve_contact));
+        self.vv.extend(report.vv.iter().map(vv_contact));
         // The earliest contact is one of the reported ones (the library picks it among them,
         // and Earliest keeps those within the tolerance of it): its index in its array, which
         // is sorted by pair, each pair once.
@@ -381,9 +479,16 @@ impl ReportBuffers {
                 topoccd_contact_kind::Ee,
                 report.ee.binary_search_by(|x| (x.a, x.b).cmp(&(c.a, c.b))),
             ),
-            // A step of the C API carries no free edges or points, so it has no contacts of
-            // these kinds.
-            Some(Contact::Ve(_) | Contact::Vv(_)) => (topoccd_contact_kind::None, Ok(0)),
+            Some(Contact::Ve(c)) => (
+                topoccd_contact_kind::Ve,
+                report
+                    .ve
+                    .binary_search_by(|x| (x.vertex, x.edge).cmp(&(c.vertex, c.edge))),
+            ),
+            Some(Contact::Vv(c)) => (
+                topoccd_contact_kind::Vv,
+                report.vv.binary_search_by(|x| (x.a, x.b).cmp(&(c.a, c.b))),
+            ),
         };
         debug_assert!(found.is_ok(), "the earliest contact is not in the report");
         self.view = topoccd_report {
@@ -403,6 +508,10 @@ impl ReportBuffers {
                 Some(StopReason::Cancelled) => topoccd_stop_reason::Cancelled,
             },
             earliest_complete: report.earliest_complete,
+            ve: self.ve.as_ptr(),
+            ve_count: self.ve.len(),
+            vv: self.vv.as_ptr(),
+            vv_count: self.vv.len(),
         };
     }
 

@@ -26,6 +26,11 @@ use crate::status::{chain, topoccd_status, Failure};
 /// - `groups`: NULL, or `group_count` = `x1_count` group ids, one per vertex: two features are
 ///   tested only if some vertex of one is in another group than some vertex of the other (give
 ///   each object its own id to turn off its self-collision).
+/// - `edges`: NULL, or `edge_count` rows of 2 vertex indices (codimensional geometry). Those
+///   in no triangle are free edges (rods, hair, yarn); with `edges` given, vertices in no
+///   triangle and no edge are free points (particles). Contacts of a free point with a free
+///   edge are reported in the report's `ve`, of two free points in `vv`. Edges of the
+///   triangles may be listed too; they change nothing.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct topoccd_step {
@@ -49,6 +54,10 @@ pub struct topoccd_step {
     pub groups: *const u32,
     /// Number of group ids (`x1_count` when `groups` is not NULL).
     pub group_count: usize,
+    /// NULL, or `edge_count` rows of 2 vertex indices: free edges, and free points.
+    pub edges: *const u32,
+    /// Number of edges.
+    pub edge_count: usize,
 }
 
 /// `count` rows of `N` values of `T` at `ptr`, borrowed; `what` names the array in messages.
@@ -113,11 +122,17 @@ pub(crate) unsafe fn borrow<'a>(step: &topoccd_step) -> Result<Step<'a>, Failure
         None => Step::new(x0, x1, triangles),
     }
     .map_err(|e| invalid_step(&e))?;
-    if step.groups.is_null() && step.group_count == 0 {
+    let built = if step.groups.is_null() && step.group_count == 0 {
+        built
+    } else {
+        let groups = rows::<u32, 1>(step.groups, step.group_count, "groups")?;
+        // SAFETY: `[u32; 1]` has the layout of `u32`.
+        let groups = slice::from_raw_parts(groups.as_ptr().cast::<u32>(), groups.len());
+        built.with_groups(groups).map_err(|e| invalid_step(&e))?
+    };
+    if step.edges.is_null() && step.edge_count == 0 {
         return Ok(built);
     }
-    let groups = rows::<u32, 1>(step.groups, step.group_count, "groups")?;
-    // SAFETY: `[u32; 1]` has the layout of `u32`.
-    let groups = slice::from_raw_parts(groups.as_ptr().cast::<u32>(), groups.len());
-    built.with_groups(groups).map_err(|e| invalid_step(&e))
+    let edges = rows::<u32, 2>(step.edges, step.edge_count, "edges")?;
+    built.with_edges(edges).map_err(|e| invalid_step(&e))
 }

@@ -691,6 +691,25 @@ static void test_files(void) {
                  "t1 is NULL", "NULL t1");
     CHECK(frames == NULL, "no frames after a failure");
 
+    /* Free edges from the files (OBJ l lines): a particle falls across a rod at t=0.5. */
+    CHECK_STATUS(topoccd_frames_read(p0, p1, pp, &frames, &error), TOPOCCD_STATUS_OK, "again");
+    topoccd_frames_step(frames, &s);
+    CHECK(s.edges == NULL && s.edge_count == 0, "files without edges give no edges");
+    topoccd_frames_free(&frames);
+    const char *r0 = file("rod-a.obj", "v 0 0 0\nv 1 0 0\nv 0.5 0 1\nl 1 2\n");
+    char q0[128];
+    snprintf(q0, sizeof q0, "%s", r0);
+    const char *q1 = file("rod-b.obj", "v 0 0 0\nv 1 0 0\nv 0.5 0 -1\nl 1 2\n");
+    CHECK_STATUS(topoccd_frames_read(q0, q1, NULL, &frames, &error), TOPOCCD_STATUS_OK, "%s",
+                 topoccd_error_message(error));
+    topoccd_frames_step(frames, &s);
+    CHECK(s.edge_count == 1 && s.edges != NULL && s.edges[0] == 0 && s.edges[1] == 1, "the rod's edge");
+    CHECK_STATUS(topoccd_ccd_query(ccd, &s, NULL), TOPOCCD_STATUS_OK, "%s", topoccd_ccd_last_error(ccd));
+    r = report_of(ccd);
+    CHECK(r->ve_count == 1 && r->ve[0].vertex == 2 && r->ve[0].toi <= 0.5 && r->ve[0].toi > 0.5 - 1e-6,
+          "the particle crosses the rod read from files: %zu ve", r->ve_count);
+    topoccd_frames_free(&frames);
+
     /* A sequence: the folder holds 0000.obj, 0001.obj and 0001.parents. */
     topoccd_sequence *seq = NULL;
     expect_error(topoccd_sequence_open(file("no-such-folder", NULL), &seq, &error), TOPOCCD_STATUS_IO, &error,
@@ -880,11 +899,100 @@ static void test_proximity(void) {
     topoccd_ccd_free(&ccd);
 }
 
+/* Codimensional geometry: a free edge (0 1) on the x axis, a point (2) falling across it at
+ * t = 0.5, a point (3) falling onto a fixed point (4) at t = 0.25. No triangles. */
+static void test_codim(void) {
+    static const double x0[] = {0, 0, 0, 1, 0, 0, 0.5, 0, 1, 3, 0, 0.5, 3, 0, 0};
+    static const double x1[] = {0, 0, 0, 1, 0, 0, 0.5, 0, -1, 3, 0, -1.5, 3, 0, 0};
+    static const uint32_t edges[] = {0, 1};
+    topoccd_step s = {0};
+    s.x0 = x0;
+    s.x0_count = 5;
+    s.x1 = x1;
+    s.x1_count = 5;
+    s.edges = edges;
+    s.edge_count = 1;
+    topoccd_ccd *ccd = topoccd_ccd_new();
+    topoccd_query_options o;
+    topoccd_query_options_default(&o);
+    o.geometry = true;
+    CHECK_STATUS(topoccd_ccd_query(ccd, &s, &o), TOPOCCD_STATUS_OK, "%s", topoccd_ccd_last_error(ccd));
+    const topoccd_report *r = report_of(ccd);
+    CHECK(r->vf_count == 0 && r->ee_count == 0 && r->ve_count == 1 && r->vv_count == 1,
+          "%zu vf %zu ee %zu ve %zu vv", r->vf_count, r->ee_count, r->ve_count, r->vv_count);
+    if (r->ve_count == 1) {
+        const topoccd_ve_contact *c = &r->ve[0];
+        CHECK(c->vertex == 2 && c->edge[0] == 0 && c->edge[1] == 1, "ve %u [%u %u]", c->vertex, c->edge[0],
+              c->edge[1]);
+        CHECK(c->toi <= 0.5 && c->toi > 0.5 - 1e-6, "ve toi %.17g, exact 0.5", c->toi);
+        CHECK(c->certainty == TOPOCCD_CERTAINTY_RESOLVED && c->has_geometry, "ve certainty, geometry");
+        CHECK(fabs(c->geometry.b_param - 0.5) < 1e-6 && fabs(c->geometry.point[0] - 0.5) < 1e-6,
+              "ve geometry: the middle of the edge (%g)", c->geometry.b_param);
+    }
+    if (r->vv_count == 1) {
+        const topoccd_vv_contact *c = &r->vv[0];
+        CHECK(c->a == 3 && c->b == 4, "vv %u %u", c->a, c->b);
+        CHECK(c->toi <= 0.25 && c->toi > 0.25 - 1e-6, "vv toi %.17g, exact 0.25", c->toi);
+        CHECK(c->certainty == TOPOCCD_CERTAINTY_RESOLVED && c->has_geometry, "vv certainty, geometry");
+    }
+    CHECK(r->earliest_kind == TOPOCCD_CONTACT_KIND_VV && r->earliest_index == 0, "earliest is vv[0]: %u",
+          r->earliest_kind);
+    CHECK(r->vv_count == 1 && r->earliest_toi == r->vv[0].toi, "earliest toi");
+
+    /* The oracle agrees; Earliest keeps the vv contact only. */
+    o.method = TOPOCCD_METHOD_BRUTE;
+    o.geometry = false;
+    CHECK_STATUS(topoccd_ccd_query(ccd, &s, &o), TOPOCCD_STATUS_OK, "brute");
+    r = report_of(ccd);
+    CHECK(r->ve_count == 1 && r->vv_count == 1, "brute: %zu ve %zu vv", r->ve_count, r->vv_count);
+    o.method = TOPOCCD_METHOD_AUTO;
+    o.mode = TOPOCCD_MODE_EARLIEST;
+    CHECK_STATUS(topoccd_ccd_query(ccd, &s, &o), TOPOCCD_STATUS_OK, "earliest");
+    r = report_of(ccd);
+    CHECK(r->ve_count == 0 && r->vv_count == 1 && r->earliest_kind == TOPOCCD_CONTACT_KIND_VV,
+          "earliest: %zu ve %zu vv", r->ve_count, r->vv_count);
+
+    /* Only the point falling across the edge: the earliest contact is ve[0]. */
+    s.x0_count = 3;
+    s.x1_count = 3;
+    CHECK_STATUS(topoccd_ccd_query(ccd, &s, NULL), TOPOCCD_STATUS_OK, "%s", topoccd_ccd_last_error(ccd));
+    r = report_of(ccd);
+    CHECK(r->ve_count == 1 && r->vv_count == 0 && r->earliest_kind == TOPOCCD_CONTACT_KIND_VE &&
+              r->earliest_index == 0,
+          "ve only: %zu ve %zu vv, kind %u", r->ve_count, r->vv_count, r->earliest_kind);
+
+    /* Without edges, a vertex in no triangle is ignored, as before. */
+    s.edges = NULL;
+    s.edge_count = 0;
+    CHECK_STATUS(topoccd_ccd_query(ccd, &s, NULL), TOPOCCD_STATUS_OK, "no edges");
+    r = report_of(ccd);
+    CHECK(r->ve_count == 0 && r->vv_count == 0 && r->earliest_kind == TOPOCCD_CONTACT_KIND_NONE, "no edges");
+
+    /* Bad edges are refused with the edge named. */
+    s.x0_count = 5;
+    s.x1_count = 5;
+    static const uint32_t far[] = {0, 7};
+    static const uint32_t loop[] = {0, 1, 2, 2};
+    s.edges = far;
+    s.edge_count = 1;
+    expect_step_error(ccd, &s, NULL, TOPOCCD_STATUS_INVALID_STEP,
+                      "edge 0 names vertex 7, but there are only 5 vertices", "edge out of range");
+    s.edges = loop;
+    s.edge_count = 2;
+    expect_step_error(ccd, &s, NULL, TOPOCCD_STATUS_INVALID_STEP, "edge 1 joins vertex 2 to itself",
+                      "degenerate edge");
+    s.edges = NULL;
+    expect_step_error(ccd, &s, NULL, TOPOCCD_STATUS_NULL_POINTER, "edges is NULL but edges_count is 2",
+                      "NULL edges");
+    topoccd_ccd_free(&ccd);
+}
+
 int main(void) {
     test_version_and_names();
     test_options();
     test_falling_triangle();
     test_cut();
+    test_codim();
     test_query_errors();
     test_handles();
     test_threads();

@@ -286,10 +286,48 @@ static void test_proximity() {
                TOPOCCD_STATUS_INVALID_OPTIONS, "dhat", "dhat 0");
 }
 
+// Codimensional geometry: a free edge (0 1), a point (2) falling across it at t=0.5, a point
+// (3) falling onto a fixed point (4) at t=0.25; no triangles.
+static void test_codim() {
+  const std::vector<std::array<double, 3>> x0 = {
+      {0, 0, 0}, {1, 0, 0}, {0.5, 0, 1}, {3, 0, 0.5}, {3, 0, 0}};
+  const std::vector<std::array<double, 3>> x1 = {
+      {0, 0, 0}, {1, 0, 0}, {0.5, 0, -1}, {3, 0, -1.5}, {3, 0, 0}};
+  const std::vector<std::array<std::uint32_t, 3>> none;
+  const std::vector<std::array<std::uint32_t, 2>> edges = {{0, 1}};
+  topoccd::Ccd ccd;
+  auto r = ccd.query(topoccd::Step(x0, x1, none).edges(edges));
+  CHECK(r.contact_count() == 2 && r.ve().size() == 1 && r.vv().size() == 1, "one ve, one vv");
+  if (r.ve().size() == 1) {
+    const topoccd_ve_contact& c = r.ve()[0];
+    CHECK(c.vertex == 2 && c.edge[0] == 0 && c.edge[1] == 1, "the ve pair");
+    CHECK(c.toi <= 0.5 && c.toi > 0.5 - 1e-6, "ve toi " + std::to_string(c.toi));
+  }
+  if (r.vv().size() == 1) {
+    const topoccd_vv_contact& c = r.vv()[0];
+    CHECK(c.a == 3 && c.b == 4, "the vv pair");
+    CHECK(c.toi <= 0.25 && c.toi > 0.25 - 1e-6, "vv toi " + std::to_string(c.toi));
+    CHECK(r.earliest_vv() == &r.vv()[0] && r.earliest_ve() == nullptr && r.earliest_vf() == nullptr,
+          "the earliest is the vv contact");
+  }
+  // The edge alone with the falling point: the earliest is the ve contact.
+  const std::vector<std::array<double, 3>> y0(x0.begin(), x0.begin() + 3);
+  const std::vector<std::array<double, 3>> y1(x1.begin(), x1.begin() + 3);
+  r = ccd.query(topoccd::Step(y0, y1, none).edges(edges));
+  CHECK(r.ve().size() == 1 && r.earliest_ve() == &r.ve()[0] && r.earliest_vv() == nullptr,
+        "the earliest is the ve contact");
+  // Without edges, vertices in no triangle are ignored.
+  CHECK(ccd.query(topoccd::Step(x0, x1, none)).contact_count() == 0, "no edges, no contacts");
+  const std::vector<std::array<std::uint32_t, 2>> far = {{0, 9}};
+  expect_error([&] { ccd.query(topoccd::Step(x0, x1, none).edges(far)); },
+               TOPOCCD_STATUS_INVALID_STEP, "edge 0 names vertex 9", "an edge out of range");
+}
+
 int main() {
   test_layouts();
   test_options_and_errors();
   test_cut();
+  test_codim();
   test_pairs_and_files();
   test_line_search();
   test_proximity();

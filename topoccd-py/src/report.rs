@@ -108,6 +108,8 @@ pub struct Report {
     /// The pairs in the library's types, for `write_pairs` (exactly the CLI's text).
     vf_rows: Vec<(u32, u32, f64)>,
     ee_rows: Vec<([u32; 2], [u32; 2], f64)>,
+    ve_rows: Vec<(u32, [u32; 2], f64)>,
+    vv_rows: Vec<(u32, u32, f64)>,
     /// Where the library read the positions from (a debugging aid for the no-copy check).
     #[pyo3(get, name = "_x0_address")]
     x0_address: usize,
@@ -207,6 +209,8 @@ impl Report {
             seconds: seconds(py, r)?,
             vf_rows,
             ee_rows,
+            ve_rows: r.ve.iter().map(|c| (c.vertex, c.edge, c.toi)).collect(),
+            vv_rows: r.vv.iter().map(|c| (c.a, c.b, c.toi)).collect(),
             x0_address: facts.x0_address,
             x1_address: facts.x1_address,
             borrowed: facts.borrowed,
@@ -342,7 +346,8 @@ fn seconds(py: Python<'_>, r: &LibReport) -> PyResult<Py<PyDict>> {
 impl Report {
     /// Writes the colliding pairs to a text file, one per line, exactly as
     /// ``topoccd step --pairs`` and ``topoccd run --pairs-dir`` do: ``vf,VERTEX,FACE,TOI`` then
-    /// ``ee,A0,A1,B0,B1,TOI`` (times in the shortest decimal that reads back to the same float).
+    /// ``ee,A0,A1,B0,B1,TOI``, then with free edges and points ``ve,VERTEX,E0,E1,TOI`` and
+    /// ``vv,A,B,TOI`` (times in the shortest decimal that reads back to the same float).
     ///
     /// Raises:
     ///     OSError: the file cannot be created or written.
@@ -354,6 +359,12 @@ impl Report {
             }
             for (a, b, toi) in &self.ee_rows {
                 writeln!(out, "ee,{},{},{},{},{toi}", a[0], a[1], b[0], b[1])?;
+            }
+            for (v, e, toi) in &self.ve_rows {
+                writeln!(out, "ve,{v},{},{},{toi}", e[0], e[1])?;
+            }
+            for (a, b, toi) in &self.vv_rows {
+                writeln!(out, "vv,{a},{b},{toi}")?;
             }
             out.flush()
         };

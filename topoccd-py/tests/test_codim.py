@@ -63,3 +63,15 @@ def test_docstring_examples():
             runner.run(test)
         assert runner.failures == 0 and runner.tries > 0, obj
     assert "edges" in topoccd.Ccd.query.__doc__
+
+
+def test_write_pairs_has_the_ve_and_vv_lines(tmp_path):
+    # A rod (0-1); particle 2 falls across it at t=0.5, particle 3 onto particle 4 at t=0.25.
+    x0 = np.array([[0, 0, 0], [1, 0, 0], [0.5, 0, 1], [3, 0, 0.5], [3, 0, 0]], dtype=float)
+    x1 = np.array([[0, 0, 0], [1, 0, 0], [0.5, 0, -1], [3, 0, -1.5], [3, 0, 0]], dtype=float)
+    r = topoccd.query(x0, x1, np.zeros((0, 3), dtype=np.int64), edges=[[0, 1]])
+    path = tmp_path / "pairs.csv"
+    r.write_pairs(path)
+    lines = path.read_text().splitlines()
+    assert [line.rsplit(",", 1)[0] for line in lines] == ["ve,2,0,1", "vv,3,4"]
+    assert [float(line.rsplit(",", 1)[1]) for line in lines] == [r.ve_toi[0], r.vv_toi[0]]

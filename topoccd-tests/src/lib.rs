@@ -16,6 +16,7 @@ macro_rules! doctests {
 doctests! {
     Readme => "../../README.md",
     GuideCheck => "../../docs/guide/src/check.md",
+    GuideCodimensional => "../../docs/guide/src/codimensional.md",
     GuideCuttingAndFracture => "../../docs/guide/src/cutting-and-fracture.md",
     GuideEarliestAndLineSearch => "../../docs/guide/src/earliest-and-line-search.md",
     GuideFileFormats => "../../docs/guide/src/file-formats.md",

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
-use topoccd::io::sequence::{Sequence, StepFrames};
+use topoccd::io::sequence::{with_file_edges, Sequence, StepFrames};
 use topoccd::io::{
     input_warnings, read_mesh, read_ply_header, weld_frames, FaceOrigin, InputWarning, MeshFormat,
     PlyCounts,
@@ -63,6 +63,7 @@ pub fn read_step_within(t0: &Path, t1: &Path, limit: MemoryLimit) -> Result<Step
     }
     limit.check(m1.positions.len(), m1.triangles.len(), t0, t1)?;
     Step::new(m0.positions, m1.positions, m1.triangles)
+        .and_then(|step| with_file_edges(step, &m1.edges))
         .with_context(|| format!("step from {} to {}", t0.display(), t1.display()))
 }
 
@@ -115,6 +116,7 @@ pub fn read_step_input(
     if let Some(parents) = parents {
         let frames = StepFrames::new(0, m0, m1, t0, t1, Some(parents))?;
         let step = Step::with_parents(frames.x0, frames.x1, frames.triangles, &frames.parents)
+            .and_then(|step| with_file_edges(step, &frames.edges))
             .with_context(context)?;
         return Ok(StepInput {
             step,
@@ -133,6 +135,14 @@ pub fn read_step_input(
         ));
     }
     if weld {
+        if !m1.edges.is_empty() {
+            bail!(
+                "--weld cannot be combined with free edges ({} has {} edges): welding renumbers \
+                 the vertices the edges name",
+                t1.display(),
+                m1.edges.len()
+            );
+        }
         let w = weld_frames(&m0.positions, &m1.positions, &m1.triangles);
         let merged = m0.positions.len() - w.x0.len();
         messages.push(format!(
@@ -157,7 +167,9 @@ pub fn read_step_input(
         &m1.triangles,
         remedy,
     ));
-    let step = Step::new(m0.positions, m1.positions, m1.triangles).with_context(context)?;
+    let step = Step::new(m0.positions, m1.positions, m1.triangles)
+        .and_then(|step| with_file_edges(step, &m1.edges))
+        .with_context(context)?;
     Ok(StepInput {
         step,
         vertex_ids: None,

@@ -8,7 +8,8 @@ use anyhow::{Context, Result};
 use serde::Serialize;
 use topoccd::io::FaceOrigin;
 use topoccd::{
-    Contact, EeContact, Method, Mode, Report, Seconds, Stats, Step, Truncation, VfContact,
+    Contact, EeContact, Method, Mode, Report, Seconds, Stats, Step, Truncation, VeContact,
+    VfContact, VvContact,
 };
 
 use super::files::refuse_overwrite;
@@ -24,6 +25,10 @@ pub struct StepOut<'r> {
     vf: usize,
     /// Edge-edge contacts reported (in `--earliest` mode, the earliest pairs).
     ee: usize,
+    /// Vertex-edge contacts (a free point and a free edge) reported.
+    ve: usize,
+    /// Vertex-vertex contacts (two free points) reported.
+    vv: usize,
     /// Contacts whose certainty is not `Resolved` (the search gave up conservatively).
     unresolved: usize,
     earliest_toi: Option<f64>,
@@ -44,6 +49,8 @@ pub struct StepOut<'r> {
 pub struct PairsOut<'r> {
     vf: &'r [VfContact],
     ee: &'r [EeContact],
+    ve: &'r [VeContact],
+    vv: &'r [VvContact],
 }
 
 impl<'r> StepOut<'r> {
@@ -63,6 +70,8 @@ impl<'r> StepOut<'r> {
             mode: if earliest_mode { "earliest" } else { "all" },
             vf: report.vf.len(),
             ee: report.ee.len(),
+            ve: report.ve.len(),
+            vv: report.vv.len(),
             unresolved: report.unresolved,
             earliest_toi: report.earliest_toi(),
             earliest: report.earliest.as_ref(),
@@ -72,6 +81,8 @@ impl<'r> StepOut<'r> {
             pairs: (with_pairs || earliest_mode).then_some(PairsOut {
                 vf: &report.vf,
                 ee: &report.ee,
+                ve: &report.ve,
+                vv: &report.vv,
             }),
         }
     }
@@ -79,9 +90,15 @@ impl<'r> StepOut<'r> {
     /// One line of text.
     pub fn text(&self) -> String {
         let s = &self.stats;
+        // Free points and edges (codimensional geometry): named only when they collide.
+        let codim = if self.ve + self.vv > 0 {
+            format!(" ({} ve and {} vv)", self.ve, self.vv)
+        } else {
+            String::new()
+        };
         let what = if self.mode == "earliest" {
             format!(
-                "earliest toi {}, reached by {} vf and {} ee pairs",
+                "earliest toi {}, reached by {} vf and {} ee pairs{codim}",
                 self.earliest_toi
                     .map_or("none".to_string(), |t| t.to_string()),
                 self.vf,
@@ -89,7 +106,7 @@ impl<'r> StepOut<'r> {
             )
         } else {
             format!(
-                "{} vf and {} ee contacts, earliest toi {}",
+                "{} vf and {} ee contacts{codim}, earliest toi {}",
                 self.vf,
                 self.ee,
                 self.earliest_toi

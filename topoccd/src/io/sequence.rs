@@ -378,6 +378,9 @@ pub struct StepFrames {
     pub x1: Vec<[f64; 3]>,
     /// Triangles of frame `k + 1`, used over the whole step.
     pub triangles: Vec<[u32; 3]>,
+    /// Free edges of frame `k + 1` ([`Mesh::edges`]), used over the whole step (see
+    /// [`with_file_edges`]).
+    pub edges: Vec<[u32; 2]>,
     /// `[child, parent]` rows of frame `k + 1`'s parents file: `x0.len() <= child < x1.len()`,
     /// `parent < x0.len()`, each child at most once. Empty without a parents file.
     pub parents: Vec<[u32; 2]>,
@@ -430,6 +433,7 @@ impl StepFrames {
             x0: start.positions,
             x1: end.positions,
             triangles: end.triangles,
+            edges: end.edges,
             parents,
             face_origin: end.face_origin,
             notes,
@@ -488,11 +492,25 @@ pub fn step_from_frames(
         end.triangles.clone(),
         &rows,
     )
+    .and_then(|step| with_file_edges(step, &end.edges))
     .map_err(|source| SequenceError::Step {
         step: k,
         path: end_path.to_path_buf(),
         source,
     })
+}
+
+/// `step` with the free edges of a frame file (`end`'s: PLY `edge` elements, OBJ `l` lines),
+/// when it has any; a file without edges leaves vertices in no triangle ignored, as before.
+pub fn with_file_edges(
+    step: Step<'static>,
+    edges: &[[u32; 2]],
+) -> Result<Step<'static>, StepError> {
+    if edges.is_empty() {
+        Ok(step)
+    } else {
+        step.with_edges_owned(edges.to_vec())
+    }
 }
 
 /// Reads a parents file: pairs `(new, parent)` with `previous <= new < current` and

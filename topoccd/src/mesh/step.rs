@@ -360,7 +360,7 @@ pub struct Step<'a> {
     groups: Option<&'a [u32]>,
     can_collide: Option<CanCollide<'a>>,
     /// The edges of [`Step::with_edges`], if set: codimensional geometry is on.
-    edges: Option<&'a [[u32; 2]]>,
+    edges: Option<Cow<'a, [[u32; 2]]>>,
 }
 
 impl std::fmt::Debug for Step<'_> {
@@ -371,7 +371,7 @@ impl std::fmt::Debug for Step<'_> {
             .field("parents", &self.parents.len())
             .field("groups", &self.groups.is_some())
             .field("can_collide", &self.can_collide.is_some())
-            .field("edges", &self.edges.map(<[_]>::len))
+            .field("edges", &self.edges.as_ref().map(|e| e.len()))
             .finish()
     }
 }
@@ -627,7 +627,26 @@ impl<'a> Step<'a> {
     /// assert_eq!(err.to_string(), "edge 0 names vertex 3, but there are only 3 vertices");
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn with_edges(mut self, edges: &'a [[u32; 2]]) -> Result<Self, StepError> {
+    pub fn with_edges(self, edges: &'a [[u32; 2]]) -> Result<Self, StepError> {
+        self.edges_checked(Cow::Borrowed(edges))
+    }
+
+    /// As [`Step::with_edges`], the step owning the edges (a step that owns its positions,
+    /// read from files, is a `Step<'static>`).
+    ///
+    /// ```
+    /// use topoccd::Step;
+    /// let x = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 0.0, 1.0]];
+    /// let step: Step<'static> =
+    ///     Step::new(x.clone(), x, Vec::<[u32; 3]>::new())?.with_edges_owned(vec![[0, 1]])?;
+    /// assert_eq!(step.edges(), Some(&[[0u32, 1]][..]));
+    /// # Ok::<(), topoccd::StepError>(())
+    /// ```
+    pub fn with_edges_owned(self, edges: Vec<[u32; 2]>) -> Result<Self, StepError> {
+        self.edges_checked(Cow::Owned(edges))
+    }
+
+    fn edges_checked(mut self, edges: Cow<'a, [[u32; 2]]>) -> Result<Self, StepError> {
         let vertices = self.x1.len();
         for (edge, &[a, b]) in edges.iter().enumerate() {
             if let Some(&index) = [a, b].iter().find(|&&i| i as usize >= vertices) {
@@ -646,8 +665,8 @@ impl<'a> Step<'a> {
     }
 
     /// The edges of [`Step::with_edges`], if set.
-    pub fn edges(&self) -> Option<&'a [[u32; 2]]> {
-        self.edges
+    pub fn edges(&self) -> Option<&[[u32; 2]]> {
+        self.edges.as_deref()
     }
 
     /// Positions at t=0 (for new vertices of a topology change, their parent's).
