@@ -528,6 +528,8 @@ struct StepSize {
   double alpha;
   /// The Earliest query's report.
   Report report;
+};
+
 /// The options of a proximity query, with the library's defaults; chained setters:
 /// `topoccd::ProximityOptions().dhat(1e-3).dmin(1e-4)`.
 class ProximityOptions {
@@ -625,6 +627,8 @@ class Ccd {
     topoccd_line_search_options c = options.c();
     check(topoccd_is_step_collision_free(p_.get(), &step.c(), &c, &collision_free));
     return collision_free;
+  }
+
   /// Every primitive pair closer than dhat + dmin at positions `x`: vertex-face, edge-edge
   /// (the triangles' edges and the free `edges`), free point-edge, free point-free point.
   /// The hierarchy is kept in this Ccd and refitted while the primitives stay the same.

@@ -852,6 +852,8 @@ static void test_line_search(void) {
     free(x0);
     free(x1);
     free(tris);
+}
+
 /* Proximity: a vertex above a triangle, a rod crossing over two of its edges, two particles;
  * each pair's kind, distance and type against the analytic values; refitted on the second
  * call; errors named. */

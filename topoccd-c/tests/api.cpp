@@ -270,6 +270,8 @@ static void test_line_search() {
   CHECK(timed.query().timeout() == 60 && timed.query().max_contacts() == 1, "query options kept");
   CHECK(ccd.collision_free_stepsize(step, timed).alpha == 0.8 * *ccd.report().earliest_toi(),
         "a timeout that does not pass and a cap");
+}
+
 // Proximity through the wrapper: the pairs of a vertex above a triangle and a rod over it.
 static void test_proximity() {
   const std::vector<std::array<double, 3>> x = {
