@@ -852,6 +852,7 @@ static void test_line_search(void) {
     free(x0);
     free(x1);
     free(tris);
+    topoccd_ccd_free(&ccd);
 }
 
 /* Proximity: a vertex above a triangle, a rod crossing over two of its edges, two particles;
