@@ -9,27 +9,32 @@
 
 mod common;
 
+use std::path::PathBuf;
+
 use common::{run, TempDir};
+
+/// `topoccd gen SCENE DIR/seq --scale SCALE --frames FRAMES`, checked; the sequence's folder.
+fn generate(dir: &TempDir, scene: &str, scale: &str, frames: &str) -> PathBuf {
+    let seq = dir.0.join("seq");
+    let args = [
+        "gen",
+        scene,
+        seq.to_str().unwrap(),
+        "--scale",
+        scale,
+        "--frames",
+        frames,
+    ];
+    let g = run(None, &args, &[]);
+    assert!(g.output.status.success(), "{}", g.stderr);
+    seq
+}
 
 #[cfg(not(feature = "rerun"))]
 #[test]
 fn without_the_feature_rerun_says_how_to_get_it() {
     let dir = TempDir::new("rerun", "nofeature");
-    let seq = dir.0.join("seq");
-    let g = run(
-        None,
-        &[
-            "gen",
-            "nidus",
-            seq.to_str().unwrap(),
-            "--scale",
-            "0.02",
-            "--frames",
-            "2",
-        ],
-        &[],
-    );
-    assert!(g.output.status.success(), "{}", g.stderr);
+    let seq = generate(&dir, "nidus", "0.02", "2");
     let out = dir.0.join("out.rrd");
     let r = run(
         None,
@@ -54,7 +59,7 @@ mod with_feature {
 
     use serde_json::Value;
 
-    use super::{run, TempDir};
+    use super::{generate, run, TempDir};
 
     /// The rerun-sdk tools: the `rerun` command and a Python that imports `rerun`.
     struct Tools {
@@ -163,21 +168,7 @@ mod with_feature {
 
     /// A small generated sequence with a cut: its folder, and the parents rows of each step.
     fn cut_sequence(dir: &TempDir) -> (PathBuf, Vec<usize>) {
-        let seq = dir.0.join("seq");
-        let g = run(
-            None,
-            &[
-                "gen",
-                "nidus-cut",
-                seq.to_str().unwrap(),
-                "--scale",
-                "0.05",
-                "--frames",
-                "4",
-            ],
-            &[],
-        );
-        assert!(g.output.status.success(), "{}", g.stderr);
+        let seq = generate(dir, "nidus-cut", "0.05", "4");
         // Step k goes from frame k to frame k+1, whose parents file lists the new vertices.
         let parents = (1..4)
             .map(|f| {
@@ -315,21 +306,7 @@ mod with_feature {
             return;
         };
         let dir = TempDir::new("rerun", "nocut");
-        let seq = dir.0.join("seq");
-        let g = run(
-            None,
-            &[
-                "gen",
-                "nidus",
-                seq.to_str().unwrap(),
-                "--scale",
-                "0.02",
-                "--frames",
-                "4",
-            ],
-            &[],
-        );
-        assert!(g.output.status.success(), "{}", g.stderr);
+        let seq = generate(&dir, "nidus", "0.02", "4");
         let rrd = dir.0.join("nocut.rrd");
         let r = run(
             None,
@@ -479,21 +456,7 @@ mod with_feature {
     #[test]
     fn bad_paths_and_a_missing_viewer_are_clear_errors() {
         let dir = TempDir::new("rerun", "bad");
-        let seq = dir.0.join("seq");
-        let g = run(
-            None,
-            &[
-                "gen",
-                "nidus",
-                seq.to_str().unwrap(),
-                "--scale",
-                "0.02",
-                "--frames",
-                "2",
-            ],
-            &[],
-        );
-        assert!(g.output.status.success(), "{}", g.stderr);
+        let seq = generate(&dir, "nidus", "0.02", "2");
         let s = seq.to_str().unwrap();
         let cases: [(&[&str], &str); 4] = [
             (
