@@ -9,6 +9,10 @@ cd "$(dirname "$0")/.."
 export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
 # One target folder for everything, so the dependencies are built once.
 export CARGO_TARGET_DIR="$PWD/target"
+# The packaged crate is a workspace of its own, without the workspace's `[profile.test]`
+# (opt-level 2): its tests unoptimised took 2 minutes. The scratch crates below build with
+# the same level, so the dependencies are built once.
+export CARGO_PROFILE_DEV_OPT_LEVEL=2
 
 version=$(cargo metadata --format-version 1 --no-deps \
     | python3 -c 'import json,sys; print(next(p["version"] for p in json.load(sys.stdin)["packages"] if p["name"]=="topoccd"))')

@@ -2,7 +2,8 @@
 # The C API (topoccd-c: libtopoccd_c, topoccd.h) and its C++ wrapper (topoccd.hpp), tested the
 # way C and C++ programs use them; scripts/test.sh runs it, so CI does.
 #
-#  1. Builds the library and the CLI it is compared with (cargo, release).
+#  1. Builds the library and the CLI it is compared with (cargo, release; the CLI is
+#     $TOPOCCD_CLI instead when set).
 #  2. Builds the examples (topoccd-c/examples: step and line_search, in C and C++) with plain
 #     cc and g++ against libtopoccd_c.a, and with CMake: topoccd-c as the top-level project
 #     (then installed to a temporary prefix), a consumer project that finds the installed
@@ -63,8 +64,15 @@ EIGEN_FLAGS="$(pkg-config --cflags eigen3)"
 
 echo "== C and C++: the library and the CLI (cargo build --release)"
 cargo build --release --quiet -p topoccd-c
-cargo build --release --quiet -p topoccd-cli
-cli="$root/target/release/topoccd"
+# The CLI compared with: $TOPOCCD_CLI when set (scripts/test.sh passes the one it built with
+# the whole workspace), else this build of target/release/topoccd.
+if [ -n "${TOPOCCD_CLI:-}" ]; then
+    cli="$TOPOCCD_CLI"
+    [ -x "$cli" ] || { echo "error: TOPOCCD_CLI=$cli is not an executable" >&2; exit 1; }
+else
+    cargo build --release --quiet -p topoccd-cli
+    cli="$root/target/release/topoccd"
+fi
 lib="$root/target/release/libtopoccd_c.a"
 system_libs=(-lpthread -ldl -lm)
 include="$root/topoccd-c/include"

@@ -47,21 +47,44 @@ if [ ! -f "$data/queries/LICENSE" ] || [ ! -d "$data/scenes/cloth-ball" ]; then
     echo "$missing" >&2
 fi
 
-echo "== Rust tests (release)"
-cargo test --workspace --release
-# The library's doctests are off in its manifest (the published crate's plain `cargo test`
-# cannot build the internals' ones); here the dev-dependency turns the internals on.
-echo "== the library's doctests (release)"
-cargo test --release -p topoccd --doc
+# The test venv first: a fresh one whose PATH has no Rust toolchain (pip can only install the
+# wheel as built, below). It gets rerun-sdk now, for the CLI's recording test among the Rust
+# tests (its `rerun rrd verify` and Python reader), and the wheel after them.
+NO_RUST_PATH=$(printf '%s' "$PATH" | tr ':' '\n' | grep -v -e cargo -e rustup | paste -sd: -)
+if env PATH="$NO_RUST_PATH" sh -c 'command -v cargo || command -v rustc' >/dev/null; then
+    echo "error: cannot hide the Rust toolchain from the test venv's PATH" >&2
+    exit 1
+fi
+VENV=target/test-venv
+rm -rf "$VENV"
+"$PYTHON_BIN" -m venv "$VENV"
+no_rust() { env PATH="$PWD/$VENV/bin:$NO_RUST_PATH" CARGO_HOME=/nonexistent RUSTUP_HOME=/nonexistent "$@"; }
+no_rust python -m pip install --quiet --upgrade pip
+no_rust python -m pip install --quiet "rerun-sdk==0.36.3"
 
-scripts/test-c.sh  # the C API and the C++ wrapper: examples, tests under ASan, doc blocks
+# The CLI with the feature `rerun` (--rerun recordings), built once with the rest: its own
+# recording test reads back what it writes with the venv's rerun-sdk, and the Python suite
+# below uses this binary (target/release/topoccd).
+# Every cargo command below selects the whole workspace with the same features: cargo then
+# resolves the dependencies' features the same way, and builds each crate once.
+FEATURES=(--workspace --features topoccd-cli/rerun)
+echo "== Rust tests (release, the CLI with the feature rerun)"
+TOPOCCD_RERUN_BIN="$PWD/$VENV/bin/rerun" TOPOCCD_RERUN_PYTHON="$PWD/$VENV/bin/python" \
+    cargo test --release "${FEATURES[@]}" --lib --bins --tests --examples
+# The library's doctests are off in its manifest (the published crate's plain `cargo test`
+# cannot build the internals' ones); `--doc` runs them, with the internals that the
+# workspace's dev-dependency turns on (and the other members' doctests).
+echo "== the doctests (release)"
+cargo test --release "${FEATURES[@]}" --doc
+
+# The C API and the C++ wrapper: examples, tests under ASan, doc blocks. They compare with the
+# CLI built above.
+TOPOCCD_CLI="$PWD/target/release/topoccd" scripts/test-c.sh
 
 echo "== Python package: sdist, manylinux abi3 wheel, fresh venv without Rust, pytest"
-# The suite compares with the CLI (target/release/topoccd) and reads the shared data; with
-# CI=true it fails rather than skips where either is absent.
-# With the feature `rerun` (--rerun recordings), which test_rerun.py and the CLI's own
-# recording test below check.
-cargo build --release --quiet -p topoccd-cli --features rerun
+# The suite compares with the CLI (target/release/topoccd, built above with the feature
+# `rerun`) and reads the shared data; with CI=true it fails rather than skips where either is
+# absent.
 # The wheel as scripts/wheel.sh builds it (its build tools live in a venv kept between runs).
 BUILD_VENV=target/wheel-build-venv
 DIST=target/dist
@@ -80,17 +103,7 @@ fi
 "$BUILD_VENV/bin/auditwheel" show "$wheel" | tr '\n' ' ' | grep -q 'consistent with the following platform tag: "manylinux_2_17_x86_64"' \
     || { "$BUILD_VENV/bin/auditwheel" show "$wheel"; echo "error: auditwheel does not find $wheel manylinux_2_17" >&2; exit 1; }
 
-# A fresh venv whose PATH has no Rust toolchain: pip can only install the wheel as built.
-NO_RUST_PATH=$(printf '%s' "$PATH" | tr ':' '\n' | grep -v -e cargo -e rustup | paste -sd: -)
-if env PATH="$NO_RUST_PATH" sh -c 'command -v cargo || command -v rustc' >/dev/null; then
-    echo "error: cannot hide the Rust toolchain from the test venv's PATH" >&2
-    exit 1
-fi
-VENV=target/test-venv
-rm -rf "$VENV"
-"$PYTHON_BIN" -m venv "$VENV"
-no_rust() { env PATH="$PWD/$VENV/bin:$NO_RUST_PATH" CARGO_HOME=/nonexistent RUSTUP_HOME=/nonexistent "$@"; }
-no_rust python -m pip install --quiet --upgrade pip
+# Into the fresh venv (made above, no Rust on its PATH): pip can only install the wheel as built.
 no_rust python -m pip install --quiet --only-binary topoccd "$wheel[ray,test,rerun]" tqdm
 no_rust python -c "import topoccd; print('topoccd', topoccd.__version__, 'imported from', topoccd.__file__)"
 set +e
@@ -100,12 +113,6 @@ set -e
 if [ "$status" -eq 5 ]; then
     echo "error: pytest collected no tests" >&2
     exit 1
-fi
-# The CLI's recordings (feature `rerun`), read back with the venv's rerun-sdk (its `rerun`
-# command and Python first on the PATH).
-echo "== topoccd --rerun recordings (feature rerun)"
-if ! PATH="$PWD/$VENV/bin:$PATH" cargo test --release --quiet -p topoccd-cli --features rerun --test rerun; then
-    status=1
 fi
 if [ -n "$missing" ]; then
     echo "$missing" >&2
