@@ -23,6 +23,7 @@
 //! parallel edges). So no pair closer than `dhat + dmin` is missed, and a pair reported is
 //! closer than `dhat + dmin + 2 eps`.
 
+mod boxes;
 mod brute;
 mod input;
 mod options;

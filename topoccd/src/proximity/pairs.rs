@@ -8,6 +8,7 @@ use crate::distance::{
 use crate::math::DVec3;
 use crate::mesh::CanCollide;
 
+use super::boxes::{overlap, FeatureBoxes};
 use super::primitives::{Kind, LeafPrim, Primitives};
 use super::report::{EeProximity, VeProximity, VfProximity, VvProximity};
 
@@ -47,6 +48,17 @@ pub(crate) struct Test<'a> {
     pub r: f64,
     pub groups: Option<&'a [u32]>,
     pub can_collide: Option<CanCollide<'a>>,
+    /// The features' boxes at `x` (see `boxes`): the first, cheap reject of a pair.
+    pub boxes: &'a FeatureBoxes,
+}
+
+/// The largest distance a kept pair of this extent may have for threshold `r` (the
+/// threshold, the bound on the computed distance's excess and on its shortfall), plus a
+/// margin: pairs whose boxes are farther apart than this are dropped before their distance
+/// is computed. Increasing in `extent`.
+#[inline]
+pub(crate) fn reach(r: f64, extent: f64) -> f64 {
+    (r + 2.0 * rounding_bound(extent, 1.0) + PARALLEL_EXTRA * extent) * (1.0 + 1e-12)
 }
 
 impl Test<'_> {
@@ -85,12 +97,10 @@ impl Test<'_> {
         d2 < tight * tight
     }
 
-    /// The largest distance a kept pair of this extent may have (the threshold, the bound on
-    /// the computed distance's excess and on its shortfall), plus a margin: pairs whose boxes
-    /// are farther apart than this are dropped before their distance is computed.
+    /// [`reach`] at this query's threshold.
     #[inline]
     fn reach(&self, extent: f64) -> f64 {
-        (self.r + 2.0 * rounding_bound(extent, 1.0) + PARALLEL_EXTRA * extent) * (1.0 + 1e-12)
+        reach(self.r, extent)
     }
 
     /// Vertex `v` against triangle `face` (not containing `v`).
@@ -198,22 +208,31 @@ impl Test<'_> {
         }
     }
 
-    /// Every feature pair that the leaf pair `(a, b)` (`a != b`) owns (see `primitives`).
+    /// Every feature pair that the leaf pair `(a, b)` (`a != b`) owns (see `primitives`),
+    /// each first through the features' boxes (see `boxes`; the brute-force oracle goes
+    /// without them).
     #[inline]
     pub fn leaf_pair(&self, prims: &Primitives, a: u32, b: u32, out: &mut Found) {
         let (la, lb) = (&prims.leaves[a as usize], &prims.leaves[b as usize]);
         self.one_way(prims, la, b, lb, out);
         self.one_way(prims, lb, a, la, out);
         // Edges owned by both: each pair once, a's edge first.
-        for &ea in &la.owned_e[..la.ne as usize] {
-            let ea = prims.edges[ea as usize];
-            for &eb in &lb.owned_e[..lb.ne as usize] {
-                let eb = prims.edges[eb as usize];
-                if ea[0] != eb[0] && ea[0] != eb[1] && ea[1] != eb[0] && ea[1] != eb[1] {
+        for &ia in &la.owned_e[..la.ne as usize] {
+            let ea = prims.edges[ia as usize];
+            let ba = &self.boxes.edge[ia as usize];
+            for &ib in &lb.owned_e[..lb.ne as usize] {
+                let eb = prims.edges[ib as usize];
+                if overlap(ba, &self.boxes.edge[ib as usize])
+                    && ea[0] != eb[0]
+                    && ea[0] != eb[1]
+                    && ea[1] != eb[0]
+                    && ea[1] != eb[1]
+                {
                     self.ee(ea, eb, out);
                 }
             }
         }
+        // (Two points' leaves overlap: their boxes are the leaves' boxes.)
         if la.kind == Kind::Point && lb.kind == Kind::Point {
             self.vv(la.verts[0], lb.verts[0], out);
         }
@@ -224,8 +243,9 @@ impl Test<'_> {
     #[inline]
     fn one_way(&self, prims: &Primitives, la: &LeafPrim, b: u32, lb: &LeafPrim, out: &mut Found) {
         if lb.kind == Kind::Triangle {
+            let tb = &self.boxes.tri[b as usize];
             for &v in &la.owned_v[..la.nv as usize] {
-                if !lb.verts.contains(&v) {
+                if overlap(&self.boxes.vert[v as usize], tb) && !lb.verts.contains(&v) {
                     self.vf(v, b, lb.verts, out);
                 }
             }
@@ -233,6 +253,7 @@ impl Test<'_> {
         // A free point against a free edge: its pairs with a triangle's edges are covered by
         // its vertex-face pairs with the triangle (never farther).
         if la.kind == Kind::Point && lb.kind == Kind::Edge {
+            // (The edge's box is the leaf's box, which overlaps the point's.)
             for &e in &lb.owned_e[..lb.ne as usize] {
                 self.ve(la.verts[0], prims.edges[e as usize], out);
             }

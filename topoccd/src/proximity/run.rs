@@ -9,6 +9,7 @@ use crate::bvh::{BvhWorkspace, ParOptions, TestAll};
 use crate::query::{CancelToken, StopReason};
 use crate::Ccd;
 
+use super::boxes::FeatureBoxes;
 use super::brute::brute;
 use super::pairs::{Found, Test};
 use super::primitives::Primitives;
@@ -21,6 +22,7 @@ use super::{Configuration, ProximityError, ProximityMethod, ProximityOptions, Pr
 pub(crate) struct State {
     prims: Primitives,
     tree: ProximityTree,
+    boxes: FeatureBoxes,
     ws: BvhWorkspace,
 }
 
@@ -137,16 +139,21 @@ impl State {
             cancelled: AtomicBool::new(false),
         };
         let step = config.step();
-        let test = Test {
-            x: config.pos(),
-            r: options.threshold(),
-            groups: step.groups(),
-            can_collide: step.can_collide(),
-        };
         if !self.prims.same(config) {
             self.prims.derive(config);
             self.tree.invalidate();
         }
+        let (x, r) = (config.pos(), options.threshold());
+        if options.method == ProximityMethod::Bvh {
+            self.boxes.fit(&self.prims, config.triangles(), x, r);
+        }
+        let test = Test {
+            x,
+            r,
+            groups: step.groups(),
+            can_collide: step.can_collide(),
+            boxes: &self.boxes,
+        };
         let mut stats = ProximityStats::default();
         let mut capped = false;
         let max = options.max_contacts.unwrap_or(usize::MAX);
@@ -156,7 +163,7 @@ impl State {
                 brute(&self.prims, config.triangles(), &test, &stop)
             }
             ProximityMethod::Bvh => {
-                stats.refitted = self.tree.fit(&self.prims, test.x, test.r, &mut self.ws);
+                stats.refitted = self.tree.fit(&self.prims, x, &self.boxes, &mut self.ws);
                 stats.build_seconds = start.elapsed().as_secs_f64();
                 let prims = &self.prims;
                 let mut found = Found::default();
