@@ -1,8 +1,15 @@
 //! Runs the proximity query on one frame repeatedly, for profilers and quick timings: prints
 //! the figures of every repetition as one JSON object per line (CPU seconds of the process).
 //!
-//! Usage: `prox_probe FRAME.ply [REPS] [kept|fresh]`. `dhat` is 1e-3 x the bounding-box
+//! Usage: `prox_probe FRAME.ply [REPS] [kept|fresh|floor]`. `dhat` is 1e-3 x the bounding-box
 //! diagonal, as `scripts/ipc_loop.py` takes it; one thread.
+//!
+//! `floor` times the query's parts one by one instead (median of REPS, CPU seconds; see
+//! `topoccd::proximity_floor`): the features' boxes and the refit, the traversal alone, the
+//! traversal writing the candidate feature pairs, the exact kernels over the candidates and
+//! over the reported pairs only (precomputed lists, tight loop), and the report's sort. The
+//! floor of issue 42 is the cheapest broad phase + the kernels over the reported pairs + the
+//! sort.
 
 use topoccd::{Ccd, Configuration, ProximityOptions};
 
@@ -14,6 +21,7 @@ fn main() {
     };
     let reps: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(5);
     let fresh = args.get(3).is_some_and(|s| s == "fresh");
+    let floor = args.get(3).is_some_and(|s| s == "floor");
     let mesh = topoccd_benches::read_frame(path);
     let dhat = topoccd_benches::dhat_of(&mesh.positions);
     rayon::ThreadPoolBuilder::new()
@@ -30,6 +38,39 @@ fn main() {
         dhat,
         ..ProximityOptions::default()
     };
+    if floor {
+        let f =
+            topoccd::proximity_floor::floor(&config, &options, reps, &topoccd_benches::cpu_seconds)
+                .expect("valid options");
+        println!("{f:#?}");
+        let ms = |s: f64| s * 1e3;
+        println!("part, ms (median of {reps}, CPU, one thread)");
+        println!("query (kept Ccd, refit)            {:9.3}", ms(f.query));
+        println!("boxes + refit                      {:9.3}", ms(f.fit));
+        println!(
+            "traversal, leaf pairs counted      {:9.3}",
+            ms(f.leaf_pairs_seconds)
+        );
+        println!(
+            "traversal + feature boxes, listed  {:9.3}",
+            ms(f.candidates_seconds)
+        );
+        println!(
+            "kernels over the candidates        {:9.3}",
+            ms(f.kernels_candidates)
+        );
+        println!(
+            "kernels over the reported pairs    {:9.3}",
+            ms(f.kernels_reported)
+        );
+        println!("sort of the report                 {:9.3}", ms(f.sort));
+        let broad = f.fit + f.candidates_seconds;
+        println!(
+            "floor = boxes+refit + traversal with feature boxes + kernels(reported) + sort = {:.3} ms",
+            ms(broad + f.kernels_reported + f.sort)
+        );
+        return;
+    }
     let mut ccd = Ccd::new();
     for _ in 0..reps {
         if fresh {

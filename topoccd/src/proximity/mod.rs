@@ -25,6 +25,8 @@
 
 mod boxes;
 mod brute;
+#[cfg(feature = "internals")]
+pub mod floor;
 mod input;
 mod options;
 mod pairs;

@@ -20,10 +20,10 @@ use super::{Configuration, ProximityError, ProximityMethod, ProximityOptions, Pr
 /// What a [`Ccd`] keeps for its proximity queries: the primitives and their hierarchy.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct State {
-    prims: Primitives,
-    tree: ProximityTree,
-    boxes: FeatureBoxes,
-    ws: BvhWorkspace,
+    pub(super) prims: Primitives,
+    pub(super) tree: ProximityTree,
+    pub(super) boxes: FeatureBoxes,
+    pub(super) ws: BvhWorkspace,
 }
 
 /// The deadline and the cancel token of one query, and whether it stopped (and why).
@@ -124,6 +124,22 @@ pub fn proximity(
     Ccd::new().proximity(config, options)
 }
 
+/// The distance test of a query on `config`, with the features' boxes `boxes`.
+pub(super) fn test<'a>(
+    config: &'a Configuration<'_>,
+    options: &ProximityOptions,
+    boxes: &'a FeatureBoxes,
+) -> Test<'a> {
+    let step = config.step();
+    Test {
+        x: config.pos(),
+        r: options.threshold(),
+        groups: step.groups(),
+        can_collide: step.can_collide(),
+        boxes,
+    }
+}
+
 impl State {
     fn run(
         &mut self,
@@ -138,7 +154,6 @@ impl State {
             stopped: AtomicBool::new(false),
             cancelled: AtomicBool::new(false),
         };
-        let step = config.step();
         if !self.prims.same(config) {
             self.prims.derive(config);
             self.tree.invalidate();
@@ -147,13 +162,7 @@ impl State {
         if options.method == ProximityMethod::Bvh {
             self.boxes.fit(&self.prims, config.triangles(), x, r);
         }
-        let test = Test {
-            x,
-            r,
-            groups: step.groups(),
-            can_collide: step.can_collide(),
-            boxes: &self.boxes,
-        };
+        let test = test(config, options, &self.boxes);
         let mut stats = ProximityStats::default();
         let mut capped = false;
         let max = options.max_contacts.unwrap_or(usize::MAX);
