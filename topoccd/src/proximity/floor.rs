@@ -75,12 +75,12 @@ pub fn floor(
     let st = &mut ccd.proximity;
     let (x, r) = (config.pos(), options.threshold());
     let tris = config.triangles();
+    let _ = r;
     fig.fit = time(&mut || {
-        st.boxes.fit(&st.prims, tris, x, r);
-        black_box(st.tree.fit(&st.prims, x, &st.boxes, &mut st.ws));
+        black_box(st.fit(config, options));
     });
-    let test = super::run::test(config, options, &st.boxes);
-    let (prims, tree, ws) = (&st.prims, &st.tree, &mut st.ws);
+    let test = super::run::test(config, options);
+    let (slots, tree, ws) = (&st.slots, &st.tree, &mut st.ws);
     let mut leaf_pairs = 0u64;
     fig.leaf_pairs_seconds = time(&mut || {
         leaf_pairs = 0;
@@ -93,7 +93,7 @@ pub fn floor(
         vf.clear();
         ee.clear();
         tree.bvh.self_pairs(ws, |a, b| {
-            test.leaf_candidates(prims, a, b, &mut vf, &mut ee);
+            test.leaf_candidates(slots, a, b, &mut vf, &mut ee);
         });
     });
     fig.candidates = (vf.len() as u64, ee.len() as u64);
@@ -127,7 +127,7 @@ pub fn floor(
     // The report's pairs in the traversal's order, sorted.
     let mut found = Found::default();
     tree.bvh
-        .self_pairs(ws, |a, b| test.leaf_pair(prims, a, b, &mut found));
+        .self_pairs(ws, |a, b| test.leaf_pair(slots, a, b, &mut found));
     fig.sort = time(&mut || {
         let mut rep = ProximityReport {
             vf: found.vf.clone(),
@@ -147,29 +147,31 @@ impl super::pairs::Test<'_> {
     /// boxes and the shared-vertex filter, as [`Self::leaf_pair`] takes them, written out.
     fn leaf_candidates(
         &self,
-        prims: &super::primitives::Primitives,
+        s: &super::slots::Slots,
         a: u32,
         b: u32,
         vf: &mut Vec<(u32, u32)>,
         ee: &mut Vec<([u32; 2], [u32; 2])>,
     ) {
         use super::boxes::overlap;
-        let (la, lb) = (&prims.leaves[a as usize], &prims.leaves[b as usize]);
-        for (l, m, id) in [(la, lb, b), (lb, la, a)] {
+        let (sa, sb) = (s.slot_of[a as usize], s.slot_of[b as usize]);
+        let (la, lb) = (&s.slots[sa as usize], &s.slots[sb as usize]);
+        for (l, m, sm) in [(la, lb, sb), (lb, la, sa)] {
             if m.kind == Kind::Triangle {
-                let tb = &self.boxes.tri[id as usize];
-                for &v in &l.owned_v[..l.nv as usize] {
-                    if overlap(&self.boxes.vert[v as usize], tb) && !m.verts.contains(&v) {
-                        vf.push((v, id));
+                let tb = &s.lbox[sm as usize];
+                for i in l.v0..l.v0 + l.nv {
+                    let v = s.verts[i as usize];
+                    if overlap(&s.vbox[i as usize], tb) && !m.verts.contains(&v) {
+                        vf.push((v, m.id));
                     }
                 }
             }
         }
-        for &ia in &la.owned_e[..la.ne as usize] {
-            let ea = prims.edges[ia as usize];
-            for &ib in &lb.owned_e[..lb.ne as usize] {
-                let eb = prims.edges[ib as usize];
-                if overlap(&self.boxes.edge[ia as usize], &self.boxes.edge[ib as usize])
+        for i in la.e0..la.e0 + la.ne {
+            let ea = s.edges[i as usize];
+            for j in lb.e0..lb.e0 + lb.ne {
+                let eb = s.edges[j as usize];
+                if overlap(&s.ebox[i as usize], &s.ebox[j as usize])
                     && ea[0] != eb[0]
                     && ea[0] != eb[1]
                     && ea[1] != eb[0]

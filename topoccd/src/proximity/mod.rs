@@ -33,6 +33,7 @@ mod pairs;
 mod primitives;
 mod report;
 mod run;
+mod slots;
 mod tree;
 
 pub use input::{Configuration, ProximityError};

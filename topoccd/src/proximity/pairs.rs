@@ -8,9 +8,10 @@ use crate::distance::{
 use crate::math::DVec3;
 use crate::mesh::CanCollide;
 
-use super::boxes::{overlap, FeatureBoxes};
-use super::primitives::{Kind, LeafPrim, Primitives};
+use super::boxes::overlap;
+use super::primitives::Kind;
 use super::report::{EeProximity, VeProximity, VfProximity, VvProximity};
+use super::slots::{Slot, Slots};
 
 /// The largest extra term of [`rounding_bound`] for nearly parallel edges, per unit of
 /// extent: `max_s min(s, 16 u / s) = 4 sqrt(u)`, rounded up.
@@ -48,8 +49,6 @@ pub(crate) struct Test<'a> {
     pub r: f64,
     pub groups: Option<&'a [u32]>,
     pub can_collide: Option<CanCollide<'a>>,
-    /// The features' boxes at `x` (see `boxes`): the first, cheap reject of a pair.
-    pub boxes: &'a FeatureBoxes,
 }
 
 /// The largest distance a kept pair of this extent may have for threshold `r` (the
@@ -209,20 +208,20 @@ impl Test<'_> {
     }
 
     /// Every feature pair that the leaf pair `(a, b)` (`a != b`) owns (see `primitives`),
-    /// each first through the features' boxes (see `boxes`; the brute-force oracle goes
-    /// without them).
+    /// each first through the features' boxes (see `boxes` and `slots`; the brute-force
+    /// oracle goes without them).
     #[inline]
-    pub fn leaf_pair(&self, prims: &Primitives, a: u32, b: u32, out: &mut Found) {
-        let (la, lb) = (&prims.leaves[a as usize], &prims.leaves[b as usize]);
-        self.one_way(prims, la, b, lb, out);
-        self.one_way(prims, lb, a, la, out);
+    pub fn leaf_pair(&self, s: &Slots, a: u32, b: u32, out: &mut Found) {
+        let (sa, sb) = (s.slot_of[a as usize], s.slot_of[b as usize]);
+        let (la, lb) = (&s.slots[sa as usize], &s.slots[sb as usize]);
+        self.one_way(s, la, lb, sb, out);
+        self.one_way(s, lb, la, sa, out);
         // Edges owned by both: each pair once, a's edge first.
-        for &ia in &la.owned_e[..la.ne as usize] {
-            let ea = prims.edges[ia as usize];
-            let ba = &self.boxes.edge[ia as usize];
-            for &ib in &lb.owned_e[..lb.ne as usize] {
-                let eb = prims.edges[ib as usize];
-                if overlap(ba, &self.boxes.edge[ib as usize])
+        for i in la.e0..la.e0 + la.ne {
+            let (ea, ba) = (s.edges[i as usize], &s.ebox[i as usize]);
+            for j in lb.e0..lb.e0 + lb.ne {
+                let eb = s.edges[j as usize];
+                if overlap(ba, &s.ebox[j as usize])
                     && ea[0] != eb[0]
                     && ea[0] != eb[1]
                     && ea[1] != eb[0]
@@ -238,15 +237,16 @@ impl Test<'_> {
         }
     }
 
-    /// The pairs of the vertices `la` owns against leaf `lb` (id `b`): vertex-face when `lb`
-    /// is a triangle, and a free point against a free edge.
+    /// The pairs of the vertices `la` owns against leaf `lb` (slot `sb`): vertex-face when
+    /// `lb` is a triangle, and a free point against a free edge.
     #[inline]
-    fn one_way(&self, prims: &Primitives, la: &LeafPrim, b: u32, lb: &LeafPrim, out: &mut Found) {
+    fn one_way(&self, s: &Slots, la: &Slot, lb: &Slot, sb: u32, out: &mut Found) {
         if lb.kind == Kind::Triangle {
-            let tb = &self.boxes.tri[b as usize];
-            for &v in &la.owned_v[..la.nv as usize] {
-                if overlap(&self.boxes.vert[v as usize], tb) && !lb.verts.contains(&v) {
-                    self.vf(v, b, lb.verts, out);
+            let tb = &s.lbox[sb as usize];
+            for i in la.v0..la.v0 + la.nv {
+                let v = s.verts[i as usize];
+                if overlap(&s.vbox[i as usize], tb) && !lb.verts.contains(&v) {
+                    self.vf(v, lb.id, lb.verts, out);
                 }
             }
         }
@@ -254,8 +254,8 @@ impl Test<'_> {
         // its vertex-face pairs with the triangle (never farther).
         if la.kind == Kind::Point && lb.kind == Kind::Edge {
             // (The edge's box is the leaf's box, which overlaps the point's.)
-            for &e in &lb.owned_e[..lb.ne as usize] {
-                self.ve(la.verts[0], prims.edges[e as usize], out);
+            for i in lb.e0..lb.e0 + lb.ne {
+                self.ve(la.verts[0], s.edges[i as usize], out);
             }
         }
     }

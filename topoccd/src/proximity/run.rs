@@ -9,11 +9,12 @@ use crate::bvh::{BvhWorkspace, ParOptions, TestAll};
 use crate::query::{CancelToken, StopReason};
 use crate::Ccd;
 
-use super::boxes::FeatureBoxes;
+use super::boxes::inflation;
 use super::brute::brute;
 use super::pairs::{Found, Test};
 use super::primitives::Primitives;
 use super::report::ProximityStats;
+use super::slots::Slots;
 use super::tree::ProximityTree;
 use super::{Configuration, ProximityError, ProximityMethod, ProximityOptions, ProximityReport};
 
@@ -22,7 +23,7 @@ use super::{Configuration, ProximityError, ProximityMethod, ProximityOptions, Pr
 pub(crate) struct State {
     pub(super) prims: Primitives,
     pub(super) tree: ProximityTree,
-    pub(super) boxes: FeatureBoxes,
+    pub(super) slots: Slots,
     pub(super) ws: BvhWorkspace,
 }
 
@@ -124,23 +125,31 @@ pub fn proximity(
     Ccd::new().proximity(config, options)
 }
 
-/// The distance test of a query on `config`, with the features' boxes `boxes`.
-pub(super) fn test<'a>(
-    config: &'a Configuration<'_>,
-    options: &ProximityOptions,
-    boxes: &'a FeatureBoxes,
-) -> Test<'a> {
+/// The distance test of a query on `config`.
+pub(super) fn test<'a>(config: &'a Configuration<'_>, options: &ProximityOptions) -> Test<'a> {
     let step = config.step();
     Test {
         x: config.pos(),
         r: options.threshold(),
         groups: step.groups(),
         can_collide: step.can_collide(),
-        boxes,
     }
 }
 
 impl State {
+    /// The features' boxes, the hierarchy (refitted or built) and the leaves' layout at the
+    /// positions of `config`. Returns whether the hierarchy was refitted.
+    pub(super) fn fit(&mut self, config: &Configuration<'_>, options: &ProximityOptions) -> bool {
+        let x = config.pos();
+        let h = inflation(&self.prims, config.triangles(), x, options.threshold());
+        let refitted = self.tree.fit(&self.prims, x, h, &mut self.ws);
+        if !refitted {
+            self.slots.arrange(&self.prims, &self.tree.bvh);
+        }
+        self.slots.fit(x, h);
+        refitted
+    }
+
     fn run(
         &mut self,
         config: &Configuration<'_>,
@@ -158,11 +167,7 @@ impl State {
             self.prims.derive(config);
             self.tree.invalidate();
         }
-        let (x, r) = (config.pos(), options.threshold());
-        if options.method == ProximityMethod::Bvh {
-            self.boxes.fit(&self.prims, config.triangles(), x, r);
-        }
-        let test = test(config, options, &self.boxes);
+        let test = test(config, options);
         let mut stats = ProximityStats::default();
         let mut capped = false;
         let max = options.max_contacts.unwrap_or(usize::MAX);
@@ -172,9 +177,9 @@ impl State {
                 brute(&self.prims, config.triangles(), &test, &stop)
             }
             ProximityMethod::Bvh => {
-                stats.refitted = self.tree.fit(&self.prims, x, &self.boxes, &mut self.ws);
+                stats.refitted = self.fit(config, options);
                 stats.build_seconds = start.elapsed().as_secs_f64();
-                let prims = &self.prims;
+                let slots = &self.slots;
                 let mut found = Found::default();
                 let skip = |_: &Found| stop.check();
                 let consume = |mut f: Found| {
@@ -191,7 +196,7 @@ impl State {
                     &ParOptions::default(),
                     &TestAll,
                     |_| Found::default(),
-                    |acc, a, b| test.leaf_pair(prims, a, b, acc),
+                    |acc, a, b| test.leaf_pair(slots, a, b, acc),
                     |_| {},
                     consume,
                     &skip,

@@ -7,7 +7,7 @@
 use crate::bvh::{Bvh, BvhWorkspace};
 use crate::math::DVec3;
 
-use super::boxes::{Box3, FeatureBoxes};
+use super::boxes::{leaf_box, Box3};
 use super::primitives::Primitives;
 
 /// Rebuild once the refitted tree's internal volumes have grown this much (the sum of their
@@ -38,17 +38,11 @@ impl ProximityTree {
         self.valid = false;
     }
 
-    /// Fits the tree to positions `x` and the features' boxes there: refits the tree kept
-    /// (same primitives), unless it has loosened too much; else builds it. Returns whether it
-    /// was refitted.
-    pub fn fit(
-        &mut self,
-        prims: &Primitives,
-        x: &[DVec3],
-        boxes: &FeatureBoxes,
-        ws: &mut BvhWorkspace,
-    ) -> bool {
-        let volume = |i: u32| boxes.leaf(prims, i);
+    /// Fits the tree to positions `x`, the leaves' boxes inflated by `h` (see
+    /// `boxes::inflation`): refits the tree kept (same primitives), unless it has loosened
+    /// too much; else builds it. Returns whether it was refitted.
+    pub fn fit(&mut self, prims: &Primitives, x: &[DVec3], h: f64, ws: &mut BvhWorkspace) -> bool {
+        let volume = |i: u32| leaf_box(prims, x, h, i);
         if self.valid && self.bvh.leaf_count() == prims.leaves.len() {
             self.bvh.refit(volume);
             let s = size(&self.bvh);
