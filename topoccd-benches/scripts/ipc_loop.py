@@ -31,6 +31,9 @@ other work, where wall time measures the load as much as the tools).
     per phase and in all, with the ratio ipctk / topoccd. ipctk's step size uses its LBVH
     broad phase and Tight-Inclusion CCD (tolerance 1e-6), as ipctk_step.py does; topoccd's
     `collision_free_stepsize` its defaults; both with conservative rescaling 0.8.
+(d) topoccd's inner loop in detail: per iteration, proximity as Python times it and as the
+    library reports it (the difference: converting the input and the output), the step size,
+    and the fixed cost of a call on a one-triangle mesh.
 """
 
 import argparse
@@ -265,6 +268,35 @@ def loop_topoccd(x0, x1, tris, free_edges, dhat, iters):
     return prox, step, alphas
 
 
+def detail(name, x0, x1, tris, free_edges, dhat, iters, reps):
+    """(d) Where topoccd's inner-loop time goes, per iteration (median of reps, --clock):
+    proximity as Python sees it and as the library reports it (its own wall clock: the
+    difference is the call's conversion of the input and the output), the step size, and a
+    call on a one-triangle mesh (the fixed cost of a call)."""
+    x = x0.copy()
+    ccd = topoccd.Ccd()
+    tiny = (np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0.2, 0.2, 1e-4]]), np.array([[0, 1, 2]]))
+    m = statistics.median
+    print(f"\n(d) inner loop of topoccd in detail, {name}: per iteration, median of {reps} (ms)")
+    print(f"  {'iter':>4} {'prox (py)':>10} {'prox (lib)':>11} {'pairs':>7} {'refit':>6} {'step':>8} {'alpha':>9}")
+    for it in range(iters):
+        pp, pl, st = [], [], []
+        for _ in range(reps):
+            s, p = timed(lambda: ccd.proximity(x, tris, dhat, edges=free_edges, threads=1))
+            pp.append(s)
+            pl.append(p.seconds)
+            s, alpha = timed(lambda: topoccd.collision_free_stepsize(
+                x, x1, tris, ccd=ccd, threads=1, conservative_rescaling=0.8))
+            st.append(s)
+        print(f"  {it:>4} {m(pp) * 1e3:10.3f} {m(pl) * 1e3:11.3f} {len(p.vf) + len(p.ee):7d} {str(p.refitted):>6} {m(st) * 1e3:8.3f} {alpha:9.6f}")
+        x = x + alpha * (x1 - x)
+    small = topoccd.Ccd()
+    calls = [timed(lambda: small.proximity(tiny[0], tiny[1], 1e-3, threads=1))[0] for _ in range(50)]
+    steps = [timed(lambda: topoccd.collision_free_stepsize(
+        tiny[0], tiny[0] + [0, 0, 0.1], tiny[1], ccd=small, threads=1))[0] for _ in range(50)]
+    print(f"  fixed cost of a call (one triangle): proximity {m(calls) * 1e3:.3f} ms, step size {m(steps) * 1e3:.3f} ms")
+
+
 def inner_loop(name, x0, x1, tris, free_edges, dhat, mesh, reps, iters):
     ipc, ours = [], []
     for _ in range(reps):
@@ -289,7 +321,7 @@ def main():
     ap.add_argument("--scenes", default="cloth-funnel,cloth-ball,codim")
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--iters", type=int, default=5)
-    ap.add_argument("--skip", default="", help="parts to skip: a, b, c (comma separated)")
+    ap.add_argument("--skip", default="", help="parts to skip: a, b, c, d (comma separated)")
     ap.add_argument("--clock", choices=["wall", "cpu"], default="wall",
                     help="wall time, or the process's CPU time (on a loaded machine)")
     args = ap.parse_args()
@@ -313,6 +345,8 @@ def main():
             speed(name, x0, tris, free_edges, dhat, mesh, args.reps)
         if "c" not in skip:
             inner_loop(name, x0, x1, tris, free_edges, dhat, mesh, args.reps, args.iters)
+        if "d" not in skip:
+            detail(name, x0, x1, tris, free_edges, dhat, args.iters, args.reps)
     if not ok:
         print("\nconformance: differences beyond 1e-9 dhat of the threshold (see above)")
         sys.exit(1)

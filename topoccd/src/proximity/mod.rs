@@ -25,6 +25,7 @@
 
 mod boxes;
 mod brute;
+mod cache;
 #[cfg(feature = "internals")]
 pub mod floor;
 mod input;

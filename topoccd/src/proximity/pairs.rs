@@ -25,6 +25,27 @@ pub(crate) struct Found {
     pub ve: Vec<VeProximity>,
     pub vv: Vec<VvProximity>,
     pub tests: u64,
+    /// With [`Test::list`]: every feature pair past the boxes (see `cache`).
+    pub cands: Cands,
+}
+
+/// Feature pairs past the boxes, kept to be evaluated again at nearby positions (see
+/// `cache`): vertex-face (vertex, face), edge-edge, free point-free edge, free points.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Cands {
+    pub vf: Vec<(u32, u32)>,
+    pub ee: Vec<([u32; 2], [u32; 2])>,
+    pub ve: Vec<(u32, [u32; 2])>,
+    pub vv: Vec<(u32, u32)>,
+}
+
+impl Cands {
+    pub fn append(&mut self, other: &mut Cands) {
+        self.vf.append(&mut other.vf);
+        self.ee.append(&mut other.ee);
+        self.ve.append(&mut other.ve);
+        self.vv.append(&mut other.vv);
+    }
 }
 
 impl Found {
@@ -38,6 +59,7 @@ impl Found {
         self.ve.append(&mut other.ve);
         self.vv.append(&mut other.vv);
         self.tests += other.tests;
+        self.cands.append(&mut other.cands);
     }
 }
 
@@ -49,6 +71,9 @@ pub(crate) struct Test<'a> {
     pub r: f64,
     pub groups: Option<&'a [u32]>,
     pub can_collide: Option<CanCollide<'a>>,
+    /// Whether [`Test::leaf_pair`] also writes the pairs past the boxes to
+    /// [`Found::cands`].
+    pub list: bool,
 }
 
 /// The largest distance a kept pair of this extent may have for threshold `r` (the
@@ -227,12 +252,18 @@ impl Test<'_> {
                     && ea[1] != eb[0]
                     && ea[1] != eb[1]
                 {
+                    if self.list {
+                        out.cands.ee.push((ea, eb));
+                    }
                     self.ee(ea, eb, out);
                 }
             }
         }
         // (Two points' leaves overlap: their boxes are the leaves' boxes.)
         if la.kind == Kind::Point && lb.kind == Kind::Point {
+            if self.list {
+                out.cands.vv.push((la.verts[0], lb.verts[0]));
+            }
             self.vv(la.verts[0], lb.verts[0], out);
         }
     }
@@ -246,6 +277,9 @@ impl Test<'_> {
             for i in la.v0..la.v0 + la.nv {
                 let v = s.verts[i as usize];
                 if overlap(&s.vbox[i as usize], tb) && !lb.verts.contains(&v) {
+                    if self.list {
+                        out.cands.vf.push((v, lb.id));
+                    }
                     self.vf(v, lb.id, lb.verts, out);
                 }
             }
@@ -255,6 +289,9 @@ impl Test<'_> {
         if la.kind == Kind::Point && lb.kind == Kind::Edge {
             // (The edge's box is the leaf's box, which overlaps the point's.)
             for i in lb.e0..lb.e0 + lb.ne {
+                if self.list {
+                    out.cands.ve.push((la.verts[0], s.edges[i as usize]));
+                }
                 self.ve(la.verts[0], s.edges[i as usize], out);
             }
         }

@@ -11,6 +11,7 @@ use crate::Ccd;
 
 use super::boxes::inflation;
 use super::brute::brute;
+use super::cache::{evaluate, Cache};
 use super::pairs::{Found, Test};
 use super::primitives::Primitives;
 use super::report::ProximityStats;
@@ -24,6 +25,7 @@ pub(crate) struct State {
     pub(super) prims: Primitives,
     pub(super) tree: ProximityTree,
     pub(super) slots: Slots,
+    cache: Cache,
     pub(super) ws: BvhWorkspace,
 }
 
@@ -133,15 +135,15 @@ pub(super) fn test<'a>(config: &'a Configuration<'_>, options: &ProximityOptions
         r: options.threshold(),
         groups: step.groups(),
         can_collide: step.can_collide(),
+        list: false,
     }
 }
 
 impl State {
-    /// The features' boxes, the hierarchy (refitted or built) and the leaves' layout at the
-    /// positions of `config`. Returns whether the hierarchy was refitted.
-    pub(super) fn fit(&mut self, config: &Configuration<'_>, options: &ProximityOptions) -> bool {
+    /// The features' boxes inflated by `h`, the hierarchy (refitted or built) and the leaves'
+    /// layout at the positions of `config`. Returns whether the hierarchy was refitted.
+    pub(super) fn fit(&mut self, config: &Configuration<'_>, h: f64) -> bool {
         let x = config.pos();
-        let h = inflation(&self.prims, config.triangles(), x, options.threshold());
         let refitted = self.tree.fit(&self.prims, x, h, &mut self.ws);
         if !refitted {
             self.slots.arrange(&self.prims, &self.tree.bvh);
@@ -166,8 +168,9 @@ impl State {
         if !self.prims.same(config) {
             self.prims.derive(config);
             self.tree.invalidate();
+            self.cache.clear();
         }
-        let test = test(config, options);
+        let mut test = test(config, options);
         let mut stats = ProximityStats::default();
         let mut capped = false;
         let max = options.max_contacts.unwrap_or(usize::MAX);
@@ -177,30 +180,59 @@ impl State {
                 brute(&self.prims, config.triangles(), &test, &stop)
             }
             ProximityMethod::Bvh => {
-                stats.refitted = self.fit(config, options);
-                stats.build_seconds = start.elapsed().as_secs_f64();
-                let slots = &self.slots;
-                let mut found = Found::default();
-                let skip = |_: &Found| stop.check();
-                let consume = |mut f: Found| {
-                    found.append(&mut f);
-                    if found.len() >= max {
-                        capped = true;
-                        ControlFlow::Break(())
-                    } else {
-                        ControlFlow::Continue(())
-                    }
+                let (x, r) = (test.x, test.r);
+                let h = inflation(&self.prims, config.triangles(), x, r);
+                // The candidates kept across a solver's iterations (see `cache`): not under
+                // a cap or a deadline, whose pairs depend on the order of work.
+                let plain = options.max_contacts.is_none() && options.deadline.is_none();
+                let cached = if plain {
+                    self.cache.covering(x, r, h)
+                } else {
+                    None
                 };
-                stats.bv_tests = self.tree.bvh.par_self_pairs_until(
-                    &mut self.ws,
-                    &ParOptions::default(),
-                    &TestAll,
-                    |_| Found::default(),
-                    |acc, a, b| test.leaf_pair(slots, a, b, acc),
-                    |_| {},
-                    consume,
-                    &skip,
-                );
+                let found = if let Some(cands) = cached.filter(|_| !stop.check()) {
+                    stats.refitted = true;
+                    stats.reused = true;
+                    stats.build_seconds = start.elapsed().as_secs_f64();
+                    evaluate(cands, config.triangles(), &test)
+                } else {
+                    let margin = if plain { self.cache.margin(x, r) } else { 0.0 };
+                    test.list = margin > 0.0;
+                    stats.refitted = self.fit(config, h + margin);
+                    stats.build_seconds = start.elapsed().as_secs_f64();
+                    let slots = &self.slots;
+                    let mut found = Found::default();
+                    let skip = |_: &Found| stop.check();
+                    let consume = |mut f: Found| {
+                        found.append(&mut f);
+                        if found.len() >= max {
+                            capped = true;
+                            ControlFlow::Break(())
+                        } else {
+                            ControlFlow::Continue(())
+                        }
+                    };
+                    stats.bv_tests = self.tree.bvh.par_self_pairs_until(
+                        &mut self.ws,
+                        &ParOptions::default(),
+                        &TestAll,
+                        |_| Found::default(),
+                        |acc, a, b| test.leaf_pair(slots, a, b, acc),
+                        |_| {},
+                        consume,
+                        &skip,
+                    );
+                    let cands = std::mem::take(&mut found.cands);
+                    if test.list && stop.reason().is_none() {
+                        self.cache.keep(x, r, h + margin, cands);
+                    } else {
+                        self.cache.drop_listing();
+                    }
+                    found
+                };
+                if plain {
+                    self.cache.seen(x);
+                }
                 found
             }
         };

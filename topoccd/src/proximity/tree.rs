@@ -11,7 +11,7 @@ use super::boxes::{leaf_box, Box3};
 use super::primitives::Primitives;
 
 /// Rebuild once the refitted tree's internal volumes have grown this much (the sum of their
-/// extents) over the tree's as built.
+/// extents, net of a change of the leaves' inflation) over the tree's as built.
 const LOOSENESS: f64 = 1.5;
 
 /// The proximity hierarchy and its leaves' volumes.
@@ -20,6 +20,8 @@ pub(crate) struct ProximityTree {
     pub bvh: Bvh<Box3>,
     /// The sum of the internal nodes' extents when built.
     built_size: f64,
+    /// The leaves' inflation when built.
+    built_h: f64,
     /// Whether the hierarchy holds a tree for the current primitives.
     valid: bool,
 }
@@ -45,7 +47,10 @@ impl ProximityTree {
         let volume = |i: u32| leaf_box(prims, x, h, i);
         if self.valid && self.bvh.leaf_count() == prims.leaves.len() {
             self.bvh.refit(volume);
-            let s = size(&self.bvh);
+            // The growth of the geometry, net of a change of inflation (which widens every
+            // internal node by twice the change on each of the three axes).
+            let internal = self.bvh.leaf_count().saturating_sub(1) as f64;
+            let s = size(&self.bvh) - 6.0 * internal * (h - self.built_h);
             if s.is_finite() && s <= LOOSENESS * self.built_size {
                 return true;
             }
@@ -61,6 +66,7 @@ impl ProximityTree {
         self.bvh
             .rebuild_from_fn(prims.leaves.len(), center, volume, ws);
         self.built_size = size(&self.bvh);
+        self.built_h = h;
         self.valid = true;
         false
     }
