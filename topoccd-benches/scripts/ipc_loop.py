@@ -269,27 +269,29 @@ def loop_topoccd(x0, x1, tris, free_edges, dhat, iters):
 
 
 def detail(name, x0, x1, tris, free_edges, dhat, iters, reps):
-    """(d) Where topoccd's inner-loop time goes, per iteration (median of reps, --clock):
-    proximity as Python sees it and as the library reports it (its own wall clock: the
-    difference is the call's conversion of the input and the output), the step size, and a
-    call on a one-triangle mesh (the fixed cost of a call)."""
-    x = x0.copy()
-    ccd = topoccd.Ccd()
+    """(d) Where topoccd's inner-loop time goes, per iteration (the loop of (c) run reps
+    times with a fresh Ccd, median per iteration, --clock): proximity as Python sees it and
+    as the library reports it (its own wall clock: the difference is the call's conversion of
+    the input and the output), whether it refitted the tree or evaluated the candidates kept
+    from the iteration before, the step size, and a call on a one-triangle mesh (the fixed
+    cost of a call)."""
     tiny = (np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0.2, 0.2, 1e-4]]), np.array([[0, 1, 2]]))
     m = statistics.median
-    print(f"\n(d) inner loop of topoccd in detail, {name}: per iteration, median of {reps} (ms)")
-    print(f"  {'iter':>4} {'prox (py)':>10} {'prox (lib)':>11} {'pairs':>7} {'refit':>6} {'step':>8} {'alpha':>9}")
-    for it in range(iters):
-        pp, pl, st = [], [], []
-        for _ in range(reps):
-            s, p = timed(lambda: ccd.proximity(x, tris, dhat, edges=free_edges, threads=1))
-            pp.append(s)
-            pl.append(p.seconds)
-            s, alpha = timed(lambda: topoccd.collision_free_stepsize(
+    rows = [[] for _ in range(iters)]
+    for _ in range(reps):
+        x = x0.copy()
+        ccd = topoccd.Ccd()
+        for it in range(iters):
+            sp, p = timed(lambda: ccd.proximity(x, tris, dhat, edges=free_edges, threads=1))
+            ss, alpha = timed(lambda: topoccd.collision_free_stepsize(
                 x, x1, tris, ccd=ccd, threads=1, conservative_rescaling=0.8))
-            st.append(s)
-        print(f"  {it:>4} {m(pp) * 1e3:10.3f} {m(pl) * 1e3:11.3f} {len(p.vf) + len(p.ee):7d} {str(p.refitted):>6} {m(st) * 1e3:8.3f} {alpha:9.6f}")
-        x = x + alpha * (x1 - x)
+            rows[it].append((sp, p.seconds, len(p.vf) + len(p.ee), p.refitted, getattr(p, "reused", None), ss, alpha))
+            x = x + alpha * (x1 - x)
+    print(f"\n(d) inner loop of topoccd in detail, {name}: per iteration, median of {reps} (ms)")
+    print(f"  {'iter':>4} {'prox (py)':>10} {'prox (lib)':>11} {'pairs':>7} {'refit':>6} {'reused':>7} {'step':>8} {'alpha':>9}")
+    for it, r in enumerate(rows):
+        print(f"  {it:>4} {m(q[0] for q in r) * 1e3:10.3f} {m(q[1] for q in r) * 1e3:11.3f} {r[0][2]:7d} "
+              f"{str(r[0][3]):>6} {str(r[0][4]):>7} {m(q[5] for q in r) * 1e3:8.3f} {r[0][6]:9.6f}")
     small = topoccd.Ccd()
     calls = [timed(lambda: small.proximity(tiny[0], tiny[1], 1e-3, threads=1))[0] for _ in range(50)]
     steps = [timed(lambda: topoccd.collision_free_stepsize(
