@@ -61,13 +61,18 @@ fn side(points: &[DVec3]) -> f64 {
 /// that extent (monotone in it), plus the rounding of the inflation (`8 u` times the largest
 /// coordinate); `f32` rounding only moves bounds outward. So two boxes are disjoint only when
 /// the per-pair test would drop the pair.
-pub(crate) fn inflation(prims: &Primitives, tris: &[[u32; 3]], x: &[DVec3], r: f64) -> f64 {
+pub(crate) fn inflation(big: f64, x: &[DVec3], r: f64) -> f64 {
     let coord = x.iter().fold(0.0f64, |m, p| m.max(p.abs().max_element()));
-    let big = (tris.iter().map(|t| side(&t.map(|v| x[v as usize]))))
-        .chain((prims.edges[prims.mesh_edges..].iter()).map(|e| side(&e.map(|v| x[v as usize]))))
-        .fold(0.0f64, f64::max);
     let ext = (2.0 * big + 2.0 * r) * (1.0 + 1e-6);
     0.5 * reach(r, ext) * (1.0 + 1e-6) + 8.0 * UNIT_ROUNDOFF * coord
+}
+
+/// The largest side (largest coordinate difference) of a triangle or free edge: `L` of
+/// [`inflation`].
+pub(crate) fn largest_side(prims: &Primitives, tris: &[[u32; 3]], x: &[DVec3]) -> f64 {
+    (tris.iter().map(|t| side(&t.map(|v| x[v as usize]))))
+        .chain((prims.edges[prims.mesh_edges..].iter()).map(|e| side(&e.map(|v| x[v as usize]))))
+        .fold(0.0f64, f64::max)
 }
 
 /// The box of leaf `leaf` (see [`Primitives::leaves`]), inflated by `h`.

@@ -1,32 +1,36 @@
-//! The candidates kept across a solver's iterations. A solver asks for proximity at
-//! positions that move a little from one iteration to the next (a line search's fraction of
-//! a step). When a `Ccd` has seen such a move, its next traversal inflates the boxes by a
-//! margin (twice the last move, at most half the threshold) and keeps every feature pair
-//! past the boxes. A later query whose positions lie within the margin of the ones listed at
-//! (every vertex, every axis, net of any growth of the boxes' own inflation) evaluates those
-//! pairs again instead of traversing: every pair the traversal would evaluate is among them,
-//! each is evaluated by the same per-pair test and distance, so the report is the same.
+//! The pairs kept across a solver's iterations. A solver asks for proximity at positions
+//! that move a little from one iteration to the next (a line search's fraction of a step).
+//! Once a `Ccd` has seen a move `D` (the largest coordinate difference of a vertex), its
+//! next query lists, beside its report, every pair closer than a listing threshold
+//! `r_list = r + 2 sqrt(3) A + slack`, for an allowance `A` (the last move, at most a quarter
+//! of the threshold). A later query whose vertices all lie within `A` of the listing's
+//! positions (same threshold, no groups, no predicate, no cap, no deadline) evaluates the
+//! listed pairs with the same per-pair test and distance instead of traversing: the same
+//! report.
 //!
-//! Why the pairs are all there: the traversal evaluates a pair only when its features'
-//! boxes at the new positions `x`, inflated by `h`, overlap. Every vertex lies within `D`
-//! (largest coordinate difference) of where it was at the listing positions `x_ref`, so
-//! each feature's box at `x` lies inside its box at `x_ref` grown by `D`; two boxes that
-//! overlap at `x` with inflation `h` overlap at `x_ref` with inflation `h + D`, hence with
-//! the listing's inflation `h_ref + margin` whenever `h + D <= h_ref + margin`.
+//! Why every pair the query keeps is listed: a pair kept at the new positions has a
+//! computed distance below `r + eps`, so an exact distance below `r + 2 eps` (`eps` the
+//! rounding bound, `distance::rounding_bound`). Every point of the two features moved by at
+//! most `sqrt(3) A` (Euclidean), so their exact distance at the listing was below
+//! `r + 2 eps + 2 sqrt(3) A`, and its computed distance below that plus `eps`. `slack`
+//! covers `3 eps` at any extent such a pair may have. And the listing traversal misses no pair
+//! closer than `r_list`: its boxes and per-pair reject are those of a query at `r_list`.
 
 use crate::math::{DVec3, UNIT_ROUNDOFF};
 
-use super::pairs::{Cands, Found, Test};
+use crate::distance::rounding_bound;
 
-/// The largest margin, as a fraction of the threshold.
-const MAX_MARGIN: f64 = 0.5;
+use super::pairs::{Cands, Found, Test, PARALLEL_EXTRA};
+
+/// The largest allowance, as a fraction of the threshold.
+const MAX_ALLOWANCE: f64 = 0.25;
 
 /// The candidates of the last listing and where they were listed.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Cache {
-    /// The positions of the last query (whatever it did), for the next margin.
+    /// The positions of the last query (whatever it did), for the next allowance.
     prev: Vec<DVec3>,
-    /// The listing: its positions, threshold, inflation (with the margin), and pairs.
+    /// The listing: its positions, threshold, allowance, and pairs.
     listed: Option<Listed>,
 }
 
@@ -34,7 +38,7 @@ pub(crate) struct Cache {
 struct Listed {
     x: Vec<DVec3>,
     r: f64,
-    inflation: f64,
+    allowance: f64,
     cands: Cands,
 }
 
@@ -56,24 +60,22 @@ impl Cache {
         self.listed = None;
     }
 
-    /// The listed candidates, if they cover a query at `x` with threshold `r` and
-    /// inflation `h` (see the module).
-    pub fn covering(&self, x: &[DVec3], r: f64, h: f64) -> Option<&Cands> {
+    /// The listed pairs, if they cover a query at `x` with threshold `r` (see the module).
+    pub fn covering(&self, x: &[DVec3], r: f64) -> Option<&Cands> {
         let l = self.listed.as_ref()?;
         if l.r != r || l.x.len() != x.len() {
             return None;
         }
-        let d = displacement(x, &l.x);
-        ((h + d) * (1.0 + 1e-12) <= l.inflation).then_some(&l.cands)
+        (displacement(x, &l.x) <= l.allowance).then_some(&l.cands)
     }
 
-    /// The margin of the next traversal at `x` with threshold `r`: twice the move since the
-    /// last query, at most [`MAX_MARGIN`] `r`; 0 without a last query.
-    pub fn margin(&self, x: &[DVec3], r: f64) -> f64 {
+    /// The allowance of a listing at `x` with threshold `r`: the move since the last query,
+    /// at most [`MAX_ALLOWANCE`] `r`; 0 (no listing) without a last query.
+    pub fn allowance(&self, x: &[DVec3], r: f64) -> f64 {
         if self.prev.len() != x.len() {
             return 0.0;
         }
-        (2.0 * displacement(x, &self.prev)).min(MAX_MARGIN * r)
+        displacement(x, &self.prev).min(MAX_ALLOWANCE * r)
     }
 
     /// Remembers the positions of this query.
@@ -82,12 +84,12 @@ impl Cache {
         self.prev.extend_from_slice(x);
     }
 
-    /// Keeps the candidates of a traversal at `x` with threshold `r`, inflation `inflation`.
-    pub fn keep(&mut self, x: &[DVec3], r: f64, inflation: f64, cands: Cands) {
+    /// Keeps the pairs listed at `x` for threshold `r` and allowance `allowance`.
+    pub fn keep(&mut self, x: &[DVec3], r: f64, allowance: f64, cands: Cands) {
         self.listed = Some(Listed {
             x: x.to_vec(),
             r,
-            inflation,
+            allowance,
             cands,
         });
     }
@@ -96,6 +98,17 @@ impl Cache {
     pub fn drop_listing(&mut self) {
         self.listed = None;
     }
+}
+
+/// The listing threshold for threshold `r`, allowance `allowance` (> 0), and `big` the
+/// largest side of a triangle or free edge at the listing positions (see the module). A
+/// pair's extent, at the listing or within the allowance of it, is below
+/// `e = 2 (big + 2 A) + 2 r_list`, and `r_list < r + 4 A` (the slack is far below `A`...
+/// or counted in the `4 r` below): `e` is taken as `(2 big + 4 r + 8 A) (1 + 1e-6)`.
+pub(crate) fn list_threshold(r: f64, allowance: f64, big: f64) -> f64 {
+    let e = (2.0 * big + 4.0 * r + 8.0 * allowance) * (1.0 + 1e-6);
+    let slack = 4.0 * (rounding_bound(e, 1.0) + PARALLEL_EXTRA * e);
+    (r + 2.0 * 3f64.sqrt() * allowance) * (1.0 + 1e-9) + slack
 }
 
 /// Evaluates the candidates `c` with `test` (the triangles `tris` for the faces').

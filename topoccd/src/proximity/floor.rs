@@ -75,7 +75,8 @@ pub fn floor(
     let st = &mut ccd.proximity;
     let (x, r) = (config.pos(), options.threshold());
     let tris = config.triangles();
-    let h = super::boxes::inflation(&st.prims, tris, x, r);
+    let big = super::boxes::largest_side(&st.prims, tris, x);
+    let h = super::boxes::inflation(big, x, r);
     fig.fit = time(&mut || {
         black_box(st.fit(config, h));
     });

@@ -25,7 +25,7 @@ pub(crate) struct Found {
     pub ve: Vec<VeProximity>,
     pub vv: Vec<VvProximity>,
     pub tests: u64,
-    /// With [`Test::list`]: every feature pair past the boxes (see `cache`).
+    /// With [`Test::r_list`]: the pairs closer than it (see `cache`).
     pub cands: Cands,
 }
 
@@ -71,9 +71,10 @@ pub(crate) struct Test<'a> {
     pub r: f64,
     pub groups: Option<&'a [u32]>,
     pub can_collide: Option<CanCollide<'a>>,
-    /// Whether [`Test::leaf_pair`] also writes the pairs past the boxes to
-    /// [`Found::cands`].
-    pub list: bool,
+    /// When listing (see `cache`), the listing threshold (above `r`): the boxes and the
+    /// per-pair reject are for it, and the pairs whose computed distance is below it are
+    /// written to [`Found::cands`]; the report is still for `r`. 0: not listing.
+    pub r_list: f64,
 }
 
 /// The largest distance a kept pair of this extent may have for threshold `r` (the
@@ -121,10 +122,24 @@ impl Test<'_> {
         d2 < tight * tight
     }
 
-    /// [`reach`] at this query's threshold.
+    /// [`reach`] at this query's threshold (the listing's when listing).
     #[inline]
     fn reach(&self, extent: f64) -> f64 {
-        reach(self.r, extent)
+        reach(self.r.max(self.r_list), extent)
+    }
+
+    /// Whether a pair past the per-pair reject (box gap `gap`), with computed squared
+    /// distance `d2`, is reported: within [`reach`] of the report's threshold (always, when
+    /// not listing) and kept.
+    #[inline]
+    fn report(&self, gap: f64, d2: f64, extent: f64, sin2: impl FnOnce() -> f64) -> bool {
+        (self.r_list == 0.0 || gap <= reach(self.r, extent)) && self.keep(d2, extent, sin2)
+    }
+
+    /// Whether a pair is listed (see `cache`).
+    #[inline]
+    fn listed(&self, d2: f64) -> bool {
+        self.r_list > 0.0 && d2 < self.r_list * self.r_list
     }
 
     /// Vertex `v` against triangle `face` (not containing `v`).
@@ -137,7 +152,8 @@ impl Test<'_> {
         // The point against the face's box, with the reach.
         let reach = self.reach(ext);
         let (lo, hi) = (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
-        if ((lo - p).max_element() > reach) | ((p - hi).max_element() > reach) {
+        let gap = (lo - p).max_element().max((p - hi).max_element());
+        if gap > reach {
             return;
         }
         if !self.allowed(&[v], &f) {
@@ -145,7 +161,10 @@ impl Test<'_> {
         }
         out.tests += 1;
         let (d2, kind) = point_triangle_distance(p, c[0], c[1], c[2]);
-        if self.keep(d2, ext, || 1.0) {
+        if self.listed(d2) {
+            out.cands.vf.push((v, face));
+        }
+        if self.report(gap, d2, ext, || 1.0) {
             out.vf.push(VfProximity {
                 vertex: v,
                 face,
@@ -169,7 +188,8 @@ impl Test<'_> {
         let ext = extent(a0, &[a1, b0, b1]);
         let reach = self.reach(ext);
         let (alo, ahi, blo, bhi) = (a0.min(a1), a0.max(a1), b0.min(b1), b0.max(b1));
-        if ((alo - bhi).max_element() > reach) | ((blo - ahi).max_element() > reach) {
+        let gap = (alo - bhi).max_element().max((blo - ahi).max_element());
+        if gap > reach {
             return;
         }
         if !self.allowed(&a, &b) {
@@ -177,7 +197,10 @@ impl Test<'_> {
         }
         out.tests += 1;
         let (d2, kind) = edge_edge_distance(a0, a1, b0, b1);
-        if self.keep(d2, ext, || sin2(a1 - a0, b1 - b0)) {
+        if self.listed(d2) {
+            out.cands.ee.push((a, b));
+        }
+        if self.report(gap, d2, ext, || sin2(a1 - a0, b1 - b0)) {
             out.ee.push(EeProximity {
                 a,
                 b,
@@ -193,8 +216,10 @@ impl Test<'_> {
         let x = self.x;
         let (p, e0, e1) = (x[v as usize], x[e[0] as usize], x[e[1] as usize]);
         let ext = extent(p, &[e0, e1]);
-        let reach = self.reach(ext);
-        if ((e0.min(e1) - p).max_element() > reach) | ((p - e0.max(e1)).max_element() > reach) {
+        let gap = (e0.min(e1) - p)
+            .max_element()
+            .max((p - e0.max(e1)).max_element());
+        if gap > self.reach(ext) {
             return;
         }
         if !self.allowed(&[v], &e) {
@@ -202,7 +227,10 @@ impl Test<'_> {
         }
         out.tests += 1;
         let (d2, kind) = point_edge_distance(p, e0, e1);
-        if self.keep(d2, ext, || 1.0) {
+        if self.listed(d2) {
+            out.cands.ve.push((v, e));
+        }
+        if self.report(gap, d2, ext, || 1.0) {
             out.ve.push(VeProximity {
                 vertex: v,
                 edge: e,
@@ -218,12 +246,16 @@ impl Test<'_> {
         let (a, b) = (a.min(b), a.max(b));
         let (p, q) = (self.x[a as usize], self.x[b as usize]);
         let ext = extent(p, &[q]);
-        if (q - p).abs().max_element() > self.reach(ext) || !self.allowed(&[a], &[b]) {
+        let gap = (q - p).abs().max_element();
+        if gap > self.reach(ext) || !self.allowed(&[a], &[b]) {
             return;
         }
         out.tests += 1;
         let d2 = point_point_distance(p, q);
-        if self.keep(d2, ext, || 1.0) {
+        if self.listed(d2) {
+            out.cands.vv.push((a, b));
+        }
+        if self.report(gap, d2, ext, || 1.0) {
             out.vv.push(VvProximity {
                 a,
                 b,
@@ -252,18 +284,12 @@ impl Test<'_> {
                     && ea[1] != eb[0]
                     && ea[1] != eb[1]
                 {
-                    if self.list {
-                        out.cands.ee.push((ea, eb));
-                    }
                     self.ee(ea, eb, out);
                 }
             }
         }
         // (Two points' leaves overlap: their boxes are the leaves' boxes.)
         if la.kind == Kind::Point && lb.kind == Kind::Point {
-            if self.list {
-                out.cands.vv.push((la.verts[0], lb.verts[0]));
-            }
             self.vv(la.verts[0], lb.verts[0], out);
         }
     }
@@ -277,9 +303,6 @@ impl Test<'_> {
             for i in la.v0..la.v0 + la.nv {
                 let v = s.verts[i as usize];
                 if overlap(&s.vbox[i as usize], tb) && !lb.verts.contains(&v) {
-                    if self.list {
-                        out.cands.vf.push((v, lb.id));
-                    }
                     self.vf(v, lb.id, lb.verts, out);
                 }
             }
@@ -289,9 +312,6 @@ impl Test<'_> {
         if la.kind == Kind::Point && lb.kind == Kind::Edge {
             // (The edge's box is the leaf's box, which overlaps the point's.)
             for i in lb.e0..lb.e0 + lb.ne {
-                if self.list {
-                    out.cands.ve.push((la.verts[0], s.edges[i as usize]));
-                }
                 self.ve(la.verts[0], s.edges[i as usize], out);
             }
         }

@@ -9,9 +9,9 @@ use crate::bvh::{BvhWorkspace, ParOptions, TestAll};
 use crate::query::{CancelToken, StopReason};
 use crate::Ccd;
 
-use super::boxes::inflation;
+use super::boxes::{inflation, largest_side};
 use super::brute::brute;
-use super::cache::{evaluate, Cache};
+use super::cache::{evaluate, list_threshold, Cache};
 use super::pairs::{Found, Test};
 use super::primitives::Primitives;
 use super::report::ProximityStats;
@@ -135,7 +135,7 @@ pub(super) fn test<'a>(config: &'a Configuration<'_>, options: &ProximityOptions
         r: options.threshold(),
         groups: step.groups(),
         can_collide: step.can_collide(),
-        list: false,
+        r_list: 0.0,
     }
 }
 
@@ -181,12 +181,15 @@ impl State {
             }
             ProximityMethod::Bvh => {
                 let (x, r) = (test.x, test.r);
-                let h = inflation(&self.prims, config.triangles(), x, r);
-                // The candidates kept across a solver's iterations (see `cache`): not under
-                // a cap or a deadline, whose pairs depend on the order of work.
-                let plain = options.max_contacts.is_none() && options.deadline.is_none();
+                // The pairs kept across a solver's iterations (see `cache`): not under a cap
+                // or a deadline, whose pairs depend on the order of work, nor with groups or a
+                // predicate, which may change from one query to the next.
+                let plain = options.max_contacts.is_none()
+                    && options.deadline.is_none()
+                    && test.groups.is_none()
+                    && test.can_collide.is_none();
                 let cached = if plain {
-                    self.cache.covering(x, r, h)
+                    self.cache.covering(x, r)
                 } else {
                     None
                 };
@@ -196,9 +199,17 @@ impl State {
                     stats.build_seconds = start.elapsed().as_secs_f64();
                     evaluate(cands, config.triangles(), &test)
                 } else {
-                    let margin = if plain { self.cache.margin(x, r) } else { 0.0 };
-                    test.list = margin > 0.0;
-                    stats.refitted = self.fit(config, h + margin);
+                    let allowance = if plain {
+                        self.cache.allowance(x, r)
+                    } else {
+                        0.0
+                    };
+                    let big = largest_side(&self.prims, config.triangles(), x);
+                    if allowance > 0.0 {
+                        test.r_list = list_threshold(r, allowance, big);
+                    }
+                    let h = inflation(big, x, r.max(test.r_list));
+                    stats.refitted = self.fit(config, h);
                     stats.build_seconds = start.elapsed().as_secs_f64();
                     let slots = &self.slots;
                     let mut found = Found::default();
@@ -223,8 +234,8 @@ impl State {
                         &skip,
                     );
                     let cands = std::mem::take(&mut found.cands);
-                    if test.list && stop.reason().is_none() {
-                        self.cache.keep(x, r, h + margin, cands);
+                    if test.r_list > 0.0 && stop.reason().is_none() {
+                        self.cache.keep(x, r, allowance, cands);
                     } else {
                         self.cache.drop_listing();
                     }
