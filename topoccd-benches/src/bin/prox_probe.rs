@@ -45,7 +45,8 @@ fn main() {
         println!("{f:#?}");
         let ms = |s: f64| s * 1e3;
         println!("part, ms (median of {reps}, CPU, one thread)");
-        println!("query (kept Ccd, refit)            {:9.3}", ms(f.query));
+        println!("query (kept Ccd, refit + traversal) {:9.3}", ms(f.query));
+        println!("query (kept Ccd, kept pairs reused) {:9.3}", ms(f.reuse));
         println!("boxes + refit                      {:9.3}", ms(f.fit));
         println!(
             "traversal, leaf pairs counted      {:9.3}",
