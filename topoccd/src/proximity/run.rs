@@ -236,7 +236,8 @@ impl State {
                     let cands = std::mem::take(&mut found.cands);
                     if test.r_list > 0.0 && stop.reason().is_none() {
                         self.cache.keep(x, r, allowance, cands);
-                    } else {
+                    } else if plain {
+                        // (A capped query leaves the listing: still valid where it covers.)
                         self.cache.drop_listing();
                     }
                     found
