@@ -31,6 +31,9 @@ other work, where wall time measures the load as much as the tools).
     per phase and in all, with the ratio ipctk / topoccd. ipctk's step size uses its LBVH
     broad phase and Tight-Inclusion CCD (tolerance 1e-6), as ipctk_step.py does; topoccd's
     `collision_free_stepsize` its defaults; both with conservative rescaling 0.8.
+(d) topoccd's inner loop in detail: per iteration, proximity as Python times it and as the
+    library reports it (the difference: converting the input and the output), the step size,
+    and the fixed cost of a call on a one-triangle mesh.
 """
 
 import argparse
@@ -199,7 +202,9 @@ CLOCK = "wall"
 
 def speed(name, x, tris, free_edges, dhat, mesh, reps):
     xf = np.asfortranarray(x)
-    ipc_s, cand_s, fresh_s, kept_s = [], [], [], []
+    ipc_s, cand_s, fresh_s, kept_s, refit_s = [], [], [], [], []
+    # A cap never takes the pairs a kept Ccd keeps across iterations: the refit and traversal.
+    no_reuse = 2**62
     kept = topoccd.Ccd()
     kept.proximity(x, tris, dhat, edges=free_edges, threads=1)
     counts = None
@@ -212,13 +217,16 @@ def speed(name, x, tris, free_edges, dhat, mesh, reps):
         fresh_s.append(s)
         s, q = timed(lambda: kept.proximity(x, tris, dhat, edges=free_edges, threads=1))
         kept_s.append(s)
-        counts = (len(c), len(p), q.refitted)
+        s, _ = timed(lambda: kept.proximity(x, tris, dhat, edges=free_edges, threads=1, max_contacts=no_reuse))
+        refit_s.append(s)
+        counts = (len(c), len(p), q.refitted, q.reused)
     m = statistics.median
     print(f"\n(b) speed, {name}, one thread, median of {reps}:")
     print(f"  ipctk NormalCollisions.build: {m(ipc_s) * 1e3:9.2f} ms ({counts[0]} collisions)")
     print(f"  ipctk Candidates.build only:  {m(cand_s) * 1e3:9.2f} ms (lower bound of pair enumeration)")
     print(f"  topoccd proximity, fresh Ccd: {m(fresh_s) * 1e3:9.2f} ms ({counts[1]} pairs)  ratio {m(ipc_s) / m(fresh_s):.1f}x")
-    print(f"  topoccd proximity, kept Ccd:  {m(kept_s) * 1e3:9.2f} ms (refitted: {counts[2]})  ratio {m(ipc_s) / m(kept_s):.1f}x")
+    print(f"  topoccd proximity, kept Ccd, refit and traversal: {m(refit_s) * 1e3:9.2f} ms  ratio {m(ipc_s) / m(refit_s):.1f}x")
+    print(f"  topoccd proximity, kept Ccd, same x again: {m(kept_s) * 1e3:9.2f} ms (reused its kept pairs: {counts[3]})  ratio {m(ipc_s) / m(kept_s):.1f}x")
     return m(ipc_s), m(fresh_s), m(kept_s)
 
 
@@ -265,6 +273,37 @@ def loop_topoccd(x0, x1, tris, free_edges, dhat, iters):
     return prox, step, alphas
 
 
+def detail(name, x0, x1, tris, free_edges, dhat, iters, reps):
+    """(d) Where topoccd's inner-loop time goes, per iteration (the loop of (c) run reps
+    times with a fresh Ccd, median per iteration, --clock): proximity as Python sees it and
+    as the library reports it (its own wall clock: the difference is the call's conversion of
+    the input and the output), whether it refitted the tree or evaluated the candidates kept
+    from the iteration before, the step size, and a call on a one-triangle mesh (the fixed
+    cost of a call)."""
+    tiny = (np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0.2, 0.2, 1e-4]]), np.array([[0, 1, 2]]))
+    m = statistics.median
+    rows = [[] for _ in range(iters)]
+    for _ in range(reps):
+        x = x0.copy()
+        ccd = topoccd.Ccd()
+        for it in range(iters):
+            sp, p = timed(lambda: ccd.proximity(x, tris, dhat, edges=free_edges, threads=1))
+            ss, alpha = timed(lambda: topoccd.collision_free_stepsize(
+                x, x1, tris, ccd=ccd, threads=1, conservative_rescaling=0.8))
+            rows[it].append((sp, p.seconds, len(p.vf) + len(p.ee), p.refitted, getattr(p, "reused", None), ss, alpha))
+            x = x + alpha * (x1 - x)
+    print(f"\n(d) inner loop of topoccd in detail, {name}: per iteration, median of {reps} (ms)")
+    print(f"  {'iter':>4} {'prox (py)':>10} {'prox (lib)':>11} {'pairs':>7} {'refit':>6} {'reused':>7} {'step':>8} {'alpha':>9}")
+    for it, r in enumerate(rows):
+        print(f"  {it:>4} {m(q[0] for q in r) * 1e3:10.3f} {m(q[1] for q in r) * 1e3:11.3f} {r[0][2]:7d} "
+              f"{str(r[0][3]):>6} {str(r[0][4]):>7} {m(q[5] for q in r) * 1e3:8.3f} {r[0][6]:9.6f}")
+    small = topoccd.Ccd()
+    calls = [timed(lambda: small.proximity(tiny[0], tiny[1], 1e-3, threads=1))[0] for _ in range(50)]
+    steps = [timed(lambda: topoccd.collision_free_stepsize(
+        tiny[0], tiny[0] + [0, 0, 0.1], tiny[1], ccd=small, threads=1))[0] for _ in range(50)]
+    print(f"  fixed cost of a call (one triangle): proximity {m(calls) * 1e3:.3f} ms, step size {m(steps) * 1e3:.3f} ms")
+
+
 def inner_loop(name, x0, x1, tris, free_edges, dhat, mesh, reps, iters):
     ipc, ours = [], []
     for _ in range(reps):
@@ -289,7 +328,7 @@ def main():
     ap.add_argument("--scenes", default="cloth-funnel,cloth-ball,codim")
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--iters", type=int, default=5)
-    ap.add_argument("--skip", default="", help="parts to skip: a, b, c (comma separated)")
+    ap.add_argument("--skip", default="", help="parts to skip: a, b, c, d (comma separated)")
     ap.add_argument("--clock", choices=["wall", "cpu"], default="wall",
                     help="wall time, or the process's CPU time (on a loaded machine)")
     args = ap.parse_args()
@@ -313,6 +352,8 @@ def main():
             speed(name, x0, tris, free_edges, dhat, mesh, args.reps)
         if "c" not in skip:
             inner_loop(name, x0, x1, tris, free_edges, dhat, mesh, args.reps, args.iters)
+        if "d" not in skip:
+            detail(name, x0, x1, tris, free_edges, dhat, args.iters, args.reps)
     if not ok:
         print("\nconformance: differences beyond 1e-9 dhat of the threshold (see above)")
         sys.exit(1)

@@ -37,6 +37,8 @@ use crate::report::{array1, array2};
 ///     vv_type (numpy.ndarray): ``(L,)`` uint8, always 0 (``P_P``).
 ///     truncated (str or None): ``"max_contacts"`` when ``max_contacts`` cut the report.
 ///     refitted (bool): whether the ``Ccd``'s hierarchy was refitted rather than built.
+///     reused (bool): whether the ``Ccd`` evaluated the candidates it kept from a former
+///         query (the positions had moved less than its margin) instead of traversing.
 ///     seconds (float): the query's wall time in the library.
 #[pyclass(module = "topoccd", frozen)]
 pub struct Proximity {
@@ -68,6 +70,8 @@ pub struct Proximity {
     truncated: Option<&'static str>,
     #[pyo3(get)]
     refitted: bool,
+    #[pyo3(get)]
+    reused: bool,
     #[pyo3(get)]
     seconds: f64,
 }
@@ -120,6 +124,7 @@ impl Proximity {
             vv_type: array1(py, vec![0u8; r.vv.len()]),
             truncated: r.truncated.map(|_| "max_contacts"),
             refitted: r.stats.refitted,
+            reused: r.stats.reused,
             seconds: r.stats.total_seconds,
         })
     }

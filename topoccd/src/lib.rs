@@ -70,6 +70,10 @@ pub mod pair;
 pub use kdop::DopKind;
 pub use mesh::{CanCollide, Frame, Positions, Step, StepError, Triangles};
 pub use narrow::NarrowOptions;
+/// The proximity query's parts timed one by one (for the benchmarks; internals only).
+#[cfg(feature = "internals")]
+#[doc(hidden)]
+pub use proximity::floor as proximity_floor;
 pub use proximity::{
     proximity, Configuration, EeProximity, ProximityError, ProximityMethod, ProximityOptions,
     ProximityReport, ProximityStats, VeProximity, VfProximity, VvProximity,

@@ -123,6 +123,7 @@ class Proximity:
     vv_type: npt.NDArray[np.uint8]
     truncated: Optional[str]
     refitted: bool
+    reused: bool
     seconds: float
     def __len__(self) -> int: ...
 

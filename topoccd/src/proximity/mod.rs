@@ -23,13 +23,18 @@
 //! parallel edges). So no pair closer than `dhat + dmin` is missed, and a pair reported is
 //! closer than `dhat + dmin + 2 eps`.
 
+mod boxes;
 mod brute;
+mod cache;
+#[cfg(feature = "internals")]
+pub mod floor;
 mod input;
 mod options;
 mod pairs;
 mod primitives;
 mod report;
 mod run;
+mod slots;
 mod tree;
 
 pub use input::{Configuration, ProximityError};

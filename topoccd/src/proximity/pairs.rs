@@ -8,8 +8,10 @@ use crate::distance::{
 use crate::math::DVec3;
 use crate::mesh::CanCollide;
 
-use super::primitives::{Kind, LeafPrim, Primitives};
+use super::boxes::overlap;
+use super::primitives::Kind;
 use super::report::{EeProximity, VeProximity, VfProximity, VvProximity};
+use super::slots::{Slot, Slots};
 
 /// The largest extra term of [`rounding_bound`] for nearly parallel edges, per unit of
 /// extent: `max_s min(s, 16 u / s) = 4 sqrt(u)`, rounded up.
@@ -23,6 +25,27 @@ pub(crate) struct Found {
     pub ve: Vec<VeProximity>,
     pub vv: Vec<VvProximity>,
     pub tests: u64,
+    /// With [`Test::r_list`]: the pairs closer than it (see `cache`).
+    pub cands: Cands,
+}
+
+/// Feature pairs past the boxes, kept to be evaluated again at nearby positions (see
+/// `cache`): vertex-face (vertex, face), edge-edge, free point-free edge, free points.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Cands {
+    pub vf: Vec<(u32, u32)>,
+    pub ee: Vec<([u32; 2], [u32; 2])>,
+    pub ve: Vec<(u32, [u32; 2])>,
+    pub vv: Vec<(u32, u32)>,
+}
+
+impl Cands {
+    pub fn append(&mut self, other: &mut Cands) {
+        self.vf.append(&mut other.vf);
+        self.ee.append(&mut other.ee);
+        self.ve.append(&mut other.ve);
+        self.vv.append(&mut other.vv);
+    }
 }
 
 impl Found {
@@ -36,6 +59,7 @@ impl Found {
         self.ve.append(&mut other.ve);
         self.vv.append(&mut other.vv);
         self.tests += other.tests;
+        self.cands.append(&mut other.cands);
     }
 }
 
@@ -47,6 +71,19 @@ pub(crate) struct Test<'a> {
     pub r: f64,
     pub groups: Option<&'a [u32]>,
     pub can_collide: Option<CanCollide<'a>>,
+    /// When listing (see `cache`), the listing threshold (above `r`): the boxes and the
+    /// per-pair reject are for it, and the pairs whose computed distance is below it are
+    /// written to [`Found::cands`]; the report is still for `r`. 0: not listing.
+    pub r_list: f64,
+}
+
+/// The largest distance a kept pair of this extent may have for threshold `r` (the
+/// threshold, the bound on the computed distance's excess and on its shortfall), plus a
+/// margin: pairs whose boxes are farther apart than this are dropped before their distance
+/// is computed. Increasing in `extent`.
+#[inline]
+pub(crate) fn reach(r: f64, extent: f64) -> f64 {
+    (r + 2.0 * rounding_bound(extent, 1.0) + PARALLEL_EXTRA * extent) * (1.0 + 1e-12)
 }
 
 impl Test<'_> {
@@ -85,12 +122,24 @@ impl Test<'_> {
         d2 < tight * tight
     }
 
-    /// The largest distance a kept pair of this extent may have (the threshold, the bound on
-    /// the computed distance's excess and on its shortfall), plus a margin: pairs whose boxes
-    /// are farther apart than this are dropped before their distance is computed.
+    /// [`reach`] at this query's threshold (the listing's when listing).
     #[inline]
     fn reach(&self, extent: f64) -> f64 {
-        (self.r + 2.0 * rounding_bound(extent, 1.0) + PARALLEL_EXTRA * extent) * (1.0 + 1e-12)
+        reach(self.r.max(self.r_list), extent)
+    }
+
+    /// Whether a pair past the per-pair reject (box gap `gap`), with computed squared
+    /// distance `d2`, is reported: within [`reach`] of the report's threshold (always, when
+    /// not listing) and kept.
+    #[inline]
+    fn report(&self, gap: f64, d2: f64, extent: f64, sin2: impl FnOnce() -> f64) -> bool {
+        (self.r_list == 0.0 || gap <= reach(self.r, extent)) && self.keep(d2, extent, sin2)
+    }
+
+    /// Whether a pair is listed (see `cache`).
+    #[inline]
+    fn listed(&self, d2: f64) -> bool {
+        self.r_list > 0.0 && d2 < self.r_list * self.r_list
     }
 
     /// Vertex `v` against triangle `face` (not containing `v`).
@@ -103,7 +152,8 @@ impl Test<'_> {
         // The point against the face's box, with the reach.
         let reach = self.reach(ext);
         let (lo, hi) = (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
-        if ((lo - p).max_element() > reach) | ((p - hi).max_element() > reach) {
+        let gap = (lo - p).max_element().max((p - hi).max_element());
+        if gap > reach {
             return;
         }
         if !self.allowed(&[v], &f) {
@@ -111,7 +161,10 @@ impl Test<'_> {
         }
         out.tests += 1;
         let (d2, kind) = point_triangle_distance(p, c[0], c[1], c[2]);
-        if self.keep(d2, ext, || 1.0) {
+        if self.listed(d2) {
+            out.cands.vf.push((v, face));
+        }
+        if self.report(gap, d2, ext, || 1.0) {
             out.vf.push(VfProximity {
                 vertex: v,
                 face,
@@ -135,7 +188,8 @@ impl Test<'_> {
         let ext = extent(a0, &[a1, b0, b1]);
         let reach = self.reach(ext);
         let (alo, ahi, blo, bhi) = (a0.min(a1), a0.max(a1), b0.min(b1), b0.max(b1));
-        if ((alo - bhi).max_element() > reach) | ((blo - ahi).max_element() > reach) {
+        let gap = (alo - bhi).max_element().max((blo - ahi).max_element());
+        if gap > reach {
             return;
         }
         if !self.allowed(&a, &b) {
@@ -143,7 +197,10 @@ impl Test<'_> {
         }
         out.tests += 1;
         let (d2, kind) = edge_edge_distance(a0, a1, b0, b1);
-        if self.keep(d2, ext, || sin2(a1 - a0, b1 - b0)) {
+        if self.listed(d2) {
+            out.cands.ee.push((a, b));
+        }
+        if self.report(gap, d2, ext, || sin2(a1 - a0, b1 - b0)) {
             out.ee.push(EeProximity {
                 a,
                 b,
@@ -159,8 +216,10 @@ impl Test<'_> {
         let x = self.x;
         let (p, e0, e1) = (x[v as usize], x[e[0] as usize], x[e[1] as usize]);
         let ext = extent(p, &[e0, e1]);
-        let reach = self.reach(ext);
-        if ((e0.min(e1) - p).max_element() > reach) | ((p - e0.max(e1)).max_element() > reach) {
+        let gap = (e0.min(e1) - p)
+            .max_element()
+            .max((p - e0.max(e1)).max_element());
+        if gap > self.reach(ext) {
             return;
         }
         if !self.allowed(&[v], &e) {
@@ -168,7 +227,10 @@ impl Test<'_> {
         }
         out.tests += 1;
         let (d2, kind) = point_edge_distance(p, e0, e1);
-        if self.keep(d2, ext, || 1.0) {
+        if self.listed(d2) {
+            out.cands.ve.push((v, e));
+        }
+        if self.report(gap, d2, ext, || 1.0) {
             out.ve.push(VeProximity {
                 vertex: v,
                 edge: e,
@@ -184,12 +246,16 @@ impl Test<'_> {
         let (a, b) = (a.min(b), a.max(b));
         let (p, q) = (self.x[a as usize], self.x[b as usize]);
         let ext = extent(p, &[q]);
-        if (q - p).abs().max_element() > self.reach(ext) || !self.allowed(&[a], &[b]) {
+        let gap = (q - p).abs().max_element();
+        if gap > self.reach(ext) || !self.allowed(&[a], &[b]) {
             return;
         }
         out.tests += 1;
         let d2 = point_point_distance(p, q);
-        if self.keep(d2, ext, || 1.0) {
+        if self.listed(d2) {
+            out.cands.vv.push((a, b));
+        }
+        if self.report(gap, d2, ext, || 1.0) {
             out.vv.push(VvProximity {
                 a,
                 b,
@@ -198,43 +264,55 @@ impl Test<'_> {
         }
     }
 
-    /// Every feature pair that the leaf pair `(a, b)` (`a != b`) owns (see `primitives`).
+    /// Every feature pair that the leaf pair `(a, b)` (`a != b`) owns (see `primitives`),
+    /// each first through the features' boxes (see `boxes` and `slots`; the brute-force
+    /// oracle goes without them).
     #[inline]
-    pub fn leaf_pair(&self, prims: &Primitives, a: u32, b: u32, out: &mut Found) {
-        let (la, lb) = (&prims.leaves[a as usize], &prims.leaves[b as usize]);
-        self.one_way(prims, la, b, lb, out);
-        self.one_way(prims, lb, a, la, out);
+    pub fn leaf_pair(&self, s: &Slots, a: u32, b: u32, out: &mut Found) {
+        let (sa, sb) = (s.slot_of[a as usize], s.slot_of[b as usize]);
+        let (la, lb) = (&s.slots[sa as usize], &s.slots[sb as usize]);
+        self.one_way(s, la, lb, sb, out);
+        self.one_way(s, lb, la, sa, out);
         // Edges owned by both: each pair once, a's edge first.
-        for &ea in &la.owned_e[..la.ne as usize] {
-            let ea = prims.edges[ea as usize];
-            for &eb in &lb.owned_e[..lb.ne as usize] {
-                let eb = prims.edges[eb as usize];
-                if ea[0] != eb[0] && ea[0] != eb[1] && ea[1] != eb[0] && ea[1] != eb[1] {
+        for i in la.e0..la.e0 + la.ne {
+            let (ea, ba) = (s.edges[i as usize], &s.ebox[i as usize]);
+            for j in lb.e0..lb.e0 + lb.ne {
+                let eb = s.edges[j as usize];
+                if overlap(ba, &s.ebox[j as usize])
+                    && ea[0] != eb[0]
+                    && ea[0] != eb[1]
+                    && ea[1] != eb[0]
+                    && ea[1] != eb[1]
+                {
                     self.ee(ea, eb, out);
                 }
             }
         }
+        // (Two points' leaves overlap: their boxes are the leaves' boxes.)
         if la.kind == Kind::Point && lb.kind == Kind::Point {
             self.vv(la.verts[0], lb.verts[0], out);
         }
     }
 
-    /// The pairs of the vertices `la` owns against leaf `lb` (id `b`): vertex-face when `lb`
-    /// is a triangle, and a free point against a free edge.
+    /// The pairs of the vertices `la` owns against leaf `lb` (slot `sb`): vertex-face when
+    /// `lb` is a triangle, and a free point against a free edge.
     #[inline]
-    fn one_way(&self, prims: &Primitives, la: &LeafPrim, b: u32, lb: &LeafPrim, out: &mut Found) {
+    fn one_way(&self, s: &Slots, la: &Slot, lb: &Slot, sb: u32, out: &mut Found) {
         if lb.kind == Kind::Triangle {
-            for &v in &la.owned_v[..la.nv as usize] {
-                if !lb.verts.contains(&v) {
-                    self.vf(v, b, lb.verts, out);
+            let tb = &s.lbox[sb as usize];
+            for i in la.v0..la.v0 + la.nv {
+                let v = s.verts[i as usize];
+                if overlap(&s.vbox[i as usize], tb) && !lb.verts.contains(&v) {
+                    self.vf(v, lb.id, lb.verts, out);
                 }
             }
         }
         // A free point against a free edge: its pairs with a triangle's edges are covered by
         // its vertex-face pairs with the triangle (never farther).
         if la.kind == Kind::Point && lb.kind == Kind::Edge {
-            for &e in &lb.owned_e[..lb.ne as usize] {
-                self.ve(la.verts[0], prims.edges[e as usize], out);
+            // (The edge's box is the leaf's box, which overlaps the point's.)
+            for i in lb.e0..lb.e0 + lb.ne {
+                self.ve(la.verts[0], s.edges[i as usize], out);
             }
         }
     }

@@ -9,19 +9,24 @@ use crate::bvh::{BvhWorkspace, ParOptions, TestAll};
 use crate::query::{CancelToken, StopReason};
 use crate::Ccd;
 
+use super::boxes::{inflation, largest_side};
 use super::brute::brute;
+use super::cache::{evaluate, list_threshold, Cache};
 use super::pairs::{Found, Test};
 use super::primitives::Primitives;
 use super::report::ProximityStats;
+use super::slots::Slots;
 use super::tree::ProximityTree;
 use super::{Configuration, ProximityError, ProximityMethod, ProximityOptions, ProximityReport};
 
 /// What a [`Ccd`] keeps for its proximity queries: the primitives and their hierarchy.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct State {
-    prims: Primitives,
-    tree: ProximityTree,
-    ws: BvhWorkspace,
+    pub(super) prims: Primitives,
+    pub(super) tree: ProximityTree,
+    pub(super) slots: Slots,
+    cache: Cache,
+    pub(super) ws: BvhWorkspace,
 }
 
 /// The deadline and the cancel token of one query, and whether it stopped (and why).
@@ -122,7 +127,31 @@ pub fn proximity(
     Ccd::new().proximity(config, options)
 }
 
+/// The distance test of a query on `config`.
+pub(super) fn test<'a>(config: &'a Configuration<'_>, options: &ProximityOptions) -> Test<'a> {
+    let step = config.step();
+    Test {
+        x: config.pos(),
+        r: options.threshold(),
+        groups: step.groups(),
+        can_collide: step.can_collide(),
+        r_list: 0.0,
+    }
+}
+
 impl State {
+    /// The features' boxes inflated by `h`, the hierarchy (refitted or built) and the leaves'
+    /// layout at the positions of `config`. Returns whether the hierarchy was refitted.
+    pub(super) fn fit(&mut self, config: &Configuration<'_>, h: f64) -> bool {
+        let x = config.pos();
+        let refitted = self.tree.fit(&self.prims, x, h, &mut self.ws);
+        if !refitted {
+            self.slots.arrange(&self.prims, &self.tree.bvh);
+        }
+        self.slots.fit(x, h);
+        refitted
+    }
+
     fn run(
         &mut self,
         config: &Configuration<'_>,
@@ -136,17 +165,12 @@ impl State {
             stopped: AtomicBool::new(false),
             cancelled: AtomicBool::new(false),
         };
-        let step = config.step();
-        let test = Test {
-            x: config.pos(),
-            r: options.threshold(),
-            groups: step.groups(),
-            can_collide: step.can_collide(),
-        };
         if !self.prims.same(config) {
             self.prims.derive(config);
             self.tree.invalidate();
+            self.cache.clear();
         }
+        let mut test = test(config, options);
         let mut stats = ProximityStats::default();
         let mut capped = false;
         let max = options.max_contacts.unwrap_or(usize::MAX);
@@ -156,30 +180,71 @@ impl State {
                 brute(&self.prims, config.triangles(), &test, &stop)
             }
             ProximityMethod::Bvh => {
-                stats.refitted = self.tree.fit(&self.prims, test.x, test.r, &mut self.ws);
-                stats.build_seconds = start.elapsed().as_secs_f64();
-                let prims = &self.prims;
-                let mut found = Found::default();
-                let skip = |_: &Found| stop.check();
-                let consume = |mut f: Found| {
-                    found.append(&mut f);
-                    if found.len() >= max {
-                        capped = true;
-                        ControlFlow::Break(())
-                    } else {
-                        ControlFlow::Continue(())
-                    }
+                let (x, r) = (test.x, test.r);
+                // The pairs kept across a solver's iterations (see `cache`): not under a cap
+                // or a deadline, whose pairs depend on the order of work, nor with groups or a
+                // predicate, which may change from one query to the next.
+                let plain = options.max_contacts.is_none()
+                    && options.deadline.is_none()
+                    && test.groups.is_none()
+                    && test.can_collide.is_none();
+                let cached = if plain {
+                    self.cache.covering(x, r)
+                } else {
+                    None
                 };
-                stats.bv_tests = self.tree.bvh.par_self_pairs_until(
-                    &mut self.ws,
-                    &ParOptions::default(),
-                    &TestAll,
-                    |_| Found::default(),
-                    |acc, a, b| test.leaf_pair(prims, a, b, acc),
-                    |_| {},
-                    consume,
-                    &skip,
-                );
+                let found = if let Some(cands) = cached.filter(|_| !stop.check()) {
+                    stats.refitted = true;
+                    stats.reused = true;
+                    stats.build_seconds = start.elapsed().as_secs_f64();
+                    evaluate(cands, config.triangles(), &test)
+                } else {
+                    let allowance = if plain {
+                        self.cache.allowance(x, r)
+                    } else {
+                        0.0
+                    };
+                    let big = largest_side(&self.prims, config.triangles(), x);
+                    if allowance > 0.0 {
+                        test.r_list = list_threshold(r, allowance, big);
+                    }
+                    let h = inflation(big, x, r.max(test.r_list));
+                    stats.refitted = self.fit(config, h);
+                    stats.build_seconds = start.elapsed().as_secs_f64();
+                    let slots = &self.slots;
+                    let mut found = Found::default();
+                    let skip = |_: &Found| stop.check();
+                    let consume = |mut f: Found| {
+                        found.append(&mut f);
+                        if found.len() >= max {
+                            capped = true;
+                            ControlFlow::Break(())
+                        } else {
+                            ControlFlow::Continue(())
+                        }
+                    };
+                    stats.bv_tests = self.tree.bvh.par_self_pairs_until(
+                        &mut self.ws,
+                        &ParOptions::default(),
+                        &TestAll,
+                        |_| Found::default(),
+                        |acc, a, b| test.leaf_pair(slots, a, b, acc),
+                        |_| {},
+                        consume,
+                        &skip,
+                    );
+                    let cands = std::mem::take(&mut found.cands);
+                    if test.r_list > 0.0 && stop.reason().is_none() {
+                        self.cache.keep(x, r, allowance, cands);
+                    } else if plain {
+                        // (A capped query leaves the listing: still valid where it covers.)
+                        self.cache.drop_listing();
+                    }
+                    found
+                };
+                if plain {
+                    self.cache.seen(x);
+                }
                 found
             }
         };

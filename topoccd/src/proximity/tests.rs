@@ -412,3 +412,64 @@ fn refit_follows_big_moves_and_topology_changes() {
     .unwrap();
     assert_eq!(pairs(&r), pairs(&brute));
 }
+
+#[test]
+fn candidates_kept_across_small_moves_equal_the_oracle() {
+    // A solver's iterations: the positions move by shrinking fractions of a step, then by a
+    // big one. A kept Ccd lists its candidates with a margin once it has seen a move, and
+    // evaluates them again while the positions stay within it: the same pairs as the oracle.
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let (mut reused, mut traversed) = (0, 0);
+    for seed in 0..4 {
+        let (x0, tris, edges) = soup(seed, 300, 200, 300);
+        let mut rng = ChaCha8Rng::seed_from_u64(seed + 200);
+        let x1: Vec<[f64; 3]> = (x0.iter())
+            .map(|p| p.map(|c| c + rng.random_range(-0.05..0.05)))
+            .collect();
+        let mut ccd = Ccd::new();
+        let dhat = 0.04;
+        let mut x = x0.clone();
+        for alpha in [0.1, 0.3, 0.05, 0.01, 0.002, 0.0, 0.9, 0.001] {
+            let config = Configuration::new(&x, &tris, &edges).unwrap();
+            let brute = proximity(
+                &config,
+                &ProximityOptions {
+                    method: ProximityMethod::Brute,
+                    ..opts(dhat)
+                },
+            )
+            .unwrap();
+            let kept = one.install(|| ccd.proximity(&config, &opts(dhat)).unwrap());
+            assert_eq!(pairs(&kept), pairs(&brute), "seed {seed} alpha {alpha}");
+            if kept.stats.reused {
+                reused += 1;
+            } else {
+                traversed += 1;
+            }
+            for (p, q) in x.iter_mut().zip(&x1) {
+                for k in 0..3 {
+                    p[k] += alpha * (q[k] - p[k]);
+                }
+            }
+        }
+        // A cap or a deadline never takes the kept candidates.
+        let config = Configuration::new(&x, &tris, &edges).unwrap();
+        let capped = ccd
+            .proximity(
+                &config,
+                &ProximityOptions {
+                    max_contacts: Some(5),
+                    ..opts(dhat)
+                },
+            )
+            .unwrap();
+        assert!(!capped.stats.reused && capped.len() == 5);
+    }
+    assert!(
+        reused >= 8 && traversed >= 8,
+        "{reused} reused, {traversed} traversed"
+    );
+}
