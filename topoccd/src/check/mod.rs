@@ -290,18 +290,42 @@ mod tests {
     fn every_scale_of_the_range_gives_the_same_answers() {
         let scale = |t: [[f64; 3]; 3], s: f64| t.map(|p| p.map(|x| x * s));
         let cases: [([[f64; 3]; 3], bool); 6] = [
-            ([[0.25, -0.25, -1.0], [0.5, 0.25, 1.0], [0.25, 0.5, 1.0]], true),
-            ([[0.25, 0.25, 0.0], [0.5, 0.25, 1.0], [0.25, 0.5, 1.0]], true),
-            ([[0.25, 0.25, 2f64.powi(-40)], [0.5, 0.25, 1.0], [0.25, 0.5, 1.0]], false),
+            (
+                [[0.25, -0.25, -1.0], [0.5, 0.25, 1.0], [0.25, 0.5, 1.0]],
+                true,
+            ),
+            (
+                [[0.25, 0.25, 0.0], [0.5, 0.25, 1.0], [0.25, 0.5, 1.0]],
+                true,
+            ),
+            (
+                [
+                    [0.25, 0.25, 2f64.powi(-40)],
+                    [0.5, 0.25, 1.0],
+                    [0.25, 0.5, 1.0],
+                ],
+                false,
+            ),
             (moved(T, [1.0, 0.0, 0.0]), true),
             (moved(T, [1.0 + 2f64.powi(-40), 0.0, 0.0]), false),
-            ([[0.5, -2f64.powi(-40), 0.0], [0.5, -1.0, 1.0], [0.5, -1.0, -1.0]], false),
+            (
+                [
+                    [0.5, -2f64.powi(-40), 0.0],
+                    [0.5, -1.0, 1.0],
+                    [0.5, -1.0, -1.0],
+                ],
+                false,
+            ),
         ];
         for e in (-1000..=1000).step_by(25) {
             // Powers of two: scaling by them is exact, so the answers are the unscaled ones.
             let s = 2f64.powi(e);
             for (k, (u, expected)) in cases.iter().enumerate() {
-                assert_eq!(triangles(scale(T, s), scale(*u, s)), *expected, "2^{e}, case {k}");
+                assert_eq!(
+                    triangles(scale(T, s), scale(*u, s)),
+                    *expected,
+                    "2^{e}, case {k}"
+                );
             }
         }
     }
