@@ -135,7 +135,7 @@ pub struct QueryArgs {
 }
 
 /// `--timeout`: a positive, finite number of seconds.
-fn parse_timeout(s: &str) -> Result<f64, String> {
+pub fn parse_timeout(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
         Ok(t) if t > 0.0 && t.is_finite() && t < 1e9 => Ok(t),
         _ => Err(format!("{s:?} is not a positive number of seconds")),

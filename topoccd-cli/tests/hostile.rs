@@ -331,6 +331,13 @@ fn timeout_ends_a_collapsed_step_with_a_clear_message() {
         // Reading the meshes takes part of it; the query ends at 0.5 s (0.57 s in all here).
         assert!(wall < 1.5, "{args:?}: {wall} s");
     }
+    // The static check, alike (hundreds of millions of touching pairs, no cap).
+    let start = std::time::Instant::now();
+    let run = topoccd(&["--threads", "1", "check", "c.obj", "--timeout", "0.5"], &tmp.0);
+    let wall = start.elapsed().as_secs_f64();
+    assert_eq!(run.output.status.code(), Some(2), "{}", run.stderr);
+    assert!(run.stderr.contains("stopped (deadline)"), "{}", run.stderr);
+    assert!(wall < 1.5, "check: {wall} s");
     // A bad value is refused before any work.
     for bad in ["0", "soon"] {
         let run = topoccd(&["step", "c.obj", "c.obj", "--timeout", bad], &tmp.0);
