@@ -333,7 +333,10 @@ fn timeout_ends_a_collapsed_step_with_a_clear_message() {
     }
     // The static check, alike (hundreds of millions of touching pairs, no cap).
     let start = std::time::Instant::now();
-    let run = topoccd(&["--threads", "1", "check", "c.obj", "--timeout", "0.5"], &tmp.0);
+    let run = topoccd(
+        &["--threads", "1", "check", "c.obj", "--timeout", "0.5"],
+        &tmp.0,
+    );
     let wall = start.elapsed().as_secs_f64();
     assert_eq!(run.output.status.code(), Some(2), "{}", run.stderr);
     assert!(run.stderr.contains("stopped (deadline)"), "{}", run.stderr);
