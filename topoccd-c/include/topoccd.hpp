@@ -434,6 +434,11 @@ class Report {
     }
     return r_->earliest_toi;
   }
+  /// Whether the report lists every pair within the tolerance of the earliest time (every
+  /// contact in Mode::All): false when the query stopped early, or when Mode::Earliest found
+  /// more such pairs than max_contacts and kept the earliest of them (the earliest time is
+  /// exact either way).
+  bool earliest_complete() const noexcept { return r_->earliest_complete; }
   /// The earliest contact if it is a vertex-face one, else nullptr.
   const topoccd_vf_contact* earliest_vf() const noexcept {
     return r_->earliest_kind == TOPOCCD_CONTACT_KIND_VF ? r_->vf + r_->earliest_index : nullptr;

@@ -96,6 +96,22 @@ static void test_options_and_errors() {
   topoccd::Report r = ccd.query(topoccd::Step(X0, X1, TRIS), earliest);
   CHECK(r.vf().size() == 1 && r.vf()[0].vertex == 3 && r.vf()[0].has_geometry, "earliest");
   CHECK(r.vf()[0].geometry.normal[2] == 1.0, "the face's normal, towards the vertex");
+  CHECK(r.earliest_complete(), "one pair at the earliest time, listed");
+
+  // A triangle falls flat through another, its three corners over the other's interior: three
+  // vertex-face pairs at t = 1/2. Under a cap of one, Earliest keeps one and says so.
+  const std::vector<std::array<double, 3>> flat0 = {
+      {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.2, 0.2, 1}, {0.3, 0.2, 1}, {0.2, 0.3, 1}};
+  std::vector<std::array<double, 3>> flat1 = flat0;
+  for (int v = 3; v < 6; ++v) flat1[v][2] = -1;
+  auto first = topoccd::QueryOptions().mode(topoccd::Mode::Earliest);
+  topoccd::Report all3 = ccd.query(flat0, flat1, TRIS, first);
+  CHECK(all3.vf().size() == 3 && all3.earliest_complete(), "three pairs, complete");
+  topoccd::Report capped = ccd.query(flat0, flat1, TRIS, first.max_contacts(1));
+  CHECK(capped.vf().size() == 1 && !capped.earliest_complete(), "one pair kept, incomplete");
+  CHECK(capped.earliest_toi() && *capped.earliest_toi() <= 0.5 &&
+            *capped.earliest_toi() > 0.5 - 1e-6,
+        "the earliest time is exact under the cap");
 
   expect_error([&] { ccd.query(X0, X1, TRIS, topoccd::QueryOptions().tolerance(0)); },
                TOPOCCD_STATUS_INVALID_OPTIONS, "tolerance must be in (0, 1), got 0", "tolerance");

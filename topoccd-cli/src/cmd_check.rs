@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
-use topoccd::check::frame_intersections;
+use topoccd::check::{frame_intersections_within, CheckLimits};
 use topoccd::io::read_mesh;
 use topoccd::io::sequence::parents_path;
 
@@ -32,6 +32,10 @@ pub struct Args {
     /// Pairs listed in the text output (all of them are in --pairs and --json).
     #[arg(long, default_value_t = 10, value_name = "N")]
     limit: usize,
+    /// Stop the check after SECONDS (from when it starts) and exit with an error that says
+    /// so. Default: no time limit.
+    #[arg(long, value_name = "SECONDS", value_parser = crate::query_args::parse_timeout)]
+    timeout: Option<f64>,
 }
 
 /// The JSON output.
@@ -47,7 +51,7 @@ struct CheckOut<'a> {
 }
 
 /// Reads `NEW_ID PARENT_ID` lines (`#` starts a comment) naming vertices below `vertices`.
-/// Errors name the file and line; [`frame_intersections`] checks the rest as
+/// Errors name the file and line; [`frame_intersections`](topoccd::check::frame_intersections) checks the rest as
 /// [`Step::with_parents`](topoccd::Step::with_parents) does (a child that is not new, a
 /// vertex its own parent, a child given twice).
 pub fn read_joins(path: &Path, vertices: usize) -> Result<Vec<[u32; 2]>> {
@@ -102,10 +106,20 @@ pub fn run(args: &Args) -> Result<ExitCode> {
         None => Vec::new(),
     };
     let x = &mesh.positions;
+    // No cap, as before; a deadline with --timeout.
+    let limits = CheckLimits {
+        max_contacts: None,
+        deadline: args
+            .timeout
+            .map(|s| Instant::now() + std::time::Duration::from_secs_f64(s)),
+        cancel: None,
+    };
     let pairs =
-        frame_intersections(x, &mesh.triangles, &joins).with_context(|| match &parents_file {
-            Some(p) => format!("{} with {}", args.frame.display(), p.display()),
-            None => args.frame.display().to_string(),
+        frame_intersections_within(x, &mesh.triangles, &joins, &limits).with_context(|| {
+            match &parents_file {
+                Some(p) => format!("{} with {}", args.frame.display(), p.display()),
+                None => args.frame.display().to_string(),
+            }
         })?;
     let seconds = started.elapsed().as_secs_f64();
     if let Some(target) = &args.pairs {

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use indicatif::ProgressBar;
 use serde::Serialize;
 use topoccd::check::step_intersections;
@@ -149,7 +149,12 @@ pub fn run(args: &Args) -> Result<()> {
             watch.check(&step, Frame::Start, &sequence.frames[k], &bar);
         }
         let method = args.method.method.into();
+        options.deadline = args.query.deadline();
         let report = ccd.query(&step, method, &options)?;
+        args.query.check_deadline(&report).with_context(|| {
+            let name = |i: usize| sequence.frames[i].display().to_string();
+            format!("step {k} ({} -> {})", name(k), name(k + 1))
+        })?;
         if let Some(dir) = &args.pairs_dir {
             let inputs: Vec<&Path> = sequence.frames.iter().map(PathBuf::as_path).collect();
             write_pairs(&dir.join(format!("{k:04}.csv")), &report, &inputs, None)?;

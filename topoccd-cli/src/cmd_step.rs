@@ -87,9 +87,11 @@ pub fn run(args: &Args) -> Result<()> {
     }
     let mut ccd = Ccd::new();
     let method = args.method.method.into();
+    options.deadline = args.query.deadline();
     let mut report = with_spinner("querying the step", || {
         ccd.query(&input.step, method, &options)
     })?;
+    args.query.check_deadline(&report)?;
     if let Some(mut recorder) = recorder {
         // In the step's ids (welded ones included), before the renaming to the files' ids.
         let summary = StepOut::new(&input.step, method, options.mode, &report, false).text();

@@ -2,7 +2,7 @@
 //! library ([`QueryOptions::validate`]), so every command refuses the same values with the same
 //! message.
 
-use anyhow::Result;
+use anyhow::{bail, Result};
 
 use crate::common::MemoryLimit;
 use topoccd::{ClusterGrowth, DopKind, Method, Mode, NarrowOptions, QueryOptions};
@@ -112,6 +112,10 @@ pub struct QueryArgs {
     /// cap.
     #[arg(long, value_name = "N", value_parser = parse_cap)]
     pub max_contacts: Option<Cap>,
+    /// Stop a step's query after SECONDS (from when it starts) and exit with an error that
+    /// says so. Default: no time limit.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_timeout)]
+    pub timeout: Option<f64>,
     /// Deprecated alias of `--min-distance` (hidden; a note on stderr says so).
     #[arg(
         long,
@@ -128,6 +132,14 @@ pub struct QueryArgs {
         conflicts_with = "tmax"
     )]
     pub t_max: Option<f64>,
+}
+
+/// `--timeout`: a positive, finite number of seconds.
+pub fn parse_timeout(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(t) if t > 0.0 && t.is_finite() && t < 1e9 => Ok(t),
+        _ => Err(format!("{s:?} is not a positive number of seconds")),
+    }
 }
 
 /// `--max-contacts`: a number, or no cap.
@@ -181,6 +193,7 @@ impl Default for QueryArgs {
             geometry: false,
             keep_crack_contacts: false,
             max_contacts: None,
+            timeout: None,
             min_separation: None,
             t_max: None,
         }
@@ -217,6 +230,25 @@ impl QueryArgs {
                     }
                 }
             });
+        }
+    }
+
+    /// The deadline of a query starting now: `--timeout` seconds from now, if given.
+    pub fn deadline(&self) -> Option<std::time::Instant> {
+        self.timeout
+            .map(|s| std::time::Instant::now() + std::time::Duration::from_secs_f64(s))
+    }
+
+    /// An error when `report` stopped at its deadline (`--timeout`), saying what to do.
+    pub fn check_deadline(&self, report: &topoccd::Report) -> Result<()> {
+        match &report.truncated {
+            Some(t) if t.reason == topoccd::StopReason::Deadline => bail!(
+                "the query did not finish within --timeout {} s (stopped in its {} phase); \
+                 raise --timeout, or lower --max-contacts on a step with very many contacts",
+                self.timeout.unwrap_or(0.0),
+                format!("{:?}", t.phase).to_lowercase()
+            ),
+            _ => Ok(()),
         }
     }
 

@@ -276,3 +276,74 @@ fn a_sequence_folder_with_other_files_says_what_it_left_out() {
     let run = topoccd(&["run", "q"], &tmp.0);
     assert!(!run.stderr.contains("left out"), "{}", run.stderr);
 }
+
+/// `--timeout` (issue 43): a collapsed step without a cap has hundreds of millions of pairs at
+/// t=0; `--timeout 0.5` ends it within about a second with an error that names the time limit
+/// and what to do, for `step` and for `run`.
+#[test]
+fn timeout_ends_a_collapsed_step_with_a_clear_message() {
+    let tmp = TempDir::new(SUITE, "timeout");
+    tmp.file("c.obj", collapsed_obj(160));
+    std::fs::create_dir_all(tmp.0.join("seq")).unwrap();
+    for k in 0..2 {
+        std::fs::write(tmp.0.join(format!("seq/{k:04}.obj")), collapsed_obj(160)).unwrap();
+    }
+    let step = [
+        "--threads",
+        "1",
+        "step",
+        "c.obj",
+        "c.obj",
+        "--method",
+        "bvh",
+        "--max-contacts",
+        "off",
+        "--timeout",
+        "0.5",
+    ];
+    let run_args = [
+        "--threads",
+        "1",
+        "run",
+        "seq",
+        "--no-check",
+        "--max-contacts",
+        "off",
+        "--timeout",
+        "0.5",
+    ];
+    for args in [&step[..], &run_args[..]] {
+        let start = std::time::Instant::now();
+        let run = topoccd(args, &tmp.0);
+        let wall = start.elapsed().as_secs_f64();
+        assert_ne!(
+            run.output.status.code(),
+            Some(0),
+            "{args:?}: {}",
+            run.stderr
+        );
+        assert!(
+            run.stderr.contains("did not finish within --timeout 0.5 s"),
+            "{args:?}: {}",
+            run.stderr
+        );
+        assert!(run.stderr.contains("raise --timeout"), "{}", run.stderr);
+        // Reading the meshes takes part of it; the query ends at 0.5 s (0.57 s in all here).
+        assert!(wall < 1.5, "{args:?}: {wall} s");
+    }
+    // The static check, alike (hundreds of millions of touching pairs, no cap).
+    let start = std::time::Instant::now();
+    let run = topoccd(
+        &["--threads", "1", "check", "c.obj", "--timeout", "0.5"],
+        &tmp.0,
+    );
+    let wall = start.elapsed().as_secs_f64();
+    assert_eq!(run.output.status.code(), Some(2), "{}", run.stderr);
+    assert!(run.stderr.contains("stopped (deadline)"), "{}", run.stderr);
+    assert!(wall < 1.5, "check: {wall} s");
+    // A bad value is refused before any work.
+    for bad in ["0", "soon"] {
+        let run = topoccd(&["step", "c.obj", "c.obj", "--timeout", bad], &tmp.0);
+        assert_fails(&run, "is not a positive number of seconds");
+    }
+}

@@ -159,3 +159,69 @@ def test_a_failed_step_in_a_run_loses_no_other_step(copy_sequence, cli_run, tmp_
     assert (tmp_path / "0002.csv").read_text() == (pairs_dir / "0002.csv").read_text()
     with pytest.raises(ValueError, match="steps_per_task"):
         run_sequence(folder, tmp_path / "o", engine="process", steps_per_task=0)
+
+
+_INTERRUPTED = """
+import math, os, sys
+from topoccd.batch import run_sequence
+
+def collapsed_obj(n):
+    rows = []
+    for j in range(n + 1):
+        for i in range(n + 1):
+            u, v = i / n, j / n
+            p = (2.5 * u - 1.25 + 0.3 * math.sin(7 * v), 2.5 * v - 1.25,
+                 -1 + 0.9 * math.cos(5 * u) * math.sin(3 * v))
+            rows.append("v %d %d %d" % tuple(int(c) for c in p))
+    idx = lambda i, j: j * (n + 1) + i + 1
+    for j in range(n):
+        for i in range(n):
+            rows.append("f %d %d %d" % (idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)))
+            rows.append("f %d %d %d" % (idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)))
+    return "\\n".join(rows) + "\\n"
+
+if __name__ == "__main__":
+    folder, out = sys.argv[1], sys.argv[2]
+    os.makedirs(folder)
+    text = collapsed_obj(120)
+    for k in range(40):
+        with open(os.path.join(folder, "%04d.obj" % k), "w") as f:
+            f.write(text)
+    print("ready", flush=True)
+    run_sequence(folder, out, engine="process", workers=1, progress=False)
+    print("finished", flush=True)
+"""
+
+
+def test_ctrl_c_ends_run_sequence(tmp_path):
+    """Ctrl-C (SIGINT to the process group, as a terminal sends it) ends ``run_sequence``
+    promptly: 39 collapsed steps of about a second each are not waited for."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = tmp_path / "interrupted.py"
+    script.write_text(_INTERRUPTED)
+    child = subprocess.Popen(
+        [sys.executable, str(script), str(tmp_path / "seq"), str(tmp_path / "out")],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    try:
+        assert child.stdout.readline().strip() == "ready"
+        time.sleep(4.0)  # the worker starts (spawn) and is inside a step
+        os.killpg(child.pid, signal.SIGINT)
+        sent = time.perf_counter()
+        out, err = child.communicate(timeout=30)
+        waited = time.perf_counter() - sent
+    finally:
+        if child.poll() is None:
+            os.killpg(child.pid, signal.SIGKILL)
+    assert "finished" not in out, "the run was not interrupted"
+    assert child.returncode != 0
+    assert "KeyboardInterrupt" in err, err[-2000:]
+    assert waited < 2.0, waited  # 0.14 s here

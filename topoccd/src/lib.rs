@@ -66,6 +66,7 @@ pub mod check;
 pub mod io;
 pub mod line_search;
 pub mod pair;
+pub mod range;
 
 pub use kdop::DopKind;
 pub use mesh::{CanCollide, Frame, Positions, Step, StepError, Triangles};

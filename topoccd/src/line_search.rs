@@ -17,6 +17,11 @@
 //! # Ok::<(), topoccd::line_search::LineSearchError>(())
 //! ```
 //!
+//! Input range: inside it ([`range`](crate::range)) the earliest time is the query's, with
+//! its guarantees; a pair outside it (a difference beyond `1e300`) is a contact at 0, so the
+//! step size is 0 and the step is not collision-free: an answer that can only be too
+//! cautious, never unsafe.
+//!
 //! In a simulation loop, keep a [`Ccd`] and call [`Ccd::collision_free_stepsize`] and
 //! [`Ccd::is_step_collision_free`] on each [`Step`]: its buffers are reused, and a step can
 //! carry parents (a cut) and groups.

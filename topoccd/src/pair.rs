@@ -8,7 +8,9 @@
 //! and `edge_edge_ccd`, `point_edge_ccd`, `point_point_ccd` do). They are conservative: when the features touch in exact arithmetic
 //! at some time in `[0, tmax]`, the outcome is a contact whose time of impact is never later
 //! than the first contact, and within [`NarrowOptions::tolerance`] of it unless the features
-//! come close before they touch.
+//! come close before they touch. The guarantees hold over the whole input range
+//! ([`range`](crate::range)), at any uniform scale; a pair outside it is a contact at 0,
+//! [`Certainty::InvalidInput`].
 //!
 //! ```
 //! use topoccd::pair::{vertex_face, Outcome, VertexFace};

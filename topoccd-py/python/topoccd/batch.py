@@ -238,15 +238,21 @@ def _run_ray(
     pending = {
         task.remote(folder, run.start, len(run), out_dir, options): run for run in runs
     }
-    while pending:
-        done, _ = ray.wait(list(pending), num_returns=1)
-        for ref in done:
-            run = pending.pop(ref)
-            try:
-                lines = ray.get(ref)
-            except Exception as err:  # noqa: BLE001 - a crashed worker loses only its run
-                lines = [_failure(folder, k, err) for k in run]
-            on_done(run, lines)
+    try:
+        while pending:
+            done, _ = ray.wait(list(pending), num_returns=1)
+            for ref in done:
+                run = pending.pop(ref)
+                try:
+                    lines = ray.get(ref)
+                except Exception as err:  # noqa: BLE001 - a crashed worker loses only its run
+                    lines = [_failure(folder, k, err) for k in run]
+                on_done(run, lines)
+    except KeyboardInterrupt:
+        # Ctrl-C: the tasks still running or queued are cancelled, not waited for.
+        for ref in pending:
+            ray.cancel(ref, force=True)
+        raise
 
 
 _MAIN_GUARD = (
@@ -333,28 +339,57 @@ def _run_processes(
     on_done: Callable[[range, List[dict]], None],
 ) -> None:
     import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-    from concurrent.futures.process import BrokenProcessPool
+    from concurrent.futures import ProcessPoolExecutor
 
     # spawn, not fork: a forked child would inherit a thread pool without its threads.
     context = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-        futures = {
-            pool.submit(process_steps, folder, run.start, len(run), out_dir, options): run
-            for run in runs
-        }
-        for future in as_completed(futures):
-            run = futures[future]
-            try:
-                lines = future.result()
-            except BrokenProcessPool as err:
-                raise RuntimeError(
-                    f"the worker processes of engine='process' died ({err}); if the calling "
-                    f"script has no main guard: {_MAIN_GUARD}"
-                ) from err
-            except Exception as err:  # noqa: BLE001 - a crashed worker loses only its run
-                lines = [_failure(folder, k, err) for k in run]
-            on_done(run, lines)
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=context)
+    try:
+        _collect_processes(pool, folder, out_dir, runs, options, on_done)
+    except KeyboardInterrupt:
+        # Ctrl-C: queued runs are dropped and the workers ended, not waited for (a step
+        # without a timeout could run for long).
+        workers_alive = list(getattr(pool, "_processes", {}).values())
+        pool.shutdown(wait=False, cancel_futures=True)
+        for process in workers_alive:
+            process.kill()
+        for process in workers_alive:
+            process.join(1.0)
+        raise
+    except BaseException:
+        pool.shutdown(wait=True)
+        raise
+    pool.shutdown(wait=True)
+
+
+def _collect_processes(
+    pool: "Any",
+    folder: str,
+    out_dir: str,
+    runs: List[range],
+    options: Dict[str, Any],
+    on_done: Callable[[range, List[dict]], None],
+) -> None:
+    """Submits the runs to the process pool and hands each one's lines to ``on_done``."""
+    from concurrent.futures import as_completed
+    from concurrent.futures.process import BrokenProcessPool
+
+    futures = {
+        pool.submit(process_steps, folder, run.start, len(run), out_dir, options): run
+        for run in runs
+    }
+    for future in as_completed(futures):
+        run = futures[future]
+        try:
+            lines = future.result()
+        except BrokenProcessPool as err:
+            raise RuntimeError(
+                f"the worker processes of engine='process' died ({err}); if the calling "
+                f"script has no main guard: {_MAIN_GUARD}"
+            ) from err
+        except Exception as err:  # noqa: BLE001 - a crashed worker loses only its run
+            lines = [_failure(folder, k, err) for k in run]
+        on_done(run, lines)
 
 
 def run_sequence(

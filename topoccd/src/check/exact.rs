@@ -10,6 +10,8 @@
 
 use robust::{orient2d, orient3d, Coord, Coord3D};
 
+use crate::range::normalizing_scale;
+
 /// A point.
 pub type P = [f64; 3];
 
@@ -134,8 +136,27 @@ pub fn segment_triangle(p: P, q: P, [a, b, c]: [P; 3]) -> bool {
     s.iter().all(|&v| v >= 0) || s.iter().all(|&v| v <= 0)
 }
 
-/// The closed triangles `t` and `u` (either may be degenerate).
+/// The closed triangles `t` and `u` (either may be degenerate). Coordinates far from 1 are
+/// first multiplied by a power of two ([`normalizing_scale`] of the largest, as the CCD's
+/// solver does): exact, and the signs do not change, but the predicates' products then
+/// neither overflow nor underflow at any uniform scale.
 pub fn triangles(t: [P; 3], u: [P; 3]) -> bool {
+    let largest = t
+        .iter()
+        .chain(&u)
+        .flatten()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    let s = normalizing_scale(largest);
+    if s == 1.0 {
+        triangles_near_one(t, u)
+    } else {
+        let scaled = |t: [P; 3]| t.map(|p| p.map(|x| x * s));
+        triangles_near_one(scaled(t), scaled(u))
+    }
+}
+
+/// [`triangles`], its coordinates already scaled.
+fn triangles_near_one(t: [P; 3], u: [P; 3]) -> bool {
     // Quick rejection: all of one triangle strictly on one side of the other's plane.
     let side = |t: [P; 3], u: [P; 3]| {
         let s = u.map(|x| sign(o3(t[0], t[1], t[2], x)));

@@ -20,9 +20,11 @@
 //! ```
 //!
 //! Pairs that share a vertex are not checked: they touch there by construction, so a fold
-//! between two neighbours is not reported. The predicates are exact unless an intermediate
-//! product overflows or underflows (coordinates beyond about `1e100`, or differences below
-//! about `1e-100`).
+//! between two neighbours is not reported. The predicates are exact at every uniform scale of
+//! the input range ([`range`](crate::range)): a pair's coordinates far from 1 are first
+//! multiplied by a power of two, as the CCD's solver does. They stay exact unless an
+//! intermediate product underflows: coordinate differences below about `1e-100` times the
+//! pair's largest coordinate.
 
 mod exact;
 mod limits;
@@ -279,6 +281,53 @@ mod tests {
         assert!(triangles(T, edge_touch));
         let edge_apart = [[0.5, -1e-12, 0.0], [0.5, -1.0, 1.0], [0.5, -1.0, -1.0]];
         assert!(!triangles(T, edge_apart));
+    }
+
+    /// The cases of `crossing_touching_and_apart` at every uniform scale of the input range
+    /// (issue 43): the answers do not depend on the scale, down to subnormal coordinates. (At
+    /// 1e110 the determinants' products overflowed, at 1e-110 they underflowed.)
+    #[test]
+    fn every_scale_of_the_range_gives_the_same_answers() {
+        let scale = |t: [[f64; 3]; 3], s: f64| t.map(|p| p.map(|x| x * s));
+        let cases: [([[f64; 3]; 3], bool); 6] = [
+            (
+                [[0.25, -0.25, -1.0], [0.5, 0.25, 1.0], [0.25, 0.5, 1.0]],
+                true,
+            ),
+            (
+                [[0.25, 0.25, 0.0], [0.5, 0.25, 1.0], [0.25, 0.5, 1.0]],
+                true,
+            ),
+            (
+                [
+                    [0.25, 0.25, 2f64.powi(-40)],
+                    [0.5, 0.25, 1.0],
+                    [0.25, 0.5, 1.0],
+                ],
+                false,
+            ),
+            (moved(T, [1.0, 0.0, 0.0]), true),
+            (moved(T, [1.0 + 2f64.powi(-40), 0.0, 0.0]), false),
+            (
+                [
+                    [0.5, -2f64.powi(-40), 0.0],
+                    [0.5, -1.0, 1.0],
+                    [0.5, -1.0, -1.0],
+                ],
+                false,
+            ),
+        ];
+        for e in (-1000..=1000).step_by(25) {
+            // Powers of two: scaling by them is exact, so the answers are the unscaled ones.
+            let s = 2f64.powi(e);
+            for (k, (u, expected)) in cases.iter().enumerate() {
+                assert_eq!(
+                    triangles(scale(T, s), scale(*u, s)),
+                    *expected,
+                    "2^{e}, case {k}"
+                );
+            }
+        }
     }
 
     #[test]

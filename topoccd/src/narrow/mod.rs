@@ -36,8 +36,8 @@ pub enum Certainty {
     /// (the features may not touch at all): the answer stays on the safe side.
     IterationLimit,
     /// The input held a NaN or an infinite coordinate, or coordinates so far apart that their
-    /// differences exceed 1e300; nothing could be decided, so the answer
-    /// is a contact at time 0.
+    /// differences exceed 1e300 (outside the input range, [`range`](crate::range)); nothing
+    /// could be decided, so the answer is a contact at time 0.
     InvalidInput,
 }
 

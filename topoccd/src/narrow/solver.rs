@@ -121,6 +121,7 @@ use super::bernstein::{coplanarity_ends, coplanarity_inner};
 use super::extremes::{lower, lower3, raise, raise3, raise_abs};
 use super::{closest, Certainty, EdgeEdge, NarrowOptions, Outcome, VertexFace};
 use crate::math::{max_abs, DVec3, UNDERFLOW_ERROR, UNIT_ROUNDOFF};
+use crate::range::{normalizing_scale, within_range};
 
 /// Bound on the rounding error of a computed corner coordinate, in units of `u M` (see the
 /// module documentation: the analysis gives 33; this keeps a factor of about two in reserve).
@@ -128,8 +129,9 @@ const CORNER_ERROR: f64 = 64.0;
 /// Most steps of the crossing prediction ([`Search::predict_crossing`]).
 const CROSSING_STEPS: usize = 32;
 /// Largest coordinate difference accepted; larger ones count as invalid input (the answer is
-/// then a conservative contact at t=0).
-pub const MAX_DIFFERENCE: f64 = 1e300;
+/// then a conservative contact at t=0). The input range's bound,
+/// [`range::MAX_DIFFERENCE`](crate::range::MAX_DIFFERENCE).
+pub const MAX_DIFFERENCE: f64 = crate::range::MAX_DIFFERENCE;
 
 /// Which multilinear form `F = P + u A + w B` takes: `w = u v` or `w = v`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -148,6 +150,9 @@ pub struct Problem {
     b: [DVec3; 2],
     weight: Weight,
     finite: bool,
+    /// The power of two `p`, `a` and `b` were multiplied by ([`normalizing_scale`]); the
+    /// search multiplies `min_distance` by it too.
+    scale: f64,
     /// Whether the features share a point at t=0: the vertex sits exactly on a corner of the
     /// face, or an end of one edge exactly on an end of the other (equal coordinates).
     shared_at_start: bool,
@@ -189,18 +194,24 @@ impl Problem {
         shared_at_start: bool,
     ) -> Self {
         // Differences must stay far enough from overflow that every intermediate value (at most
-        // a few times larger) and its error bound stay finite.
-        let finite = pts.iter().all(|x| x.is_finite())
-            && p.iter()
-                .chain(&a)
-                .chain(&b)
-                .all(|x| max_abs(*x) <= MAX_DIFFERENCE);
+        // a few times larger) and its error bound stay finite: the input range.
+        let largest = p.iter().chain(&a).chain(&b).fold(0.0, |m, x| raise_abs(m, *x));
+        let finite = pts.iter().all(|x| x.is_finite()) && within_range(largest);
+        // Far from 1, the differences are brought near it (exactly) so that neither their
+        // cubes overflow nor the error bounds' underflow allowance swamps them.
+        let scale = if finite { normalizing_scale(largest) } else { 1.0 };
+        let (p, a, b) = if scale == 1.0 {
+            (p, a, b)
+        } else {
+            (p.map(|x| x * scale), a.map(|x| x * scale), b.map(|x| x * scale))
+        };
         Self {
             p,
             a,
             b,
             weight,
             finite,
+            scale,
             shared_at_start,
         }
     }
@@ -337,7 +348,9 @@ impl<'a> Search<'a> {
             NarrowOptions::default().tolerance
         };
         let sep = if options.min_distance > 0.0 && options.min_distance.is_finite() {
-            options.min_distance
+            // Scaled with the differences; beyond 1e300 the features touch anyway (their
+            // distance is at most a few times the largest scaled difference, below 4).
+            (options.min_distance * problem.scale).min(MAX_DIFFERENCE)
         } else {
             0.0
         };

@@ -83,6 +83,10 @@ impl Ccd {
     /// points ([`Report::ve`], [`Report::vv`]): every method finds them with the same sort and
     /// sweep, after its triangle work.
     ///
+    /// Inside the input range ([`range`](crate::range): finite coordinates, differences
+    /// within a pair up to `1e300`, at any uniform scale) every guarantee holds; a pair
+    /// outside it is a contact at 0, [`Certainty::InvalidInput`], never `Resolved`.
+    ///
     /// ```
     /// use topoccd::{Ccd, Method, QueryOptions, Step};
     /// // A vertex (3) falls through a fixed triangle (0, 1, 2); a small triangle carries it.
