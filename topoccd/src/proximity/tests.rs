@@ -16,6 +16,15 @@ fn opts(dhat: f64) -> ProximityOptions {
     }
 }
 
+/// The brute-force oracle's report at `config` for `dhat`.
+fn oracle(config: &Configuration<'_>, dhat: f64) -> ProximityReport {
+    let brute = ProximityOptions {
+        method: ProximityMethod::Brute,
+        ..opts(dhat)
+    };
+    proximity(config, &brute).unwrap()
+}
+
 fn run(
     x: &[[f64; 3]],
     tris: &[[u32; 3]],
@@ -318,14 +327,7 @@ fn tree_equals_brute_force_on_soups() {
                 }
             }
             let config = Configuration::new(&x, &tris, &edges).unwrap();
-            let brute = proximity(
-                &config,
-                &ProximityOptions {
-                    method: ProximityMethod::Brute,
-                    ..opts(dhat)
-                },
-            )
-            .unwrap();
+            let brute = oracle(&config, dhat);
             let tree = two.install(|| ccd.proximity(&config, &opts(dhat)).unwrap());
             // Built first; refitted after a small move (a wider dhat may loosen it enough to
             // be rebuilt).
@@ -388,28 +390,14 @@ fn refit_follows_big_moves_and_topology_changes() {
     let mirrored: Vec<[f64; 3]> = x.iter().map(|p| [1.0 - p[0], p[2], p[1]]).collect();
     let config = Configuration::new(&mirrored, &tris, &edges).unwrap();
     let r = ccd.proximity(&config, &opts(0.05)).unwrap();
-    let brute = proximity(
-        &config,
-        &ProximityOptions {
-            method: ProximityMethod::Brute,
-            ..opts(0.05)
-        },
-    )
-    .unwrap();
+    let brute = oracle(&config, 0.05);
     assert_eq!(pairs(&r), pairs(&brute));
     // Other triangles: derived again, rebuilt.
     let fewer = &tris[..100];
     let config = Configuration::new(&mirrored, fewer, &edges).unwrap();
     let r = ccd.proximity(&config, &opts(0.05)).unwrap();
     assert!(!r.stats.refitted);
-    let brute = proximity(
-        &config,
-        &ProximityOptions {
-            method: ProximityMethod::Brute,
-            ..opts(0.05)
-        },
-    )
-    .unwrap();
+    let brute = oracle(&config, 0.05);
     assert_eq!(pairs(&r), pairs(&brute));
 }
 
@@ -434,14 +422,7 @@ fn candidates_kept_across_small_moves_equal_the_oracle() {
         let mut x = x0.clone();
         for alpha in [0.1, 0.3, 0.05, 0.01, 0.002, 0.0, 0.9, 0.001] {
             let config = Configuration::new(&x, &tris, &edges).unwrap();
-            let brute = proximity(
-                &config,
-                &ProximityOptions {
-                    method: ProximityMethod::Brute,
-                    ..opts(dhat)
-                },
-            )
-            .unwrap();
+            let brute = oracle(&config, dhat);
             let kept = one.install(|| ccd.proximity(&config, &opts(dhat)).unwrap());
             assert_eq!(pairs(&kept), pairs(&brute), "seed {seed} alpha {alpha}");
             if kept.stats.reused {
