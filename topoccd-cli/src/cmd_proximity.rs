@@ -1,7 +1,7 @@
 //! `topoccd proximity FRAME --dhat D`: every primitive pair of one frame closer than `dhat`
 //! (plus `--dmin`), with its distance and closest-feature type (the library's
-//! `Ccd::proximity`). Vertices of the frame in no triangle are free points. Exit status 0, or
-//! 2 on an error.
+//! `Ccd::proximity`). The file's edge elements (PLY `edge`, OBJ `l`) in no triangle are free
+//! edges, and vertices in neither are free points. Exit status 0, or 2 on an error.
 
 use std::fmt::Write as _;
 use std::io::Write;
@@ -12,7 +12,7 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use topoccd::io::read_mesh;
-use topoccd::{Ccd, Configuration, ProximityOptions, ProximityReport};
+use topoccd::{Ccd, Configuration, ProximityOptions, ProximityReport, StopReason};
 
 /// Arguments of `topoccd proximity`.
 #[derive(clap::Args, Debug)]
@@ -34,6 +34,10 @@ pub struct Args {
     /// Print one JSON object (counts, seconds) instead of text.
     #[arg(long)]
     json: bool,
+    /// Stop the query after SECONDS (from when it starts) and exit with an error that says
+    /// so. Default: no time limit.
+    #[arg(long, value_name = "SECONDS", value_parser = crate::query_args::parse_timeout)]
+    timeout: Option<f64>,
 }
 
 /// The names of the types, in the order of their codes (ipctk's names).
@@ -100,12 +104,28 @@ pub fn run(args: &Args) -> Result<ExitCode> {
     let options = ProximityOptions {
         dhat: args.dhat,
         dmin: args.dmin,
+        deadline: args
+            .timeout
+            .map(|s| Instant::now() + std::time::Duration::from_secs_f64(s)),
         ..ProximityOptions::default()
     };
     options.validate()?;
-    let config = Configuration::new(&mesh.positions, &mesh.triangles, &[])
+    let config = Configuration::new(&mesh.positions, &mesh.triangles, &mesh.edges)
         .with_context(|| args.frame.display().to_string())?;
     let report = Ccd::new().proximity(&config, &options)?;
+    match report.truncated {
+        Some(StopReason::Deadline) => bail!(
+            "{}: stopped at --timeout {} s before every pair was found: raise --timeout",
+            args.frame.display(),
+            args.timeout.unwrap_or_default()
+        ),
+        Some(why) => bail!(
+            "{}: stopped ({why:?}) before every pair was found ({} found)",
+            args.frame.display(),
+            report.len()
+        ),
+        None => {}
+    }
     let seconds = started.elapsed().as_secs_f64();
     if let Some(target) = &args.pairs {
         let text = pair_lines(&report);
