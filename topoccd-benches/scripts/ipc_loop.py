@@ -261,12 +261,8 @@ def loop_topoccd(x0, x1, tris, free_edges, dhat, iters):
     for _ in range(iters):
         s, _ = timed(lambda: ccd.proximity(x, tris, dhat, edges=free_edges, threads=1))
         prox += s
-        if len(free_edges):
-            # Free edges in CCD belong to the codimensional half of issue 42 (another branch):
-            # the step size here covers the triangles only.
-            pass
         s, alpha = timed(lambda: topoccd.collision_free_stepsize(
-            x, x1, tris, ccd=ccd, threads=1, conservative_rescaling=0.8))
+            x, x1, tris, edges=free_edges, ccd=ccd, threads=1, conservative_rescaling=0.8))
         step += s
         alphas.append(alpha)
         x = x + alpha * (x1 - x)
@@ -289,7 +285,7 @@ def detail(name, x0, x1, tris, free_edges, dhat, iters, reps):
         for it in range(iters):
             sp, p = timed(lambda: ccd.proximity(x, tris, dhat, edges=free_edges, threads=1))
             ss, alpha = timed(lambda: topoccd.collision_free_stepsize(
-                x, x1, tris, ccd=ccd, threads=1, conservative_rescaling=0.8))
+                x, x1, tris, edges=free_edges, ccd=ccd, threads=1, conservative_rescaling=0.8))
             rows[it].append((sp, p.seconds, len(p.vf) + len(p.ee), p.refitted, getattr(p, "reused", None), ss, alpha))
             x = x + alpha * (x1 - x)
     print(f"\n(d) inner loop of topoccd in detail, {name}: per iteration, median of {reps} (ms)")

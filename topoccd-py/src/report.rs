@@ -27,6 +27,9 @@ use crate::errors::input_error;
 ///         ``(a0, a1, b0, b1)`` with ``a0 < a1``, ``b0 < b1`` and ``(a0, a1) < (b0, b1)``, sorted.
 ///     ee_toi (numpy.ndarray): ``(M,)`` float64.
 ///     ee_certainty (numpy.ndarray): ``(M,)`` uint8, as ``vf_certainty``.
+///     ve, ve_toi, ve_certainty, vv, vv_toi, vv_certainty (numpy.ndarray): the same for a free
+///         point against a free edge, ``(K, 3)`` ``(vertex, e0, e1)``, and for two free
+///         points, ``(L, 2)`` ``(a, b)`` (with ``edges=``; see the codimensional guide page).
 ///     vf_barycentric, vf_point, vf_normal (numpy.ndarray or None): ``(N, 3)`` float64 with
 ///         ``geometry=True``: the barycentric coordinates of the contact on the face (of its
 ///         three vertices at the time of impact), the contact point, and the unit normal from
@@ -76,9 +79,13 @@ pub struct Report {
     #[pyo3(get)]
     ve_toi: Py<PyArray1<f64>>,
     #[pyo3(get)]
+    ve_certainty: Py<PyArray1<u8>>,
+    #[pyo3(get)]
     vv: Py<PyArray2<i64>>,
     #[pyo3(get)]
     vv_toi: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    vv_certainty: Py<PyArray1<u8>>,
     #[pyo3(get)]
     vf_barycentric: Option<Py<PyArray2<f64>>>,
     #[pyo3(get)]
@@ -186,8 +193,16 @@ impl Report {
         let mut report = Report {
             ve: array2(py, r.ve.len(), 3, ve)?,
             ve_toi: array1(py, r.ve.iter().map(|c| c.toi).collect()),
+            ve_certainty: array1(
+                py,
+                (r.ve.iter()).map(|c| certainty_code(c.certainty)).collect(),
+            ),
             vv: array2(py, r.vv.len(), 2, vv)?,
             vv_toi: array1(py, r.vv.iter().map(|c| c.toi).collect()),
+            vv_certainty: array1(
+                py,
+                (r.vv.iter()).map(|c| certainty_code(c.certainty)).collect(),
+            ),
             vf: array2(py, n, 2, vf)?,
             vf_toi: array1(py, vf_toi),
             vf_certainty: array1(py, vf_cert),

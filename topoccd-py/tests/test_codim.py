@@ -54,6 +54,29 @@ def test_query_with_free_edges_and_points():
         topoccd.query(x0, x1, triangles, edges=[[0, 9]])
 
 
+def test_line_search_helpers_see_free_edges():
+    # The rod and particles above: the earliest contact is particle 2 on the rod at t=0.25.
+    x0 = np.array([[-1, 0, 0], [1, 0, 0], [0.5, 0, 0.25], [0.5, 0, 5.0]])
+    x1 = np.array([[-1, 0, 0], [1, 0, 0], [0.5, 0, -0.75], [0.5, 0, -5 / 3]])
+    triangles = np.zeros((0, 3), dtype=np.int64)
+    alpha, earliest = topoccd.collision_free_stepsize(
+        x0, x1, triangles, edges=[[0, 1]], conservative_rescaling=1.0, return_earliest=True
+    )
+    assert 0.25 - 1e-6 < alpha <= 0.25
+    assert (earliest.kind, earliest.indices, earliest.certainty) == ("ve", (2, 0, 1), 0)
+    assert topoccd.collision_free_stepsize(x0, x1, triangles, edges=[[0, 1]]) <= 0.8 * 0.25
+    assert not topoccd.is_step_collision_free(x0, x1, triangles, edges=[[0, 1]])
+    assert topoccd.is_step_collision_free(x0, x1, triangles, edges=[[0, 1]], tmax=0.24)
+    # Two particles alone: they meet at 4.75 / (17 / 3); a vv earliest contact.
+    alpha, earliest = topoccd.collision_free_stepsize(
+        x0[2:], x1[2:], triangles, conservative_rescaling=1.0, return_earliest=True, edges=[]
+    )
+    assert earliest.kind == "vv" and earliest.indices == (0, 1)
+    assert 4.75 / (17 / 3) - 1e-6 < alpha <= 4.75 / (17 / 3)
+    # Without edges= the free vertices are not seen: the whole step.
+    assert topoccd.collision_free_stepsize(x0, x1, triangles) == 1.0
+
+
 def test_docstring_examples():
     import doctest
 

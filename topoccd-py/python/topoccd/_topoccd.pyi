@@ -74,9 +74,11 @@ class Report:
     """``(K, 3)`` colliding vertex-edge pairs ``(vertex, e0, e1)`` of free points and free
     edges (with ``edges=``), sorted."""
     ve_toi: npt.NDArray[np.float64]
+    ve_certainty: npt.NDArray[np.uint8]
     vv: npt.NDArray[np.int64]
     """``(L, 2)`` colliding pairs of free points ``(a, b)``, ``a < b``, sorted."""
     vv_toi: npt.NDArray[np.float64]
+    vv_certainty: npt.NDArray[np.uint8]
     vf_barycentric: Optional[npt.NDArray[np.float64]]
     """``(N, 3)`` with ``geometry=True``, else ``None``."""
     vf_point: Optional[npt.NDArray[np.float64]]

@@ -40,8 +40,10 @@ class Earliest(NamedTuple):
     ``return_earliest=True``.
 
     Attributes:
-        kind: ``"vf"`` (a vertex and a face) or ``"ee"`` (two edges).
-        indices: ``(vertex, face)`` or ``(a0, a1, b0, b1)``, as in ``Report.vf`` and ``Report.ee``.
+        kind: ``"vf"`` (a vertex and a face), ``"ee"`` (two edges), ``"ve"`` (a free point and
+            an edge) or ``"vv"`` (two free points).
+        indices: ``(vertex, face)``, ``(a0, a1, b0, b1)``, ``(vertex, e0, e1)`` or ``(a, b)``,
+            as in ``Report.vf``, ``Report.ee``, ``Report.ve`` and ``Report.vv``.
         toi: its time of impact (never later than the contact).
         certainty: 0 resolved, 1 iteration limit, 2 invalid input (see ``topoccd.CERTAINTY``):
             not 0 means the search gave up and ``toi`` is only a lower bound.
@@ -58,7 +60,12 @@ def _earliest_of(report) -> Optional[Earliest]:
         return None
     kind, *rest = report.earliest
     indices, toi = tuple(int(i) for i in rest[:-1]), float(rest[-1])
-    pairs, codes = (report.vf, report.vf_certainty) if kind == "vf" else (report.ee, report.ee_certainty)
+    pairs, codes = {
+        "vf": (report.vf, report.vf_certainty),
+        "ee": (report.ee, report.ee_certainty),
+        "ve": (report.ve, report.ve_certainty),
+        "vv": (report.vv, report.vv_certainty),
+    }[kind]
     row = np.flatnonzero((pairs == np.asarray(indices)).all(axis=1))
     certainty = int(codes[row[0]]) if len(row) else 0
     return Earliest(kind, indices, toi, certainty)
@@ -105,6 +112,7 @@ def collision_free_stepsize(
     ccd: Optional[Ccd] = None,
     parents=None,
     groups=None,
+    edges=None,
     method: str = "auto",
     tolerance: float = 1e-6,
     tmax: float = 1.0,
@@ -129,8 +137,9 @@ def collision_free_stepsize(
     :class:`InputError` naming a pair.
 
     Args:
-        x0, x1, triangles, parents, groups, method, tolerance, tmax, max_iterations,
-            threads, timeout: as in :meth:`topoccd.Ccd.query`. ``timeout`` raises
+        x0, x1, triangles, parents, groups, edges, method, tolerance, tmax, max_iterations,
+            threads, timeout: as in :meth:`topoccd.Ccd.query` (``edges``: free edges, in no
+            triangle, for rods and hair; vertices in neither are free points). ``timeout`` raises
             ``TimeoutError`` (no step size is safe from a query cut short).
         max_contacts: the pairs the query keeps at its earliest time. Default 1: only the
             earliest contact matters, and the query stops as soon as it proves one at time 0
@@ -186,6 +195,7 @@ def collision_free_stepsize(
         parents,
         min_distance=min_distance,
         groups=groups,
+        edges=edges,
         method=method,
         tolerance=tolerance,
         tmax=tmax,
@@ -214,6 +224,7 @@ def is_step_collision_free(
     ccd: Optional[Ccd] = None,
     parents=None,
     groups=None,
+    edges=None,
     method: str = "auto",
     tolerance: float = 1e-6,
     tmax: float = 1.0,
@@ -252,6 +263,7 @@ def is_step_collision_free(
         parents,
         min_distance=o["min_distance"],
         groups=groups,
+        edges=edges,
         method=method,
         tolerance=tolerance,
         tmax=o["tmax"],
