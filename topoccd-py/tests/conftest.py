@@ -9,6 +9,7 @@ sequences.
 """
 
 import os
+import signal
 import shutil
 import subprocess
 from pathlib import Path
@@ -86,3 +87,10 @@ def copy_sequence(sequence, tmp_path):
         return target
 
     return make
+
+
+def sigint_default():
+    """``preexec_fn`` of a child that a test interrupts: SIGINT back to its default action.
+    A shell runs a background job with SIGINT ignored, and Python keeps an ignored SIGINT
+    ignored: the child would never see the test's Ctrl-C."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)

@@ -6,6 +6,7 @@ import shutil
 
 import pytest
 import topoccd
+from conftest import sigint_default
 from topoccd.batch import process_step, process_steps, run_sequence
 
 
@@ -210,6 +211,7 @@ def test_ctrl_c_ends_run_sequence(tmp_path):
         stderr=subprocess.PIPE,
         text=True,
         start_new_session=True,
+        preexec_fn=sigint_default,
     )
     try:
         assert child.stdout.readline().strip() == "ready"

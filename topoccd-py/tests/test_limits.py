@@ -18,6 +18,7 @@ import warnings
 import numpy as np
 import pytest
 import topoccd
+from conftest import sigint_default
 from scenes import falling_triangle
 
 
@@ -151,6 +152,7 @@ def test_ctrl_c_stops_a_running_query(scenes_dir, tmp_path):
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
+        preexec_fn=sigint_default,
     )
     try:
         assert child.stdout.readline().strip() == "querying"

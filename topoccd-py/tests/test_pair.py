@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import topoccd
 
-from conftest import _missing, run_cli, shared_data
+from conftest import _missing, run_cli, shared_data, sigint_default
 
 
 def read_queries(path: Path):
@@ -249,7 +249,13 @@ def test_ctrl_c_stops_a_batch(tmp_path):
 
     script = tmp_path / "child.py"
     script.write_text(CHILD_BATCH)
-    child = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    child = subprocess.Popen(
+        [sys.executable, str(script)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=sigint_default,
+    )
     try:
         assert child.stdout.readline().strip() == "testing"
         time.sleep(1.0)
