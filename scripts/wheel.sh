@@ -21,6 +21,10 @@ DIST=target/dist
 rm -rf "$DIST"
 "$BUILD_VENV/bin/maturin" sdist --manifest-path topoccd-py/Cargo.toml --out "$DIST" >&2
 sdist=$(ls "$DIST"/topoccd-*.tar.gz)
+# The sdist's files carry a fixed old date (reproducible archives), so cargo would take the
+# previous run's build of this project for up to date: drop it (the dependencies stay built).
+cargo clean --quiet --manifest-path topoccd-py/Cargo.toml --target-dir "$PWD/target/wheel" \
+    --target x86_64-unknown-linux-gnu --release -p topoccd -p topoccd-py >&2
 # The wheel is built from the sdist (so the sdist builds): zig links against glibc 2.17.
 PATH="$PWD/$BUILD_VENV/bin:$PATH" MATURIN_PEP517_ARGS="--zig --compatibility manylinux2014" \
     CARGO_TARGET_DIR="$PWD/target/wheel" "$BUILD_VENV/bin/python" -m pip wheel --quiet \
