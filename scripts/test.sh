@@ -62,11 +62,10 @@ no_rust() { env PATH="$PWD/$VENV/bin:$NO_RUST_PATH" CARGO_HOME=/nonexistent RUST
 no_rust python -m pip install --quiet --upgrade pip
 no_rust python -m pip install --quiet "rerun-sdk==0.36.3"
 
-# The CLI with the feature `rerun` (--rerun recordings), built once with the rest: its own
-# recording test reads back what it writes with the venv's rerun-sdk, and the Python suite
-# below uses this binary (target/release/topoccd).
-# Every cargo command below selects the whole workspace with the same features: cargo then
-# resolves the dependencies' features the same way, and builds each crate once.
+# Every cargo command below selects the whole workspace with the same features, so cargo
+# resolves the dependencies' features one way and builds each crate once. The CLI gets the
+# feature `rerun`: its recording test reads back what it writes with the venv's rerun-sdk,
+# and the C tests and the Python suite below use this binary (target/release/topoccd).
 FEATURES=(--workspace --features topoccd-cli/rerun)
 echo "== Rust tests (release, the CLI with the feature rerun)"
 TOPOCCD_RERUN_BIN="$PWD/$VENV/bin/rerun" TOPOCCD_RERUN_PYTHON="$PWD/$VENV/bin/python" \

@@ -109,9 +109,7 @@ pub fn run(args: &Args) -> Result<ExitCode> {
     // No cap, as before; a deadline with --timeout.
     let limits = CheckLimits {
         max_contacts: None,
-        deadline: args
-            .timeout
-            .map(|s| Instant::now() + std::time::Duration::from_secs_f64(s)),
+        deadline: crate::query_args::deadline_after(args.timeout),
         cancel: None,
     };
     let pairs =

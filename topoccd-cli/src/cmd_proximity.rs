@@ -104,9 +104,7 @@ pub fn run(args: &Args) -> Result<ExitCode> {
     let options = ProximityOptions {
         dhat: args.dhat,
         dmin: args.dmin,
-        deadline: args
-            .timeout
-            .map(|s| Instant::now() + std::time::Duration::from_secs_f64(s)),
+        deadline: crate::query_args::deadline_after(args.timeout),
         ..ProximityOptions::default()
     };
     options.validate()?;

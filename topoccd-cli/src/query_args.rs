@@ -134,6 +134,11 @@ pub struct QueryArgs {
     pub t_max: Option<f64>,
 }
 
+/// The deadline `--timeout SECONDS` sets for work starting now (none without it).
+pub fn deadline_after(timeout: Option<f64>) -> Option<std::time::Instant> {
+    timeout.map(|s| std::time::Instant::now() + std::time::Duration::from_secs_f64(s))
+}
+
 /// `--timeout`: a positive, finite number of seconds.
 pub fn parse_timeout(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
@@ -235,8 +240,7 @@ impl QueryArgs {
 
     /// The deadline of a query starting now: `--timeout` seconds from now, if given.
     pub fn deadline(&self) -> Option<std::time::Instant> {
-        self.timeout
-            .map(|s| std::time::Instant::now() + std::time::Duration::from_secs_f64(s))
+        deadline_after(self.timeout)
     }
 
     /// An error when `report` stopped at its deadline (`--timeout`), saying what to do.
