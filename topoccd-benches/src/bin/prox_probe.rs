@@ -1,8 +1,16 @@
 //! Runs the proximity query on one frame repeatedly, for profilers and quick timings: prints
 //! the figures of every repetition as one JSON object per line (CPU seconds of the process).
 //!
-//! Usage: `prox_probe FRAME.ply [REPS] [kept|fresh|floor]`. `dhat` is 1e-3 x the bounding-box
-//! diagonal, as `scripts/ipc_loop.py` takes it; one thread.
+//! Usage: `prox_probe FRAME.ply [REPS] [kept|fresh|floor]`, or `prox_probe FRAME.ply REPS moved
+//! TARGET [FRAC]`. `dhat` is 1e-3 x the bounding-box diagonal, as `scripts/ipc_loop.py` takes
+//! it; one thread.
+//!
+//! `moved` times a query at positions moved from FRAME's: to `FRAME + FRAC (TARGET - FRAME)`
+//! for a TARGET frame (FRAC default 1), or, for TARGET `dhat`, every coordinate moved by a
+//! seeded uniform amount in `[-FRAC dhat, FRAC dhat]`. Per repetition, in turn: a fresh `Ccd`
+//! at the moved positions; a `Ccd` that was asked at FRAME's positions first (kept); and one
+//! `Ccd` kept over all repetitions, asked at FRAME's and the moved positions in turn (timed at
+//! the moved ones). Prints each repetition and the minimum of each (CPU seconds).
 //!
 //! `floor` times the query's parts one by one instead (median of REPS, CPU seconds; see
 //! `topoccd::proximity_floor`): the features' boxes and the refit, the traversal alone, the
@@ -21,6 +29,7 @@ fn main() {
     };
     let reps: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(5);
     let fresh = args.get(3).is_some_and(|s| s == "fresh");
+    let moved = args.get(3).is_some_and(|s| s == "moved");
     let floor = args.get(3).is_some_and(|s| s == "floor");
     let mesh = topoccd_benches::read_frame(path);
     let dhat = topoccd_benches::dhat_of(&mesh.positions);
@@ -38,6 +47,73 @@ fn main() {
         dhat,
         ..ProximityOptions::default()
     };
+    if moved {
+        let Some(target) = args.get(4) else {
+            eprintln!("usage: prox_probe FRAME REPS moved TARGET|dhat [FRAC]");
+            std::process::exit(2);
+        };
+        let frac: f64 = args.get(5).and_then(|s| s.parse().ok()).unwrap_or(1.0);
+        let x0 = &mesh.positions;
+        let x1: Vec<[f64; 3]> = if target == "dhat" {
+            // A seeded xorshift: uniform in [-frac dhat, frac dhat] per coordinate.
+            let mut state = 0x9E37_79B9_7F4A_7C15u64;
+            let mut uniform = || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+            };
+            (x0.iter())
+                .map(|p| p.map(|c| c + frac * dhat * uniform()))
+                .collect()
+        } else {
+            let to = topoccd_benches::read_frame(target);
+            assert_eq!(to.positions.len(), x0.len(), "frames of one mesh");
+            (x0.iter().zip(&to.positions))
+                .map(|(p, q)| std::array::from_fn(|k| p[k] + frac * (q[k] - p[k])))
+                .collect()
+        };
+        let moved =
+            Configuration::new(x1.as_slice(), mesh.triangles.as_slice(), &mesh.edges)
+                .expect("a valid frame");
+        let query = |ccd: &mut Ccd, c: &Configuration<'_>| {
+            let t = topoccd_benches::cpu_seconds();
+            let r = ccd.proximity(c, &options).expect("valid options");
+            (topoccd_benches::cpu_seconds() - t, r)
+        };
+        let mut alternating = Ccd::new();
+        alternating.proximity(&config, &options).expect("valid options");
+        let mut best = [f64::INFINITY; 3];
+        for _ in 0..reps {
+            let (fresh, rf) = query(&mut Ccd::new(), &moved);
+            let mut kept = Ccd::new();
+            kept.proximity(&config, &options).expect("valid options");
+            let (once, rk) = query(&mut kept, &moved);
+            let (alt, ra) = query(&mut alternating, &moved);
+            alternating.proximity(&config, &options).expect("valid options");
+            assert!(rf.len() == rk.len() && rf.len() == ra.len(), "the same pairs");
+            for (b, t) in best.iter_mut().zip([fresh, once, alt]) {
+                *b = b.min(t);
+            }
+            println!(
+                "{{\"fresh\":{fresh:.6},\"kept\":{once:.6},\"kept_reused\":{},\"alternating\":{alt:.6},\"alternating_reused\":{},\"pairs\":{},\"distance_tests\":[{},{},{}]}}",
+                rk.stats.reused,
+                ra.stats.reused,
+                rf.len(),
+                rf.stats.distance_tests,
+                rk.stats.distance_tests,
+                ra.stats.distance_tests
+            );
+        }
+        let ms = |s: f64| s * 1e3;
+        println!(
+            "min of {reps}, ms (CPU, one thread): fresh {:.3}, kept {:.3}, kept alternating {:.3}",
+            ms(best[0]),
+            ms(best[1]),
+            ms(best[2])
+        );
+        return;
+    }
     if floor {
         let f =
             topoccd::proximity_floor::floor(&config, &options, reps, &topoccd_benches::cpu_seconds)

@@ -15,6 +15,15 @@
 //! `r + 2 eps + 2 sqrt(3) A`, and its computed distance below that plus `eps`. `slack`
 //! covers `3 eps` at any extent such a pair may have. And the listing traversal misses no pair
 //! closer than `r_list`: its boxes and per-pair reject are those of a query at `r_list`.
+//!
+//! **Only while it pays.** A listing costs a wider traversal (more candidates, at `r_list`)
+//! and pays only if a later query falls within its allowance. So a query lists only when a
+//! listing made at the last query would have covered it: when this move is at most the last
+//! move (and the cap). That check is exact and free (the last move is a number kept), so a
+//! kept `Ccd` lists while the motion shrinks or holds (a line search's backtracking, the
+//! same positions asked again) and traverses with unwidened boxes otherwise: after a first
+//! move, after a move past the margin, after a growing one. Then it does the work of a
+//! fresh query on a refitted tree.
 
 use crate::math::{DVec3, UNIT_ROUNDOFF};
 
@@ -30,6 +39,9 @@ const MAX_ALLOWANCE: f64 = 0.25;
 pub(crate) struct Cache {
     /// The positions of the last query (whatever it did), for the next allowance.
     prev: Vec<DVec3>,
+    /// The move of the last query from the one before it ([`displacement`]), if both were
+    /// seen.
+    last_move: Option<f64>,
     /// The listing: its positions, threshold, allowance, and pairs.
     listed: Option<Listed>,
 }
@@ -57,6 +69,7 @@ impl Cache {
     /// Forgets everything (the primitives changed).
     pub fn clear(&mut self) {
         self.prev.clear();
+        self.last_move = None;
         self.listed = None;
     }
 
@@ -69,17 +82,26 @@ impl Cache {
         (displacement(x, &l.x) <= l.allowance).then_some(&l.cands)
     }
 
-    /// The allowance of a listing at `x` with threshold `r`: the move since the last query,
-    /// at most [`MAX_ALLOWANCE`] `r`; 0 (no listing) without a last query.
-    pub fn allowance(&self, x: &[DVec3], r: f64) -> f64 {
-        if self.prev.len() != x.len() {
-            return 0.0;
-        }
-        displacement(x, &self.prev).min(MAX_ALLOWANCE * r)
+    /// The move of positions `x` since the last query: `None` without one.
+    pub fn moved(&self, x: &[DVec3]) -> Option<f64> {
+        (self.prev.len() == x.len()).then(|| displacement(x, &self.prev))
     }
 
-    /// Remembers the positions of this query.
-    pub fn seen(&mut self, x: &[DVec3]) {
+    /// The allowance of a listing at this query, `moved` its move since the last query (see
+    /// [`Cache::moved`]), for threshold `r`: the move, at most [`MAX_ALLOWANCE`] `r`, when a
+    /// listing at the last query with its own allowance would have covered this query (see
+    /// the module); else 0 (no listing: it would not pay).
+    pub fn allowance(&self, moved: Option<f64>, r: f64) -> f64 {
+        let cap = MAX_ALLOWANCE * r;
+        match (moved, self.last_move) {
+            (Some(d), Some(last)) if d <= last.min(cap) => d,
+            _ => 0.0,
+        }
+    }
+
+    /// Remembers the positions of this query and its move since the last one.
+    pub fn seen(&mut self, x: &[DVec3], moved: Option<f64>) {
+        self.last_move = moved;
         self.prev.clear();
         self.prev.extend_from_slice(x);
     }

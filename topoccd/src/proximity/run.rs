@@ -193,6 +193,7 @@ impl State {
                 } else {
                     None
                 };
+                let moved = if plain { self.cache.moved(x) } else { None };
                 let found = if let Some(cands) = cached.filter(|_| !stop.check()) {
                     stats.refitted = true;
                     stats.reused = true;
@@ -200,7 +201,7 @@ impl State {
                     evaluate(cands, config.triangles(), &test)
                 } else {
                     let allowance = if plain {
-                        self.cache.allowance(x, r)
+                        self.cache.allowance(moved, r)
                     } else {
                         0.0
                     };
@@ -243,7 +244,7 @@ impl State {
                     found
                 };
                 if plain {
-                    self.cache.seen(x);
+                    self.cache.seen(x, moved);
                 }
                 found
             }

@@ -454,3 +454,106 @@ fn candidates_kept_across_small_moves_equal_the_oracle() {
         "{reused} reused, {traversed} traversed"
     );
 }
+
+#[test]
+fn a_kept_ccd_after_random_moves_equals_the_oracle() {
+    // A kept Ccd through seeded random moves of every size against the threshold: none,
+    // tiny, below and near the listing's cap (a quarter of dhat), about dhat and far beyond,
+    // shrinking, growing and returning. Whether it lists, evaluates a listing or traverses
+    // plainly, its report is the oracle's, on one thread and on two (the same pairs).
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let two = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let dhat = 0.04;
+    let (mut reused, mut traversed) = (0, 0);
+    for seed in 0..5 {
+        let (x0, tris, edges) = soup(seed + 40, 250, 150, 200);
+        let mut rng = ChaCha8Rng::seed_from_u64(seed + 300);
+        let (mut kept1, mut kept2) = (Ccd::new(), Ccd::new());
+        let mut x = x0.clone();
+        for query in 0..24 {
+            let config = Configuration::new(&x, &tris, &edges).unwrap();
+            let brute = oracle(&config, dhat);
+            let a = one.install(|| kept1.proximity(&config, &opts(dhat)).unwrap());
+            let b = two.install(|| kept2.proximity(&config, &opts(dhat)).unwrap());
+            assert_eq!(pairs(&a), pairs(&brute), "seed {seed} query {query}");
+            assert_eq!(pairs(&b), pairs(&a), "seed {seed} query {query}");
+            assert_eq!(a.stats.reused, b.stats.reused);
+            if a.stats.reused {
+                reused += 1;
+            } else {
+                traversed += 1;
+            }
+            // The next move: its largest coordinate step, as a fraction of dhat, from a
+            // random pattern (kept a few queries, so that moves repeat and shrink).
+            let scale = match (query / 3 + seed as usize) % 6 {
+                0 => 0.0,
+                1 => 1e-3,
+                2 => 0.1,
+                3 => 0.25,
+                4 => 1.0,
+                _ => 5.0,
+            };
+            let back = rng.random_range(0..4) == 0;
+            for (p, q) in x.iter_mut().zip(&x0) {
+                for k in 0..3 {
+                    if back {
+                        p[k] = q[k];
+                    } else {
+                        p[k] += scale * dhat * rng.random_range(-1.0..1.0);
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        reused >= 10 && traversed >= 10,
+        "{reused} reused, {traversed} traversed"
+    );
+}
+
+#[test]
+fn a_kept_ccd_does_not_list_after_a_first_or_growing_move() {
+    // A listing (a wider traversal) only when the last move says it would pay: the first
+    // move, and a move larger than the last, are traversed with the query's own boxes (as
+    // many distance tests as a fresh Ccd); a move no larger than the last lists, and the
+    // next query within it reuses the listing.
+    let (x0, tris, edges) = soup(7, 300, 200, 300);
+    let dhat = 0.04;
+    let shifted = |s: f64| -> Vec<[f64; 3]> {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        (x0.iter())
+            .map(|p| p.map(|c| c + s * dhat * rng.random_range(-1.0..1.0)))
+            .collect()
+    };
+    let mut ccd = Ccd::new();
+    let tests_fresh = |x: &[[f64; 3]]| {
+        let config = Configuration::new(x, &tris, &edges).unwrap();
+        proximity(&config, &opts(dhat)).unwrap().stats.distance_tests
+    };
+    let mut ask = |x: &[[f64; 3]]| {
+        let config = Configuration::new(x, &tris, &edges).unwrap();
+        let r = ccd.proximity(&config, &opts(dhat)).unwrap();
+        assert_eq!(pairs(&r), pairs(&oracle(&config, dhat)));
+        r.stats
+    };
+    let (x1, x2, x3) = (shifted(0.1), shifted(0.25), shifted(0.15));
+    ask(&x0);
+    // The first move, then a growing one: no listing.
+    let s = ask(&x1);
+    assert!(!s.reused && s.distance_tests == tests_fresh(&x1));
+    let s = ask(&x2);
+    assert!(!s.reused && s.distance_tests == tests_fresh(&x2));
+    // Back by a smaller move (0.1 against the last 0.15, per unit of the random pattern):
+    // listed (more tests than a fresh query); then at x3 again and at x1 (0.05 from x3),
+    // within the allowance: reused.
+    let s = ask(&x3);
+    assert!(!s.reused && s.distance_tests > tests_fresh(&x3));
+    assert!(ask(&x3).reused);
+    assert!(ask(&x1).reused);
+}
