@@ -73,16 +73,17 @@ fn main() {
                 .map(|(p, q)| std::array::from_fn(|k| p[k] + frac * (q[k] - p[k])))
                 .collect()
         };
-        let moved =
-            Configuration::new(x1.as_slice(), mesh.triangles.as_slice(), &mesh.edges)
-                .expect("a valid frame");
+        let moved = Configuration::new(x1.as_slice(), mesh.triangles.as_slice(), &mesh.edges)
+            .expect("a valid frame");
         let query = |ccd: &mut Ccd, c: &Configuration<'_>| {
             let t = topoccd_benches::cpu_seconds();
             let r = ccd.proximity(c, &options).expect("valid options");
             (topoccd_benches::cpu_seconds() - t, r)
         };
         let mut alternating = Ccd::new();
-        alternating.proximity(&config, &options).expect("valid options");
+        alternating
+            .proximity(&config, &options)
+            .expect("valid options");
         let mut best = [f64::INFINITY; 3];
         for _ in 0..reps {
             let (fresh, rf) = query(&mut Ccd::new(), &moved);
@@ -90,8 +91,13 @@ fn main() {
             kept.proximity(&config, &options).expect("valid options");
             let (once, rk) = query(&mut kept, &moved);
             let (alt, ra) = query(&mut alternating, &moved);
-            alternating.proximity(&config, &options).expect("valid options");
-            assert!(rf.len() == rk.len() && rf.len() == ra.len(), "the same pairs");
+            alternating
+                .proximity(&config, &options)
+                .expect("valid options");
+            assert!(
+                rf.len() == rk.len() && rf.len() == ra.len(),
+                "the same pairs"
+            );
             for (b, t) in best.iter_mut().zip([fresh, once, alt]) {
                 *b = b.min(t);
             }

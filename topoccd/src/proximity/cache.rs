@@ -1,12 +1,12 @@
 //! The pairs kept across a solver's iterations. A solver asks for proximity at positions
 //! that move a little from one iteration to the next (a line search's fraction of a step).
-//! Once a `Ccd` has seen a move `D` (the largest coordinate difference of a vertex), its
-//! next query lists, beside its report, every pair closer than a listing threshold
-//! `r_list = r + 2 sqrt(3) A + slack`, for an allowance `A` (the last move, at most a quarter
-//! of the threshold). A later query whose vertices all lie within `A` of the listing's
-//! positions (same threshold, no groups, no predicate, no cap, no deadline) evaluates the
-//! listed pairs with the same per-pair test and distance instead of traversing: the same
-//! report.
+//! Once a `Ccd` has seen a move `D` (the largest coordinate difference of a vertex), a query
+//! may list (when it pays, see below), beside its report, every pair closer than a listing
+//! threshold `r_list = r + 2 sqrt(3) A + slack`, for an allowance `A` (the last move, at
+//! most a quarter of the threshold). A later query whose vertices all lie within `A` of the
+//! listing's positions (same threshold, no groups, no predicate, no cap, no deadline)
+//! evaluates the listed pairs with the same per-pair test and distance instead of
+//! traversing: the same report.
 //!
 //! Why every pair the query keeps is listed: a pair kept at the new positions has a
 //! computed distance below `r + eps`, so an exact distance below `r + 2 eps` (`eps` the

@@ -534,7 +534,10 @@ fn a_kept_ccd_does_not_list_after_a_first_or_growing_move() {
     let mut ccd = Ccd::new();
     let tests_fresh = |x: &[[f64; 3]]| {
         let config = Configuration::new(x, &tris, &edges).unwrap();
-        proximity(&config, &opts(dhat)).unwrap().stats.distance_tests
+        proximity(&config, &opts(dhat))
+            .unwrap()
+            .stats
+            .distance_tests
     };
     let mut ask = |x: &[[f64; 3]]| {
         let config = Configuration::new(x, &tris, &edges).unwrap();
