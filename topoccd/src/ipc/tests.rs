@@ -2,6 +2,9 @@
 //! differences, the PSD projection against eigenvalues, an analytic case, and the set
 //! against a brute-force oracle written plainly (every primitive pair, ipctk's rules).
 
+// Index loops over small fixed-size arrays read as the formulas do.
+#![allow(clippy::needless_range_loop)]
+
 use std::collections::BTreeMap;
 
 use rand::{Rng, SeedableRng};
@@ -123,7 +126,9 @@ fn mollifier_derivatives_match_finite_differences() {
 
 /// A random scene: small triangles (pairs sharing an edge), free edges and free points,
 /// in a box of size 1, with `dhat` 0.1.
-fn scene(seed: u64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>, Vec<[u32; 2]>) {
+type Scene = (Vec<[f64; 3]>, Vec<[u32; 3]>, Vec<[u32; 2]>);
+
+fn scene(seed: u64) -> Scene {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut x = Vec::new();
     let mut f = Vec::new();
