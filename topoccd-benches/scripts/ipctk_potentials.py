@@ -81,9 +81,10 @@ def frame(data, name):
 
 def sets(C):
     return {
-        "vv": sorted((c.vertex0_id, c.vertex1_id) for c in C.vv_collisions),
+        # vertex-vertex and edge-edge pairs unordered (ipctk keeps its broad phase's order)
+        "vv": sorted(tuple(sorted((c.vertex0_id, c.vertex1_id))) for c in C.vv_collisions),
         "ev": sorted((c.edge_id, c.vertex_id) for c in C.ev_collisions),
-        "ee": sorted((c.edge0_id, c.edge1_id) for c in C.ee_collisions),
+        "ee": sorted(tuple(sorted((c.edge0_id, c.edge1_id))) for c in C.ee_collisions),
         "fv": sorted((c.face_id, c.vertex_id) for c in C.fv_collisions),
     }
 

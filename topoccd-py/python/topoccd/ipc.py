@@ -207,7 +207,7 @@ class CollisionMesh:
         used[self._edges.ravel()] = True
         used[self._faces.ravel()] = True
         self._codim_vertices = np.flatnonzero(~used).astype(np.int32)
-        self._free_edges = np.ascontiguousarray(self._edges[self._codim_edges])
+        self._free_edges = np.ascontiguousarray(self._edges[self._codim_edges], dtype=np.int32)
         self._vertex_areas, self._edge_areas = self._areas()
 
     def _areas(self) -> Tuple[np.ndarray, np.ndarray]:
@@ -377,8 +377,8 @@ class Candidates:
         x = _positions(vertices, mesh, "vertices")
         self._native = _topoccd.IpcCollisions()
         self._native.build(
-            self._ccd, mesh._rest, x, mesh._edges, mesh._faces, mesh._vertex_areas,
-            mesh._edge_areas, float(inflation_radius), 0.0, False, False,
+            self._ccd, mesh._rest, x, mesh._edges, mesh._free_edges, mesh._faces,
+            mesh._vertex_areas, mesh._edge_areas, float(inflation_radius), 0.0, False, False,
         )
         self._mesh, self._x, self._radius = mesh, x, float(inflation_radius)
 
@@ -601,8 +601,8 @@ class NormalCollisions:
             raise NotImplementedError("topoccd.ipc offers the IPC and IMPROVED_MAX_APPROX collision sets, not OGC")
         x = _positions(vertices, mesh, "vertices")
         self._native.build(
-            self._ccd, mesh._rest, x, mesh._edges, mesh._faces, mesh._vertex_areas,
-            mesh._edge_areas, float(dhat), float(dmin), bool(self.use_area_weighting),
+            self._ccd, mesh._rest, x, mesh._edges, mesh._free_edges, mesh._faces,
+            mesh._vertex_areas, mesh._edge_areas, float(dhat), float(dmin), bool(self.use_area_weighting),
             cst == _CollisionSetType.IMPROVED_MAX_APPROX,
         )
         self._mesh = mesh
