@@ -35,7 +35,7 @@ def scene(n: int = 6):
     return x, F, fixed
 
 
-def simulate(ipctk, iterations: int = 10, dt: float = 0.02, mu: float = 0.5):
+def simulate(ipctk, iterations: int = 10, dt: float = 0.005, mu: float = 0.5, speed: float = 0.05):
     """Newton iterations of implicit Euler steps (5 per step); returns the positions after
     each iteration."""
     x, F, fixed = scene()
@@ -75,7 +75,7 @@ def simulate(ipctk, iterations: int = 10, dt: float = 0.02, mu: float = 0.5):
         return e, grad.ravel(), H
 
     v = np.zeros((n, 3))
-    v[~np.isin(np.arange(n), fixed)] = [0.0, 0.0, -0.5]
+    v[~np.isin(np.arange(n), fixed)] = [0.0, 0.0, -speed]
     C = ipctk.NormalCollisions()
     C.build(mesh, x, dhat)
     B1 = ipctk.BarrierPotential(dhat, 1.0)
