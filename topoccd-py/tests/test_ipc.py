@@ -311,3 +311,10 @@ def test_a_newton_solver_written_for_ipctk_runs_on_topoccd_ipc():
     assert ipctk_sets(C_ours) == ipctk_sets(C_theirs)
     for k, (a, b) in enumerate(zip(ours, theirs)):
         assert np.linalg.norm(a - b) <= 1e-8 * np.linalg.norm(b), f"iteration {k}"
+
+
+def test_the_module_docstring_example_runs():
+    import doctest
+
+    result = doctest.testmod(tipc, verbose=False)
+    assert result.attempted > 0 and result.failed == 0
