@@ -18,7 +18,11 @@ pub fn clamped_log(x: f64, y: f64) -> (f64, f64, f64) {
     }
     let l = (x / y).ln();
     let r = x - y;
-    (-r * r * l, -2.0 * r * l - r * r / x, -2.0 * l - 4.0 * r / x + r * r / (x * x))
+    (
+        -r * r * l,
+        -2.0 * r * l - r * r / x,
+        -2.0 * l - 4.0 * r / x + r * r / (x * x),
+    )
 }
 
 /// The edge-edge mollifier `m(c) = (2 - c/eps) c/eps` below `eps`, else 1, with derivatives.
@@ -43,7 +47,11 @@ impl Barrier {
     /// `(x, y, scale)`: the barrier's arguments' offsets for `dmin` and the factor in front.
     fn args(&self, dmin: f64) -> (f64, f64) {
         let y = (2.0 * dmin + self.dhat) * self.dhat;
-        let scale = if self.physical { self.stiffness * self.dhat / y } else { self.stiffness };
+        let scale = if self.physical {
+            self.stiffness * self.dhat / y
+        } else {
+            self.stiffness
+        };
         (y, scale)
     }
 
@@ -97,7 +105,14 @@ fn local<const N: usize>(c: &Collision, xs: &[f64], b: &Barrier, dmin: f64) -> H
 }
 
 /// Local gradient and Hessian (row-major) of one collision, `3 nverts` long.
-fn local_derivatives(c: &Collision, xs: &[f64], b: &Barrier, dmin: f64, g: &mut [f64], h: &mut [f64]) {
+fn local_derivatives(
+    c: &Collision,
+    xs: &[f64],
+    b: &Barrier,
+    dmin: f64,
+    g: &mut [f64],
+    h: &mut [f64],
+) {
     macro_rules! go {
         ($n:expr) => {{
             let e = local::<$n>(c, xs, b, dmin);
@@ -136,7 +151,11 @@ pub fn energy(set: &Collisions, x: &[f64], b: &Barrier) -> f64 {
 fn cross2(a0: [f64; 3], a1: [f64; 3], b0: [f64; 3], b1: [f64; 3]) -> f64 {
     let u = [a1[0] - a0[0], a1[1] - a0[1], a1[2] - a0[2]];
     let v = [b1[0] - b0[0], b1[1] - b0[1], b1[2] - b0[2]];
-    let c = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    let c = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
     c[0] * c[0] + c[1] * c[1] + c[2] * c[2]
 }
 
@@ -172,7 +191,10 @@ pub struct Assembler {
 
 impl Assembler {
     pub fn new(n: usize) -> Self {
-        Self { n, rows: vec![Vec::new(); n] }
+        Self {
+            n,
+            rows: vec![Vec::new(); n],
+        }
     }
 
     pub fn add(&mut self, dofs: &[usize], h: &[f64]) {
@@ -207,7 +229,11 @@ impl Assembler {
             }
             indptr.push(indices.len() as i32);
         }
-        Csr { indptr, indices, data }
+        Csr {
+            indptr,
+            indices,
+            data,
+        }
     }
 }
 
@@ -265,14 +291,35 @@ pub fn initial_stiffness(
     let gg: f64 = grad_barrier.iter().map(|v| v * v).sum();
     let mut kappa = 1.0;
     if gg > 0.0 {
-        let ge: f64 = grad_barrier.iter().zip(grad_energy).map(|(a, b)| a * b).sum();
+        let ge: f64 = grad_barrier
+            .iter()
+            .zip(grad_energy)
+            .map(|(a, b)| a * b)
+            .sum();
         kappa = -ge / gg;
     }
-    (if kappa < kmin { kmin } else if kmax < kappa { kmax } else { kappa }, kmax)
+    (
+        if kappa < kmin {
+            kmin
+        } else if kmax < kappa {
+            kmax
+        } else {
+            kappa
+        },
+        kmax,
+    )
 }
 
 /// ipctk's `update_barrier_stiffness` (distances squared, as the collisions give them).
-pub fn update_stiffness(prev: f64, cur: f64, kmax: f64, kappa: f64, diag: f64, eps_scale: f64, dmin: f64) -> f64 {
+pub fn update_stiffness(
+    prev: f64,
+    cur: f64,
+    kmax: f64,
+    kappa: f64,
+    diag: f64,
+    eps_scale: f64,
+    dmin: f64,
+) -> f64 {
     let mut eps = eps_scale * (diag + dmin);
     eps *= eps;
     if prev < eps && cur < eps && cur < prev {

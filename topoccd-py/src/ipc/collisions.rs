@@ -61,7 +61,11 @@ fn d2(a: [f64; 3], b: [f64; 3]) -> f64 {
 fn cross_norm2(ea0: [f64; 3], ea1: [f64; 3], eb0: [f64; 3], eb1: [f64; 3]) -> f64 {
     let u = [ea1[0] - ea0[0], ea1[1] - ea0[1], ea1[2] - ea0[2]];
     let v = [eb1[0] - eb0[0], eb1[1] - eb0[1], eb1[2] - eb0[2]];
-    let c = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    let c = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
     c[0] * c[0] + c[1] * c[1] + c[2] * c[2]
 }
 
@@ -83,7 +87,14 @@ impl Builder {
             return;
         }
         self.vv_id.insert(key, self.vv.len());
-        self.vv.push(Collision { kind: 0, ids: [a, b], verts: [a, b, 0, 0], weight: w, eps_x: 0.0, dtype: 0 });
+        self.vv.push(Collision {
+            kind: 0,
+            ids: [a, b],
+            verts: [a, b, 0, 0],
+            weight: w,
+            eps_x: 0.0,
+            dtype: 0,
+        });
     }
 
     fn add_ev(&mut self, edges: &[[u32; 2]], e: u32, v: u32, w: f64) {
@@ -93,7 +104,14 @@ impl Builder {
         }
         self.ev_id.insert((e, v), self.ev.len());
         let [e0, e1] = edges[e as usize];
-        self.ev.push(Collision { kind: 1, ids: [e, v], verts: [v, e0, e1, 0], weight: w, eps_x: 0.0, dtype: 2 });
+        self.ev.push(Collision {
+            kind: 1,
+            ids: [e, v],
+            verts: [v, e0, e1, 0],
+            weight: w,
+            eps_x: 0.0,
+            dtype: 2,
+        });
     }
 }
 
@@ -115,7 +133,10 @@ pub fn build(
         .map(|(i, e)| ((e[0].min(e[1]), e[0].max(e[1])), i as u32))
         .collect();
     let find = |a: u32, b: u32| {
-        edge_of.get(&(a.min(b), a.max(b))).copied().ok_or(MissingEdge([a, b]))
+        edge_of
+            .get(&(a.min(b), a.max(b)))
+            .copied()
+            .ok_or(MissingEdge([a, b]))
     };
     let va = |v: u32| mesh.vertex_areas[v as usize];
     let ea = |e: u32| mesh.edge_areas[e as usize];
@@ -124,7 +145,11 @@ pub fn build(
     // Free point against free point.
     for p in &report.vv {
         if d2(p3(x, p.a), p3(x, p.b)) < active {
-            let w = if area_weighting { 0.5 * (va(p.a) + va(p.b)) } else { 1.0 };
+            let w = if area_weighting {
+                0.5 * (va(p.a) + va(p.b))
+            } else {
+                1.0
+            };
             b.add_vv(p.a, p.b, w);
         }
     }
@@ -138,7 +163,11 @@ pub fn build(
         if dist >= active {
             continue;
         }
-        let w = if area_weighting { 0.5 * va(p.vertex) } else { 1.0 };
+        let w = if area_weighting {
+            0.5 * va(p.vertex)
+        } else {
+            1.0
+        };
         match t {
             0 => b.add_vv(p.vertex, e0, w),
             1 => b.add_vv(p.vertex, e1, w),
@@ -159,10 +188,23 @@ pub fn build(
         if dist >= active {
             continue;
         }
-        let (r0, r1, s0, s1) = (p3(mesh.rest, a0), p3(mesh.rest, a1), p3(mesh.rest, b0), p3(mesh.rest, b1));
+        let (r0, r1, s0, s1) = (
+            p3(mesh.rest, a0),
+            p3(mesh.rest, a1),
+            p3(mesh.rest, b0),
+            p3(mesh.rest, b1),
+        );
         let eps_x = 1e-3 * d2(r0, r1) * d2(s0, s1);
-        let t = if cross_norm2(xa0, xa1, xb0, xb1) < eps_x { 8 } else { actual };
-        let w = if area_weighting { 0.25 * (ea(ia) + ea(ib)) } else { 1.0 };
+        let t = if cross_norm2(xa0, xa1, xb0, xb1) < eps_x {
+            8
+        } else {
+            actual
+        };
+        let w = if area_weighting {
+            0.25 * (ea(ia) + ea(ib))
+        } else {
+            1.0
+        };
         match t {
             0 => b.add_vv(a0, b0, w),
             1 => b.add_vv(a0, b1, w),
@@ -191,7 +233,11 @@ pub fn build(
         if dist >= active {
             continue;
         }
-        let w = if area_weighting { 0.25 * va(p.vertex) } else { 1.0 };
+        let w = if area_weighting {
+            0.25 * va(p.vertex)
+        } else {
+            1.0
+        };
         match t {
             0..=2 => b.add_vv(p.vertex, f[t as usize], w),
             3..=5 => {
@@ -214,7 +260,12 @@ pub fn build(
     items.extend(b.ev);
     items.extend(b.ee);
     items.extend(b.fv);
-    Ok(Collisions { items, counts, dmin, num_vertices: x.len() / 3 })
+    Ok(Collisions {
+        items,
+        counts,
+        dmin,
+        num_vertices: x.len() / 3,
+    })
 }
 
 /// The raw pairs of a report as ipctk's candidates name them: vv `(a, b)`, ev
@@ -226,7 +277,9 @@ pub fn candidate_ids(mesh: &MeshView<'_>, report: &ProximityReport) -> [Vec<[u32
         .collect();
     let find = |a: u32, b: u32| edge_of.get(&(a.min(b), a.max(b))).copied();
     let vv = report.vv.iter().map(|p| [p.a, p.b]).collect();
-    let ev = (report.ve.iter()).filter_map(|p| Some([find(p.edge[0], p.edge[1])?, p.vertex])).collect();
+    let ev = (report.ve.iter())
+        .filter_map(|p| Some([find(p.edge[0], p.edge[1])?, p.vertex]))
+        .collect();
     let ee = (report.ee.iter())
         .filter_map(|p| {
             let (a, b) = (find(p.a[0], p.a[1])?, find(p.b[0], p.b[1])?);

@@ -16,7 +16,11 @@ fn d(a: P, b: P) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 fn c(a: P, b: P) -> P {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 
 /// Which feature of the segment `e0 e1` is closest to `p`.
@@ -78,12 +82,24 @@ fn parallel_edge_edge_type(ea0: P, ea1: P, eb0: P, eb1: P) -> u8 {
     let (eac, ebc) = if alpha < 0.0 {
         (
             if (0.0..=1.0).contains(&beta) { 2 } else { 0 },
-            if beta <= alpha { 0 } else if beta <= 1.0 { 1 } else { 2 },
+            if beta <= alpha {
+                0
+            } else if beta <= 1.0 {
+                1
+            } else {
+                2
+            },
         )
     } else if alpha > 1.0 {
         (
             if (0.0..=1.0).contains(&beta) { 2 } else { 1 },
-            if beta >= alpha { 0 } else if 0.0 <= beta { 1 } else { 2 },
+            if beta >= alpha {
+                0
+            } else if 0.0 <= beta {
+                1
+            } else {
+                2
+            },
         )
     } else {
         (2, 0)

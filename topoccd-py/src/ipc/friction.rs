@@ -3,11 +3,13 @@
 //! the barrier, weight, coefficients; nearly parallel edge pairs are skipped), and the smooth
 //! friction potential `sum w N mu f0(|P^T Gamma u|)` over them, with its gradient and Hessian.
 
-use numpy::{PyArray1, PyArray3, PyReadonlyArray2, IntoPyArray};
+use numpy::{IntoPyArray, PyArray1, PyArray3, PyReadonlyArray2};
 use pyo3::prelude::*;
 
 use super::barrier::Assembler;
-use super::distance::{edge_edge_type, ee_distance2, point_edge_type, point_triangle_type, pe_distance2, pt_distance2};
+use super::distance::{
+    edge_edge_type, ee_distance2, pe_distance2, point_edge_type, point_triangle_type, pt_distance2,
+};
 use super::psd::{project, Psd};
 use super::{csr_tuple, flat, psd_of, IpcBarrierPotential, IpcCollisions};
 use crate::errors::{input_error, options_error};
@@ -22,7 +24,11 @@ fn dot(a: P, b: P) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 fn cross(a: P, b: P) -> P {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 fn unit(a: P) -> P {
     let n = dot(a, a).sqrt();
@@ -32,7 +38,6 @@ fn unit(a: P) -> P {
 /// One tangential collision.
 #[derive(Clone, Copy, Debug)]
 struct Tangential {
-    kind: u8,
     ids: [u32; 2],
     verts: [u32; 4],
     weight: f64,
@@ -104,7 +109,9 @@ impl IpcTangentialCollisions {
             ));
         }
         if !(mu_s.is_finite() && mu_s >= 0.0) {
-            return Err(options_error(format!("mu must be finite and >= 0, got {mu_s}")));
+            return Err(options_error(format!(
+                "mu must be finite and >= 0, got {mu_s}"
+            )));
         }
         let x = flat(&x, "vertices")?;
         collisions.check(x)?;
@@ -120,14 +127,26 @@ impl IpcTangentialCollisions {
                     let d = sub(p1, p0);
                     let (cx, cy) = (cross([1.0, 0.0, 0.0], d), cross([0.0, 1.0, 0.0], d));
                     let t = if dot(cx, cx) > dot(cy, cy) { cx } else { cy };
-                    (dot(d, d), [0.0; 2], [unit(t), unit(cross(d, t))], [1.0, -1.0, 0.0, 0.0], 2)
+                    (
+                        dot(d, d),
+                        [0.0; 2],
+                        [unit(t), unit(cross(d, t))],
+                        [1.0, -1.0, 0.0, 0.0],
+                        2,
+                    )
                 }
                 1 => {
                     let (p, e0, e1) = (v(0), v(1), v(2));
                     let e = sub(e1, e0);
                     let alpha = dot(sub(p, e0), e) / dot(e, e);
                     let d2 = pe_distance2(p, e0, e1, point_edge_type(p, e0, e1));
-                    (d2, [alpha, 0.0], [unit(e), unit(cross(e, sub(p, e0)))], [1.0, alpha - 1.0, -alpha, 0.0], 3)
+                    (
+                        d2,
+                        [alpha, 0.0],
+                        [unit(e), unit(cross(e, sub(p, e0)))],
+                        [1.0, alpha - 1.0, -alpha, 0.0],
+                        3,
+                    )
                 }
                 2 => {
                     let (a0, a1, b0, b1) = (v(0), v(1), v(2), v(3));
@@ -137,23 +156,44 @@ impl IpcTangentialCollisions {
                         continue; // nearly parallel: no friction, as ipctk
                     }
                     let w = sub(a0, b0);
-                    let [s, t] = solve2(dot(ea, ea), -dot(ea, eb), dot(eb, eb), [-dot(w, ea), dot(w, eb)]);
+                    let [s, t] = solve2(
+                        dot(ea, ea),
+                        -dot(ea, eb),
+                        dot(eb, eb),
+                        [-dot(w, ea), dot(w, eb)],
+                    );
                     let d2 = ee_distance2(a0, a1, b0, b1, edge_edge_type(a0, a1, b0, b1));
-                    (d2, [s, t], [unit(ea), unit(cross(n, ea))], [1.0 - s, s, t - 1.0, -t], 4)
+                    (
+                        d2,
+                        [s, t],
+                        [unit(ea), unit(cross(n, ea))],
+                        [1.0 - s, s, t - 1.0, -t],
+                        4,
+                    )
                 }
                 _ => {
                     let (p, t0, t1, t2) = (v(0), v(1), v(2), v(3));
                     let (e0, e1) = (sub(t1, t0), sub(t2, t0));
                     let r = sub(p, t0);
-                    let [b1, b2] = solve2(dot(e0, e0), dot(e0, e1), dot(e1, e1), [dot(e0, r), dot(e1, r)]);
+                    let [b1, b2] = solve2(
+                        dot(e0, e0),
+                        dot(e0, e1),
+                        dot(e1, e1),
+                        [dot(e0, r), dot(e1, r)],
+                    );
                     let n = cross(e0, e1);
                     let d2 = pt_distance2(p, t0, t1, t2, point_triangle_type(p, t0, t1, t2));
-                    (d2, [b1, b2], [unit(e0), unit(cross(n, e0))], [1.0, b1 + b2 - 1.0, -b1, -b2], 4)
+                    (
+                        d2,
+                        [b1, b2],
+                        [unit(e0), unit(cross(n, e0))],
+                        [1.0, b1 + b2 - 1.0, -b1, -b2],
+                        4,
+                    )
                 }
             };
             counts[c.kind as usize] += 1;
             items.push(Tangential {
-                kind: c.kind,
                 ids: c.ids,
                 verts: c.verts,
                 weight: c.weight,
@@ -166,7 +206,11 @@ impl IpcTangentialCollisions {
                 nverts,
             });
         }
-        Ok(Self { items, counts, num_vertices: x.len() / 3 })
+        Ok(Self {
+            items,
+            counts,
+            num_vertices: x.len() / 3,
+        })
     }
 
     fn __len__(&self) -> usize {
@@ -177,7 +221,14 @@ impl IpcTangentialCollisions {
         let k = super::kind_code(kind)?;
         let start: usize = self.counts[..k].iter().sum();
         let sel = &self.items[start..start + self.counts[k]];
-        array2(py, sel.len(), 2, sel.iter().flat_map(|c| [c.ids[0] as i64, c.ids[1] as i64]).collect())
+        array2(
+            py,
+            sel.len(),
+            2,
+            sel.iter()
+                .flat_map(|c| [c.ids[0] as i64, c.ids[1] as i64])
+                .collect(),
+        )
     }
 
     #[getter]
@@ -198,7 +249,12 @@ impl IpcTangentialCollisions {
     }
     #[getter]
     fn closest_points(&self, py: Python<'_>) -> PyResult<Py<numpy::PyArray2<f64>>> {
-        array2(py, self.items.len(), 2, self.items.iter().flat_map(|c| c.closest).collect())
+        array2(
+            py,
+            self.items.len(),
+            2,
+            self.items.iter().flat_map(|c| c.closest).collect(),
+        )
     }
     #[getter]
     fn tangent_bases(&self, py: Python<'_>) -> PyResult<Py<PyArray3<f64>>> {
@@ -212,13 +268,23 @@ impl IpcTangentialCollisions {
 
     fn energy(&self, py: Python<'_>, u: PyReadonlyArray2<'_, f64>, eps_v: f64) -> PyResult<f64> {
         let u = self.input(&u)?;
-        Ok(py.detach(|| self.items.iter().map(|c| {
-            let t = tangential(c, u);
-            c.weight * c.normal_force * c.mu_k * f0(norm2(t), eps_v)
-        }).sum()))
+        Ok(py.detach(|| {
+            self.items
+                .iter()
+                .map(|c| {
+                    let t = tangential(c, u);
+                    c.weight * c.normal_force * c.mu_k * f0(norm2(t), eps_v)
+                })
+                .sum()
+        }))
     }
 
-    fn gradient(&self, py: Python<'_>, u: PyReadonlyArray2<'_, f64>, eps_v: f64) -> PyResult<Py<PyArray1<f64>>> {
+    fn gradient(
+        &self,
+        py: Python<'_>,
+        u: PyReadonlyArray2<'_, f64>,
+        eps_v: f64,
+    ) -> PyResult<Py<PyArray1<f64>>> {
         let u = self.input(&u)?;
         let g = py.detach(|| {
             let mut g = vec![0.0; u.len()];
@@ -228,7 +294,8 @@ impl IpcTangentialCollisions {
                 let gt = [s * t[0], s * t[1]];
                 for k in 0..c.nverts {
                     for r in 0..3 {
-                        g[3 * c.verts[k] as usize + r] += c.coef[k] * (c.basis[0][r] * gt[0] + c.basis[1][r] * gt[1]);
+                        g[3 * c.verts[k] as usize + r] +=
+                            c.coef[k] * (c.basis[0][r] * gt[0] + c.basis[1][r] * gt[1]);
                     }
                 }
             }
@@ -237,14 +304,13 @@ impl IpcTangentialCollisions {
         Ok(array1(py, g))
     }
 
-    #[allow(clippy::type_complexity)]
     fn hessian(
         &self,
         py: Python<'_>,
         u: PyReadonlyArray2<'_, f64>,
         eps_v: f64,
         psd: u8,
-    ) -> PyResult<(Py<PyArray1<f64>>, Py<PyArray1<i32>>, Py<PyArray1<i32>>)> {
+    ) -> PyResult<super::CsrArrays> {
         let u = self.input(&u)?;
         let psd = psd_of(psd)?;
         let m = py.detach(|| {
@@ -263,7 +329,12 @@ impl IpcTangentialCollisions {
                     } else {
                         let k = scale * mu * f1_over_x(y, eps_v) / (y * y);
                         let p = [-t[1], t[0]];
-                        [k * p[0] * p[0], k * p[0] * p[1], k * p[1] * p[0], k * p[1] * p[1]]
+                        [
+                            k * p[0] * p[0],
+                            k * p[0] * p[1],
+                            k * p[1] * p[0],
+                            k * p[1] * p[1],
+                        ]
                     }
                 } else if y == 0.0 {
                     if projecting && scale <= 0.0 {
@@ -286,11 +357,12 @@ impl IpcTangentialCollisions {
                 };
                 // P inner P^T (3 x 3), then the blocks c_k c_l (P inner P^T).
                 let mut q = [[0.0; 3]; 3];
-                for r in 0..3 {
-                    for s in 0..3 {
-                        let pr = [c.basis[0][r], c.basis[1][r]];
+                for (r, row) in q.iter_mut().enumerate() {
+                    let pr = [c.basis[0][r], c.basis[1][r]];
+                    for (s, q_rs) in row.iter_mut().enumerate() {
                         let ps = [c.basis[0][s], c.basis[1][s]];
-                        q[r][s] = pr[0] * (inner[0] * ps[0] + inner[1] * ps[1]) + pr[1] * (inner[2] * ps[0] + inner[3] * ps[1]);
+                        *q_rs = pr[0] * (inner[0] * ps[0] + inner[1] * ps[1])
+                            + pr[1] * (inner[2] * ps[0] + inner[3] * ps[1]);
                     }
                 }
                 let m = 3 * c.nverts;

@@ -15,7 +15,11 @@ pub struct Hd<const N: usize> {
 
 impl<const N: usize> Hd<N> {
     pub fn constant(v: f64) -> Self {
-        Self { v, g: [0.0; N], h: [[0.0; N]; N] }
+        Self {
+            v,
+            g: [0.0; N],
+            h: [[0.0; N]; N],
+        }
     }
 
     /// The variable `i` with value `v`.

@@ -32,17 +32,27 @@ use self::collisions::{Collisions, MeshView};
 use self::psd::Psd;
 
 pub(crate) fn flat<'a>(a: &'a PyReadonlyArray2<'_, f64>, name: &str) -> PyResult<&'a [f64]> {
-    a.as_slice().map_err(|e| input_error(format!("{name}: not contiguous: {e}")))
+    a.as_slice()
+        .map_err(|e| input_error(format!("{name}: not contiguous: {e}")))
 }
 
-fn rows<const N: usize>(a: &PyReadonlyArray2<'_, i32>, name: &str, n: usize) -> PyResult<Vec<[u32; N]>> {
-    let s = a.as_slice().map_err(|e| input_error(format!("{name}: not contiguous: {e}")))?;
+fn rows<const N: usize>(
+    a: &PyReadonlyArray2<'_, i32>,
+    name: &str,
+    n: usize,
+) -> PyResult<Vec<[u32; N]>> {
+    let s = a
+        .as_slice()
+        .map_err(|e| input_error(format!("{name}: not contiguous: {e}")))?;
     let mut out = Vec::with_capacity(s.len() / N.max(1));
     for (r, c) in s.chunks_exact(N).enumerate() {
         let mut row = [0u32; N];
         for k in 0..N {
             if c[k] < 0 || c[k] as usize >= n {
-                return Err(input_error(format!("{name}[{r}, {k}] = {} is not a vertex index in [0, {n})", c[k])));
+                return Err(input_error(format!(
+                    "{name}[{r}, {k}] = {} is not a vertex index in [0, {n})",
+                    c[k]
+                )));
             }
             row[k] = c[k] as u32;
         }
@@ -51,8 +61,18 @@ fn rows<const N: usize>(a: &PyReadonlyArray2<'_, i32>, name: &str, n: usize) -> 
     Ok(out)
 }
 
-pub(crate) fn csr_tuple(py: Python<'_>, m: barrier::Csr) -> (Py<PyArray1<f64>>, Py<PyArray1<i32>>, Py<PyArray1<i32>>) {
-    (array1(py, m.data), array1(py, m.indices), array1(py, m.indptr))
+/// A Hessian's CSR arrays `(data, indices, indptr)` as numpy arrays.
+pub(crate) type CsrArrays = (Py<PyArray1<f64>>, Py<PyArray1<i32>>, Py<PyArray1<i32>>);
+
+/// The raw pairs of a build by kind.
+type PairIds = [Vec<[u32; 2]>; 4];
+
+pub(crate) fn csr_tuple(py: Python<'_>, m: barrier::Csr) -> CsrArrays {
+    (
+        array1(py, m.data),
+        array1(py, m.indices),
+        array1(py, m.indptr),
+    )
 }
 
 /// A collision set (the native half of `topoccd.ipc.NormalCollisions`).
@@ -61,7 +81,7 @@ pub(crate) fn csr_tuple(py: Python<'_>, m: barrier::Csr) -> (Py<PyArray1<f64>>, 
 pub struct IpcCollisions {
     pub(crate) set: Collisions,
     /// The raw pairs of the last build, by kind, as ipctk's candidates name them.
-    candidates: [Vec<[u32; 2]>; 4],
+    candidates: PairIds,
 }
 
 #[pymethods]
@@ -90,10 +110,14 @@ impl IpcCollisions {
         improved_max_approx: bool,
     ) -> PyResult<()> {
         if !(dhat.is_finite() && dhat > 0.0) {
-            return Err(options_error(format!("dhat must be finite and > 0, got {dhat}")));
+            return Err(options_error(format!(
+                "dhat must be finite and > 0, got {dhat}"
+            )));
         }
         if !(dmin.is_finite() && dmin >= 0.0) {
-            return Err(options_error(format!("dmin must be finite and >= 0, got {dmin}")));
+            return Err(options_error(format!(
+                "dmin must be finite and >= 0, got {dmin}"
+            )));
         }
         if improved_max_approx {
             return Err(pyo3::exceptions::PyNotImplementedError::new_err(
@@ -113,13 +137,22 @@ impl IpcCollisions {
             max_contacts: None,
             ..ProximityOptions::default()
         };
-        let config = Configuration::new(x, &faces[..], &free).map_err(|e| input_error(e.to_string()))?;
+        let config =
+            Configuration::new(x, &faces[..], &free).map_err(|e| input_error(e.to_string()))?;
         let mut this = ccd.try_borrow_mut().map_err(|_| {
-            pyo3::exceptions::PyRuntimeError::new_err("this Ccd is running a query in another thread")
+            pyo3::exceptions::PyRuntimeError::new_err(
+                "this Ccd is running a query in another thread",
+            )
         })?;
         let inner = &mut this.inner;
-        let mesh = MeshView { rest, edges: &edges, faces: &faces, vertex_areas: va, edge_areas: ea };
-        let (set, cands) = py.detach(|| -> Result<(Collisions, [Vec<[u32; 2]>; 4]), String> {
+        let mesh = MeshView {
+            rest,
+            edges: &edges,
+            faces: &faces,
+            vertex_areas: va,
+            edge_areas: ea,
+        };
+        let (set, cands) = py.detach(|| -> Result<(Collisions, PairIds), String> {
             let report: ProximityReport = inner.proximity(&config, &options).map_err(|e| e.to_string())?;
             let set = collisions::build(&mesh, x, &report, dhat, dmin, use_area_weighting)
                 .map_err(|e| format!("edges lacks the edge ({}, {}) of a pair: pass every edge of the faces and the free edges", e.0[0], e.0[1]))?;
@@ -135,7 +168,10 @@ impl IpcCollisions {
     /// The collisions of one kind (`"vv"`, `"ev"`, `"ee"`, `"fv"`): `(n, 2)` ids.
     fn ids(&self, py: Python<'_>, kind: &str) -> PyResult<Py<numpy::PyArray2<i64>>> {
         let k = kind_code(kind)?;
-        let (start, count) = (self.set.counts[..k].iter().sum::<usize>(), self.set.counts[k]);
+        let (start, count) = (
+            self.set.counts[..k].iter().sum::<usize>(),
+            self.set.counts[k],
+        );
         let flat: Vec<i64> = (self.set.items[start..start + count].iter())
             .flat_map(|c| [c.ids[0] as i64, c.ids[1] as i64])
             .collect();
@@ -145,7 +181,12 @@ impl IpcCollisions {
     /// The raw pairs of the last build of one kind, as candidates.
     fn candidates(&self, py: Python<'_>, kind: &str) -> PyResult<Py<numpy::PyArray2<i64>>> {
         let c = &self.candidates[kind_code(kind)?];
-        array2(py, c.len(), 2, c.iter().flat_map(|p| [p[0] as i64, p[1] as i64]).collect())
+        array2(
+            py,
+            c.len(),
+            2,
+            c.iter().flat_map(|p| [p[0] as i64, p[1] as i64]).collect(),
+        )
     }
 
     /// The weights, in the set's order.
@@ -157,7 +198,15 @@ impl IpcCollisions {
     /// The edge-edge collisions' mollifier thresholds.
     #[getter]
     fn eps_x(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
-        array1(py, self.set.items.iter().filter(|c| c.kind == 2).map(|c| c.eps_x).collect())
+        array1(
+            py,
+            self.set
+                .items
+                .iter()
+                .filter(|c| c.kind == 2)
+                .map(|c| c.eps_x)
+                .collect(),
+        )
     }
 
     #[getter]
@@ -202,12 +251,18 @@ pub(crate) fn kind_code(kind: &str) -> PyResult<usize> {
         "ev" => Ok(1),
         "ee" => Ok(2),
         "fv" => Ok(3),
-        _ => Err(input_error(format!("kind must be vv, ev, ee or fv, got {kind:?}"))),
+        _ => Err(input_error(format!(
+            "kind must be vv, ev, ee or fv, got {kind:?}"
+        ))),
     }
 }
 
 pub(crate) fn psd_of(code: u8) -> PyResult<Psd> {
-    Psd::from_code(code).ok_or_else(|| options_error(format!("project_hessian_to_psd must be 0, 1 or 2, got {code}")))
+    Psd::from_code(code).ok_or_else(|| {
+        options_error(format!(
+            "project_hessian_to_psd must be 0, 1 or 2, got {code}"
+        ))
+    })
 }
 
 /// The barrier potential (the native half of `topoccd.ipc.BarrierPotential`).
@@ -221,12 +276,22 @@ impl IpcBarrierPotential {
     #[new]
     fn new(dhat: f64, stiffness: f64, use_physical_barrier: bool) -> PyResult<Self> {
         if !(dhat.is_finite() && dhat > 0.0) {
-            return Err(options_error(format!("dhat must be finite and > 0, got {dhat}")));
+            return Err(options_error(format!(
+                "dhat must be finite and > 0, got {dhat}"
+            )));
         }
         if !(stiffness.is_finite() && stiffness > 0.0) {
-            return Err(options_error(format!("stiffness must be finite and > 0, got {stiffness}")));
+            return Err(options_error(format!(
+                "stiffness must be finite and > 0, got {stiffness}"
+            )));
         }
-        Ok(Self { b: Barrier { dhat, stiffness, physical: use_physical_barrier } })
+        Ok(Self {
+            b: Barrier {
+                dhat,
+                stiffness,
+                physical: use_physical_barrier,
+            },
+        })
     }
 
     #[getter]
@@ -237,7 +302,9 @@ impl IpcBarrierPotential {
     #[setter]
     fn set_dhat(&mut self, v: f64) -> PyResult<()> {
         if !(v.is_finite() && v > 0.0) {
-            return Err(options_error(format!("dhat must be finite and > 0, got {v}")));
+            return Err(options_error(format!(
+                "dhat must be finite and > 0, got {v}"
+            )));
         }
         self.b.dhat = v;
         Ok(())
@@ -251,7 +318,9 @@ impl IpcBarrierPotential {
     #[setter]
     fn set_stiffness(&mut self, v: f64) -> PyResult<()> {
         if !(v.is_finite() && v > 0.0) {
-            return Err(options_error(format!("stiffness must be finite and > 0, got {v}")));
+            return Err(options_error(format!(
+                "stiffness must be finite and > 0, got {v}"
+            )));
         }
         self.b.stiffness = v;
         Ok(())
@@ -262,14 +331,24 @@ impl IpcBarrierPotential {
         self.b.physical
     }
 
-    fn energy(&self, py: Python<'_>, c: PyRef<'_, IpcCollisions>, x: PyReadonlyArray2<'_, f64>) -> PyResult<f64> {
+    fn energy(
+        &self,
+        py: Python<'_>,
+        c: PyRef<'_, IpcCollisions>,
+        x: PyReadonlyArray2<'_, f64>,
+    ) -> PyResult<f64> {
         let x = flat(&x, "X")?;
         c.check(x)?;
         let (set, b) = (&c.set, self.b);
         Ok(py.detach(|| barrier::energy(set, x, &b)))
     }
 
-    fn gradient(&self, py: Python<'_>, c: PyRef<'_, IpcCollisions>, x: PyReadonlyArray2<'_, f64>) -> PyResult<Py<PyArray1<f64>>> {
+    fn gradient(
+        &self,
+        py: Python<'_>,
+        c: PyRef<'_, IpcCollisions>,
+        x: PyReadonlyArray2<'_, f64>,
+    ) -> PyResult<Py<PyArray1<f64>>> {
         let x = flat(&x, "X")?;
         c.check(x)?;
         let (set, b) = (&c.set, self.b);
@@ -278,14 +357,13 @@ impl IpcBarrierPotential {
     }
 
     /// The Hessian's CSR arrays `(data, indices, indptr)`.
-    #[allow(clippy::type_complexity)]
     fn hessian(
         &self,
         py: Python<'_>,
         c: PyRef<'_, IpcCollisions>,
         x: PyReadonlyArray2<'_, f64>,
         psd: u8,
-    ) -> PyResult<(Py<PyArray1<f64>>, Py<PyArray1<i32>>, Py<PyArray1<i32>>)> {
+    ) -> PyResult<CsrArrays> {
         let x = flat(&x, "X")?;
         c.check(x)?;
         let psd = psd_of(psd)?;
@@ -327,7 +405,11 @@ pub fn ipc_initial_barrier_stiffness(
     min_barrier_stiffness_scale: f64,
     dmin: f64,
 ) -> PyResult<(f64, f64)> {
-    if !(bbox_diagonal > 0.0 && average_mass > 0.0 && min_barrier_stiffness_scale > 0.0 && dhat > 0.0) {
+    if !(bbox_diagonal > 0.0
+        && average_mass > 0.0
+        && min_barrier_stiffness_scale > 0.0
+        && dhat > 0.0)
+    {
         return Err(options_error(
             "bbox_diagonal, dhat, average_mass and min_barrier_stiffness_scale must be > 0",
         ));
