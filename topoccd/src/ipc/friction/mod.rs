@@ -10,9 +10,12 @@
 //! [`smooth_mu_f0`] (threshold `eps_v`, in velocity units).
 
 mod closest_point;
+mod error;
 mod mollifier;
 mod relative_velocity;
+mod potential;
 mod tangent_basis;
+mod tangential_collisions;
 
 pub use closest_point::{
     edge_edge_closest_point, point_edge_closest_point, point_triangle_closest_point,
@@ -31,3 +34,11 @@ pub use tangent_basis::{
     edge_edge_tangent_basis, point_edge_tangent_basis, point_point_tangent_basis,
     point_triangle_tangent_basis,
 };
+pub use error::FrictionError;
+pub use potential::FrictionPotential;
+pub use tangential_collisions::{
+    FrictionCoefficients, NormalStencil, StencilKind, TangentialCollision, TangentialCollisions,
+};
+
+#[cfg(test)]
+mod tests;
