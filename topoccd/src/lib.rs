@@ -60,6 +60,7 @@ macro_rules! internal {
 internal!(broad, bvh, contact, kdop, math, mesh, narrow, query);
 
 pub mod distance;
+pub mod ipc;
 mod proximity;
 
 pub mod check;

@@ -1,0 +1,1 @@
+//! Tests of the collision set and the potential.
