@@ -73,8 +73,10 @@ def test_the_physical_barrier_divides_by_dhat():
     C.build(mesh, V, 1e-2)
     plain = tipc.BarrierPotential(1e-2, 2.0)(C, mesh, V)
     physical = tipc.BarrierPotential(1e-2, 2.0, use_physical_barrier=True)(C, mesh, V)
-    # ipctk scales b by dhat / units(dhat^2), units = dhat^2 for the clamped log barrier.
-    assert physical == pytest.approx(plain / 1e-2, rel=1e-12)
+    # ipctk scales b by dhat / units(dhat^2), units(y) = y^2 for the clamped log barrier
+    # (b grows as (d^2 - dhat^2)^2): a factor 1 / dhat^3.
+    assert physical == pytest.approx(plain / 1e-6, rel=1e-12)
+    assert tipc.ClampedLogBarrier().units(1e-4) == pytest.approx(1e-8, rel=1e-15)
 
 
 def fd_gradient(f, y, h=1e-7):

@@ -1,11 +1,6 @@
-//! ipctk's clamped log barrier and the barrier potential over a collision set: energy,
-//! gradient (flat, `3 #V`) and Hessian (CSR, optionally projected per collision to PSD), and
-//! the adaptive-stiffness helpers.
-
-use super::collisions::{Collision, Collisions};
-use super::distance::{hd_cross2, hd_line, hd_line_line, hd_plane, hd_pp, stencil_distance2};
-use super::hd::{points, Hd};
-use super::psd::{project, Psd};
+//! The barrier's parameters and the normal force magnitude (for friction), CSR assembly,
+//! and the adaptive-stiffness helpers. The barrier potential itself is the library's
+//! (`topoccd::ipc::BarrierPotential`).
 
 /// `b(x) = -(x - y)^2 ln(x / y)` for `0 < x < y` (`x` a squared distance, `y = dhat^2`), 0
 /// from `y` on, infinite at and below 0; with its first two derivatives.
@@ -23,16 +18,6 @@ pub fn clamped_log(x: f64, y: f64) -> (f64, f64, f64) {
         -2.0 * r * l - r * r / x,
         -2.0 * l - 4.0 * r / x + r * r / (x * x),
     )
-}
-
-/// The edge-edge mollifier `m(c) = (2 - c/eps) c/eps` below `eps`, else 1, with derivatives.
-pub fn mollifier(c: f64, eps: f64) -> (f64, f64, f64) {
-    if c < eps {
-        let t = c / eps;
-        ((2.0 - t) * t, 2.0 / eps * (1.0 - t), -2.0 / (eps * eps))
-    } else {
-        (1.0, 0.0, 0.0)
-    }
 }
 
 /// The potential's parameters.
@@ -56,124 +41,13 @@ impl Barrier {
     }
 
     /// The normal force magnitude of a unit-weight collision at `d2`, as ipctk's
-    /// `barrier_force_magnitude`: `-kappa b'(d^2 - dmin^2) 2 (d + dmin) / dhat`... in ipctk's
-    /// form `-2 kappa b' sqrt(d^2)`, with the physical factor.
+    /// `barrier_force_magnitude`: `-2 kappa b'(d^2 - dmin^2) sqrt(d^2)`, times the physical
+    /// barrier's factor `dhat / y^2` when it is on.
     pub fn force_magnitude(&self, d2: f64, dmin: f64) -> f64 {
         let (y, scale) = self.args(dmin);
         let (_, db, _) = clamped_log(d2 - dmin * dmin, y);
         -scale * db * 2.0 * d2.sqrt()
     }
-}
-
-fn gather(c: &Collision, x: &[f64], out: &mut [f64; 12]) -> usize {
-    let n = c.nverts();
-    for (k, &v) in c.verts[..n].iter().enumerate() {
-        out[3 * k..3 * k + 3].copy_from_slice(&x[3 * v as usize..3 * v as usize + 3]);
-    }
-    n
-}
-
-fn local<const N: usize>(c: &Collision, xs: &[f64], b: &Barrier, dmin: f64) -> Hd<N> {
-    let p = points::<N>(xs);
-    let d2 = match c.kind {
-        0 => hd_pp(&p[0], &p[1]),
-        1 => hd_line(&p[0], &p[1], &p[2]),
-        3 => hd_plane(&p[0], &p[1], &p[2], &p[3]),
-        _ => match c.dtype {
-            0 => hd_pp(&p[0], &p[2]),
-            1 => hd_pp(&p[0], &p[3]),
-            2 => hd_pp(&p[1], &p[2]),
-            3 => hd_pp(&p[1], &p[3]),
-            4 => hd_line(&p[2], &p[0], &p[1]),
-            5 => hd_line(&p[3], &p[0], &p[1]),
-            6 => hd_line(&p[0], &p[2], &p[3]),
-            7 => hd_line(&p[1], &p[2], &p[3]),
-            _ => hd_line_line(&p[0], &p[1], &p[2], &p[3]),
-        },
-    };
-    let (y, scale) = b.args(dmin);
-    let (f, df, d2f) = clamped_log(d2.v - dmin * dmin, y);
-    let mut e = d2.chain(f, df, d2f);
-    if c.kind == 2 {
-        let cr = hd_cross2(&p[0], &p[1], &p[2], &p[3]);
-        let (m, dm, d2m) = mollifier(cr.v, c.eps_x);
-        if m != 1.0 || dm != 0.0 {
-            e = cr.chain(m, dm, d2m) * e;
-        }
-    }
-    e.scale(scale * c.weight)
-}
-
-/// Local gradient and Hessian (row-major) of one collision, `3 nverts` long.
-fn local_derivatives(
-    c: &Collision,
-    xs: &[f64],
-    b: &Barrier,
-    dmin: f64,
-    g: &mut [f64],
-    h: &mut [f64],
-) {
-    macro_rules! go {
-        ($n:expr) => {{
-            let e = local::<$n>(c, xs, b, dmin);
-            g[..$n].copy_from_slice(&e.g);
-            for i in 0..$n {
-                h[i * $n..(i + 1) * $n].copy_from_slice(&e.h[i]);
-            }
-        }};
-    }
-    match c.nverts() {
-        2 => go!(6),
-        3 => go!(9),
-        _ => go!(12),
-    }
-}
-
-/// The energy: a sum over the collisions.
-pub fn energy(set: &Collisions, x: &[f64], b: &Barrier) -> f64 {
-    let (y, scale) = b.args(set.dmin);
-    let mut xs = [0.0; 12];
-    let mut total = 0.0;
-    for c in &set.items {
-        let n = gather(c, x, &mut xs);
-        let d2 = stencil_distance2(c.kind, c.dtype, &xs[..3 * n]);
-        let mut e = clamped_log(d2 - set.dmin * set.dmin, y).0;
-        if c.kind == 2 {
-            let q = |k: usize| [xs[3 * k], xs[3 * k + 1], xs[3 * k + 2]];
-            let cr = cross2(q(0), q(1), q(2), q(3));
-            e *= mollifier(cr, c.eps_x).0;
-        }
-        total += scale * c.weight * e;
-    }
-    total
-}
-
-fn cross2(a0: [f64; 3], a1: [f64; 3], b0: [f64; 3], b1: [f64; 3]) -> f64 {
-    let u = [a1[0] - a0[0], a1[1] - a0[1], a1[2] - a0[2]];
-    let v = [b1[0] - b0[0], b1[1] - b0[1], b1[2] - b0[2]];
-    let c = [
-        u[1] * v[2] - u[2] * v[1],
-        u[2] * v[0] - u[0] * v[2],
-        u[0] * v[1] - u[1] * v[0],
-    ];
-    c[0] * c[0] + c[1] * c[1] + c[2] * c[2]
-}
-
-/// The gradient, `3 #V` long.
-pub fn gradient(set: &Collisions, x: &[f64], b: &Barrier) -> Vec<f64> {
-    let mut out = vec![0.0; x.len()];
-    let mut xs = [0.0; 12];
-    let (mut g, mut h) = ([0.0; 12], [0.0; 144]);
-    for c in &set.items {
-        let n = gather(c, x, &mut xs);
-        local_derivatives(c, &xs[..3 * n], b, set.dmin, &mut g, &mut h);
-        for (k, &v) in c.verts[..n].iter().enumerate() {
-            for j in 0..3 {
-                out[3 * v as usize + j] += g[3 * k + j];
-            }
-        }
-    }
-    out
 }
 
 /// A sparse symmetric matrix in CSR: `indptr` (n + 1), `indices` and `data` (nnz).
@@ -235,38 +109,6 @@ impl Assembler {
             data,
         }
     }
-}
-
-/// The Hessian, each collision's block projected by `psd` before it is summed.
-pub fn hessian(set: &Collisions, x: &[f64], b: &Barrier, psd: Psd) -> Csr {
-    let mut asm = Assembler::new(x.len());
-    let mut xs = [0.0; 12];
-    let (mut g, mut h) = ([0.0; 12], [0.0; 144]);
-    let mut dofs = [0usize; 12];
-    for c in &set.items {
-        let n = gather(c, x, &mut xs);
-        let m = 3 * n;
-        local_derivatives(c, &xs[..m], b, set.dmin, &mut g, &mut h);
-        project(&mut h[..m * m], m, psd);
-        for (k, &v) in c.verts[..n].iter().enumerate() {
-            for j in 0..3 {
-                dofs[3 * k + j] = 3 * v as usize + j;
-            }
-        }
-        asm.add(&dofs[..m], &h[..m * m]);
-    }
-    asm.finish()
-}
-
-/// The smallest squared distance over the collisions (infinite for none), as ipctk's.
-pub fn minimum_distance(set: &Collisions, x: &[f64]) -> f64 {
-    let mut xs = [0.0; 12];
-    (set.items.iter())
-        .map(|c| {
-            let n = gather(c, x, &mut xs);
-            stencil_distance2(c.kind, c.dtype, &xs[..3 * n])
-        })
-        .fold(f64::INFINITY, f64::min)
 }
 
 /// ipctk's `initial_barrier_stiffness`: `(kappa, max_kappa)`.

@@ -1,11 +1,9 @@
-//! Closest-feature types with ipctk 1.6.1's rules and tie-breaks, the squared distances by
-//! type, and the same distances on second-order dual numbers (for gradients and Hessians).
+//! Closest-feature types with ipctk 1.6.1's rules and tie-breaks, and the squared distances
+//! by type (friction's normal forces at the lagged positions).
 //!
 //! Types: point-edge 0 `P_E0`, 1 `P_E1`, 2 `P_E`; point-triangle 0-2 `P_T0..P_T2`, 3-5
 //! `P_E0..P_E2` (edge k from corner k to k+1), 6 `P_T`; edge-edge 0 `EA0_EB0`, 1 `EA0_EB1`,
 //! 2 `EA1_EB0`, 3 `EA1_EB1`, 4 `EA_EB0`, 5 `EA_EB1`, 6 `EA0_EB`, 7 `EA1_EB`, 8 `EA_EB`.
-
-use super::hd::{cross, dot, sub, Hd, V3};
 
 type P = [f64; 3];
 
@@ -214,47 +212,5 @@ pub fn ee_distance2(ea0: P, ea1: P, eb0: P, eb1: P, t: u8) -> f64 {
             let h = d(s(eb0, ea0), n);
             h * h / d(n, n)
         }
-    }
-}
-
-// The same on dual numbers.
-
-pub fn hd_pp<const N: usize>(a: &V3<N>, b: &V3<N>) -> Hd<N> {
-    let x = sub(a, b);
-    dot(&x, &x)
-}
-
-pub fn hd_line<const N: usize>(p: &V3<N>, e0: &V3<N>, e1: &V3<N>) -> Hd<N> {
-    let x = cross(&sub(e0, p), &sub(e1, p));
-    let e = sub(e1, e0);
-    dot(&x, &x).div(&dot(&e, &e))
-}
-
-pub fn hd_plane<const N: usize>(p: &V3<N>, t0: &V3<N>, t1: &V3<N>, t2: &V3<N>) -> Hd<N> {
-    let n = cross(&sub(t1, t0), &sub(t2, t0));
-    let h = dot(&sub(p, t0), &n);
-    (h * h).div(&dot(&n, &n))
-}
-
-pub fn hd_line_line<const N: usize>(a0: &V3<N>, a1: &V3<N>, b0: &V3<N>, b1: &V3<N>) -> Hd<N> {
-    let n = cross(&sub(a1, a0), &sub(b1, b0));
-    let h = dot(&sub(b0, a0), &n);
-    (h * h).div(&dot(&n, &n))
-}
-
-/// `|ea x eb|^2`, the mollifier's argument.
-pub fn hd_cross2<const N: usize>(a0: &V3<N>, a1: &V3<N>, b0: &V3<N>, b1: &V3<N>) -> Hd<N> {
-    let n = cross(&sub(a1, a0), &sub(b1, b0));
-    dot(&n, &n)
-}
-
-/// Plain squared distance of a collision's stencil (`x` its 3 nverts coordinates).
-pub fn stencil_distance2(kind: u8, dtype: u8, x: &[f64]) -> f64 {
-    let q = |k: usize| [x[3 * k], x[3 * k + 1], x[3 * k + 2]];
-    match kind {
-        0 => pp2(q(0), q(1)),
-        1 => line2(q(0), q(1), q(2)),
-        2 => ee_distance2(q(0), q(1), q(2), q(3), dtype),
-        _ => pt_distance2(q(0), q(1), q(2), q(3), 6),
     }
 }

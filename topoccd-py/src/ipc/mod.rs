@@ -2,21 +2,19 @@
 //! built from `Ccd.proximity`'s pairs, the barrier potential and friction, numpy in and out,
 //! the GIL released around the work.
 //!
-//! The core computations live here, in the bindings, until the library's `topoccd::ipc`
-//! lands; then these classes become thin wrappers of it.
+//! The collision set and the barrier potential are the library's (`topoccd::ipc`); friction
+//! is computed here until the bindings move to `topoccd::ipc::friction`.
 //!
-//! - `hd`: second-order dual numbers for the stencils' derivatives.
-//! - `distance`: closest-feature types and squared distances.
-//! - `collisions`: the collision set.
-//! - `barrier`: the barrier potential, assembly to CSR, stiffness helpers.
+//! - `distance`: closest-feature types and squared distances (for friction's forces).
+//! - `collisions`: the library's set with the mesh's edge ids.
+//! - `barrier`: the barrier's parameters, force magnitude, CSR assembly, stiffness helpers.
 //! - `friction`: tangential collisions and the friction potential.
-//! - `psd`: per-collision projection of the Hessian to PSD.
+//! - `psd`: projection of friction's 2 x 2 blocks to PSD.
 
 mod barrier;
 mod collisions;
 mod distance;
 mod friction;
-mod hd;
 mod psd;
 
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2};
@@ -77,8 +75,10 @@ pub(crate) fn csr_tuple(py: Python<'_>, m: barrier::Csr) -> CsrArrays {
 
 /// A collision set (the native half of `topoccd.ipc.NormalCollisions`).
 #[pyclass(module = "topoccd", name = "IpcCollisions")]
-#[derive(Default)]
 pub struct IpcCollisions {
+    /// The library's set (`topoccd::ipc`): the potentials evaluate it.
+    pub(crate) core: topoccd::ipc::NormalCollisions,
+    /// The same collisions with the mesh's edge ids, for the ids, weights and friction.
     pub(crate) set: Collisions,
     /// The raw pairs of the last build, by kind, as ipctk's candidates name them.
     candidates: PairIds,
@@ -88,7 +88,11 @@ pub struct IpcCollisions {
 impl IpcCollisions {
     #[new]
     fn new() -> Self {
-        Self::default()
+        Self {
+            core: topoccd::ipc::NormalCollisions::default(),
+            set: Collisions::default(),
+            candidates: Default::default(),
+        }
     }
 
     /// Builds the set at `x` from the pairs of one proximity query of `ccd`.
@@ -102,8 +106,8 @@ impl IpcCollisions {
         edges: PyReadonlyArray2<'_, i32>,
         free_edges: PyReadonlyArray2<'_, i32>,
         faces: PyReadonlyArray2<'_, i32>,
-        vertex_areas: PyReadonlyArray1<'_, f64>,
-        edge_areas: PyReadonlyArray1<'_, f64>,
+        _vertex_areas: PyReadonlyArray1<'_, f64>,
+        _edge_areas: PyReadonlyArray1<'_, f64>,
         dhat: f64,
         dmin: f64,
         use_area_weighting: bool,
@@ -129,7 +133,6 @@ impl IpcCollisions {
         let edges = rows::<2>(&edges, "edges", n)?;
         let free = rows::<2>(&free_edges, "edges", n)?;
         let faces = rows::<3>(&faces, "faces", n)?;
-        let (va, ea) = (vertex_areas.as_slice()?, edge_areas.as_slice()?);
         let options = ProximityOptions {
             // A hair wider than dhat + dmin: the exact test below decides.
             dhat: (dhat + dmin) * (1.0 + 1e-9),
@@ -148,18 +151,31 @@ impl IpcCollisions {
         let mesh = MeshView {
             rest,
             edges: &edges,
-            faces: &faces,
-            vertex_areas: va,
-            edge_areas: ea,
         };
-        let (set, cands) = py.detach(|| -> Result<(Collisions, PairIds), String> {
-            let report: ProximityReport = inner.proximity(&config, &options).map_err(|e| e.to_string())?;
-            let set = collisions::build(&mesh, x, &report, dhat, dmin, use_area_weighting)
-                .map_err(|e| format!("edges lacks the edge ({}, {}) of a pair: pass every edge of the faces and the free edges", e.0[0], e.0[1]))?;
-            let cands = collisions::candidate_ids(&mesh, &report);
-            Ok((set, cands))
-        })
-        .map_err(input_error)?;
+        let rest3 = rest.as_chunks::<3>().0;
+        let copts = topoccd::ipc::CollisionOptions {
+            dhat,
+            dmin,
+            use_area_weighting,
+            ..Default::default()
+        };
+        let (core, set, cands) = py
+            .detach(|| -> Result<(topoccd::ipc::NormalCollisions, Collisions, PairIds), String> {
+                let report: ProximityReport =
+                    inner.proximity(&config, &options).map_err(|e| e.to_string())?;
+                let core = topoccd::ipc::NormalCollisions::from_proximity(&config, &report, rest3, &copts)
+                    .map_err(|e| e.to_string())?;
+                let set = collisions::from_core(&mesh, &core).map_err(|e| {
+                    format!(
+                        "edges lacks the edge ({}, {}) of a pair: pass every edge of the faces and the free edges",
+                        e.0[0], e.0[1]
+                    )
+                })?;
+                let cands = collisions::candidate_ids(&mesh, &report);
+                Ok((core, set, cands))
+            })
+            .map_err(input_error)?;
+        self.core = core;
         self.set = set;
         self.candidates = cands;
         Ok(())
@@ -228,7 +244,8 @@ impl IpcCollisions {
     fn minimum_distance(&self, py: Python<'_>, x: PyReadonlyArray2<'_, f64>) -> PyResult<f64> {
         let x = flat(&x, "vertices")?;
         self.check(x)?;
-        Ok(py.detach(|| barrier::minimum_distance(&self.set, x)))
+        let (core, x3) = (&self.core, x.as_chunks::<3>().0);
+        Ok(py.detach(|| core.compute_minimum_distance(x3)))
     }
 }
 
@@ -339,8 +356,9 @@ impl IpcBarrierPotential {
     ) -> PyResult<f64> {
         let x = flat(&x, "X")?;
         c.check(x)?;
-        let (set, b) = (&c.set, self.b);
-        Ok(py.detach(|| barrier::energy(set, x, &b)))
+        let (set, b) = (&c.core, self.core());
+        let x3 = x.as_chunks::<3>().0;
+        Ok(py.detach(|| b.energy(set, x3)))
     }
 
     fn gradient(
@@ -351,8 +369,9 @@ impl IpcBarrierPotential {
     ) -> PyResult<Py<PyArray1<f64>>> {
         let x = flat(&x, "X")?;
         c.check(x)?;
-        let (set, b) = (&c.set, self.b);
-        let g = py.detach(|| barrier::gradient(set, x, &b));
+        let (set, b) = (&c.core, self.core());
+        let x3 = x.as_chunks::<3>().0;
+        let g = py.detach(|| b.gradient(set, x3));
         Ok(array1(py, g))
     }
 
@@ -366,9 +385,22 @@ impl IpcBarrierPotential {
     ) -> PyResult<CsrArrays> {
         let x = flat(&x, "X")?;
         c.check(x)?;
-        let psd = psd_of(psd)?;
-        let (set, b) = (&c.set, self.b);
-        let m = py.detach(|| barrier::hessian(set, x, &b, psd));
+        let psd = match psd_of(psd)? {
+            Psd::None => topoccd::ipc::PsdProjection::None,
+            Psd::Clamp => topoccd::ipc::PsdProjection::Clamp,
+            Psd::Abs => topoccd::ipc::PsdProjection::Abs,
+        };
+        let (set, b) = (&c.core, self.core());
+        let x3 = x.as_chunks::<3>().0;
+        let m = py.detach(|| {
+            let h = b.hessian(set, x3, psd);
+            let (indptr, indices, data) = h.csr();
+            barrier::Csr {
+                indptr: indptr.iter().map(|&i| i as i32).collect(),
+                indices: indices.iter().map(|&i| i as i32).collect(),
+                data: data.to_vec(),
+            }
+        });
         Ok(csr_tuple(py, m))
     }
 
@@ -377,8 +409,17 @@ impl IpcBarrierPotential {
     }
 }
 
+impl IpcBarrierPotential {
+    /// The library's potential with these parameters.
+    fn core(&self) -> topoccd::ipc::BarrierPotential {
+        let mut p = topoccd::ipc::BarrierPotential::new(self.b.dhat, self.b.stiffness);
+        p.use_physical_barrier = self.b.physical;
+        p
+    }
+}
+
 /// `b(d, dhat)` of the clamped log barrier (`which` 0), its derivatives (1, 2), or its units
-/// (3: `dhat`).
+/// (3: `dhat^2`, as ipctk's `units`).
 #[pyfunction]
 pub fn ipc_barrier(kind: &str, which: u8, d: f64, dhat: f64) -> PyResult<f64> {
     if kind != "clamped_log" {
@@ -389,7 +430,8 @@ pub fn ipc_barrier(kind: &str, which: u8, d: f64, dhat: f64) -> PyResult<f64> {
         0 => b,
         1 => db,
         2 => d2b,
-        _ => dhat,
+        // b grows as (d - dhat)^2 in squared distances: its unit is dhat^2.
+        _ => dhat * dhat,
     })
 }
 
