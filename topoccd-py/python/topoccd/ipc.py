@@ -20,8 +20,10 @@ What differs:
   CCD (``narrow_phase_ccd=`` is ignored too): see :func:`topoccd.collision_free_stepsize`.
 - Triangles may change between calls: build the next :class:`CollisionMesh` (it is cheap) and
   keep the same :class:`NormalCollisions` and potentials; nothing else is rebuilt.
-- 3D only; no ``displacement_map``; ``OGC`` collision sets, shape derivatives, adhesion and
-  anisotropic friction are not offered.
+- 3D only; no ``displacement_map``; the ``IMPROVED_MAX_APPROX`` and ``OGC`` collision sets,
+  shape derivatives, adhesion, anisotropic friction and ``mu_s != mu_k`` are not offered
+  (``NotImplementedError``). The area weights are the barycentric ones computed from the rest
+  positions: setting ``vertex_areas`` / ``edge_areas`` does not change them.
 - Any other ipctk name raises an ``AttributeError`` naming topoccd's own call, if any.
 
 Example: one point 1e-3 above a triangle, ``dhat = 1e-2``: the energy is
@@ -305,7 +307,7 @@ class CollisionMesh:
 
     @property
     def vertex_areas(self) -> np.ndarray:
-        """The vertex areas used as collision weights (barycentric, as ipctk's)."""
+        """The barycentric vertex areas (as ipctk's) that area weighting uses."""
         return self._vertex_areas
 
     @vertex_areas.setter
