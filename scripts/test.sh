@@ -103,7 +103,8 @@ fi
     || { "$BUILD_VENV/bin/auditwheel" show "$wheel"; echo "error: auditwheel does not find $wheel manylinux_2_17" >&2; exit 1; }
 
 # Into the fresh venv (made above, no Rust on its PATH): pip can only install the wheel as built.
-no_rust python -m pip install --quiet --only-binary topoccd "$wheel[ray,test,rerun]" tqdm
+# ipctk 1.6.1 (and scipy, the extra `ipc`) for topoccd.ipc's conformance and solver tests.
+no_rust python -m pip install --quiet --only-binary topoccd "$wheel[ray,test,rerun,ipc]" tqdm "ipctk==1.6.1" scipy
 no_rust python -c "import topoccd; print('topoccd', topoccd.__version__, 'imported from', topoccd.__file__)"
 set +e
 no_rust python -m pytest topoccd-py/tests -q -rs

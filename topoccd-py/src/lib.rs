@@ -14,6 +14,7 @@
 //! - `proximity`: `Ccd.proximity` and its `Proximity` result.
 //! - `errors`: the exceptions.
 //! - `deprecated`: the keyword names of earlier versions.
+//! - `ipc`: the contact potentials of `topoccd.ipc`.
 
 mod ccd;
 mod check;
@@ -21,6 +22,7 @@ mod deprecated;
 mod errors;
 mod files;
 mod input;
+mod ipc;
 mod options;
 mod pair;
 mod points;
@@ -45,6 +47,7 @@ fn _topoccd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pair::point_edge_ccd, m)?)?;
     m.add_function(wrap_pyfunction!(pair::point_point_ccd, m)?)?;
     m.add_function(wrap_pyfunction!(check::intersecting_triangles, m)?)?;
+    ipc::register(m)?;
     m.add("InputError", py.get_type::<errors::InputError>())?;
     m.add("OptionsError", py.get_type::<errors::OptionsError>())?;
     m.add("FormatError", py.get_type::<errors::FormatError>())?;

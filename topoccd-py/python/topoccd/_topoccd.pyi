@@ -252,3 +252,67 @@ def intersecting_triangles(
     timeout: Optional[float] = None,
 ) -> npt.NDArray[np.int64]:
     """``(K, 2)`` pairs of triangles (sharing no vertex) that intersect or touch."""
+
+# The native half of topoccd.ipc (use topoccd.ipc, not these).
+_F64 = npt.NDArray[np.float64]
+_I32 = npt.NDArray[np.int32]
+_Csr = Tuple[_F64, _I32, _I32]
+
+@final
+class IpcCollisions:
+    """A collision set built from one proximity query (see ``topoccd.ipc.NormalCollisions``)."""
+
+    weights: _F64
+    eps_x: _F64
+    dmin: float
+    counts: Tuple[int, int, int, int]
+    def __init__(self) -> None: ...
+    def build(
+        self, ccd: Ccd, rest: _F64, x: _F64, edges: _I32, free_edges: _I32, faces: _I32,
+        vertex_areas: _F64, edge_areas: _F64, dhat: float, dmin: float,
+        use_area_weighting: bool, improved_max_approx: bool, /,
+    ) -> None: ...
+    def ids(self, kind: str, /) -> npt.NDArray[np.int64]: ...
+    def candidates(self, kind: str, /) -> npt.NDArray[np.int64]: ...
+    def minimum_distance(self, x: _F64, /) -> float: ...
+    def __len__(self) -> int: ...
+
+@final
+class IpcBarrierPotential:
+    """The barrier potential (see ``topoccd.ipc.BarrierPotential``)."""
+
+    dhat: float
+    stiffness: float
+    use_physical_barrier: bool
+    def __init__(self, dhat: float, stiffness: float, use_physical_barrier: bool, /) -> None: ...
+    def energy(self, c: IpcCollisions, x: _F64, /) -> float: ...
+    def gradient(self, c: IpcCollisions, x: _F64, /) -> _F64: ...
+    def hessian(self, c: IpcCollisions, x: _F64, psd: int, /) -> _Csr: ...
+    def force_magnitude(self, d2: float, dmin: float, /) -> float: ...
+
+@final
+class IpcTangentialCollisions:
+    """Tangential collisions at lagged positions (see ``topoccd.ipc.TangentialCollisions``)."""
+
+    normal_force_magnitude: _F64
+    mu_s: _F64
+    mu_k: _F64
+    weights: _F64
+    closest_points: _F64
+    tangent_bases: _F64
+    def __init__(self, c: IpcCollisions, b: IpcBarrierPotential, x: _F64, mu_s: float, mu_k: float, /) -> None: ...
+    def ids(self, kind: str, /) -> npt.NDArray[np.int64]: ...
+    def energy(self, u: _F64, eps_v: float, /) -> float: ...
+    def gradient(self, u: _F64, eps_v: float, /) -> _F64: ...
+    def hessian(self, u: _F64, eps_v: float, psd: int, /) -> _Csr: ...
+    def __len__(self) -> int: ...
+
+def ipc_barrier(kind: str, which: int, d: float, dhat: float, /) -> float: ...
+def ipc_initial_barrier_stiffness(
+    bbox_diagonal: float, dhat: float, average_mass: float, grad_energy: _F64, grad_barrier: _F64,
+    min_barrier_stiffness_scale: float, dmin: float, /,
+) -> Tuple[float, float]: ...
+def ipc_update_barrier_stiffness(
+    prev_min_distance: float, min_distance: float, max_barrier_stiffness: float,
+    barrier_stiffness: float, bbox_diagonal: float, dhat_epsilon_scale: float, dmin: float, /,
+) -> float: ...

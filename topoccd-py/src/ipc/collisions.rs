@@ -1,0 +1,127 @@
+//! The library's collision set (`topoccd::ipc::NormalCollisions`) seen as ipctk names it:
+//! edge ids into the mesh's own `edges`, each stencil's vertices, weights and mollifier
+//! thresholds, for `topoccd.ipc`'s collision objects and for friction.
+
+use std::collections::HashMap;
+
+use topoccd::ProximityReport;
+
+/// One collision's stencil: kind (0 vv, 1 ev, 2 ee, 3 fv), its two ids as ipctk names them,
+/// its vertices (`v`, then the primitive's), weight and, for edge-edge, the mollifier's
+/// threshold.
+#[derive(Clone, Copy, Debug)]
+pub struct Collision {
+    pub kind: u8,
+    pub ids: [u32; 2],
+    pub verts: [u32; 4],
+    pub weight: f64,
+    pub eps_x: f64,
+}
+
+/// The mesh as the build reads it.
+pub struct MeshView<'a> {
+    pub rest: &'a [f64],
+    pub edges: &'a [[u32; 2]],
+}
+
+/// The collisions, kind by kind in ipctk's order (vv, ev, ee, fv).
+#[derive(Default)]
+pub struct Collisions {
+    pub items: Vec<Collision>,
+    pub counts: [usize; 4],
+    pub dmin: f64,
+    pub num_vertices: usize,
+}
+
+/// Error of a conversion: a collision names an edge the mesh does not list.
+#[derive(Debug)]
+pub struct MissingEdge(pub [u32; 2]);
+
+/// The raw pairs of a report as ipctk's candidates name them: vv `(a, b)`, ev
+/// `(edge, vertex)`, ee `(edge, edge)`, fv `(face, vertex)` (pairs naming an unknown edge are
+/// skipped: the build reports them).
+pub fn candidate_ids(mesh: &MeshView<'_>, report: &ProximityReport) -> [Vec<[u32; 2]>; 4] {
+    let edge_of: HashMap<(u32, u32), u32> = (mesh.edges.iter().enumerate())
+        .map(|(i, e)| ((e[0].min(e[1]), e[0].max(e[1])), i as u32))
+        .collect();
+    let find = |a: u32, b: u32| edge_of.get(&(a.min(b), a.max(b))).copied();
+    let vv = report.vv.iter().map(|p| [p.a, p.b]).collect();
+    let ev = (report.ve.iter())
+        .filter_map(|p| Some([find(p.edge[0], p.edge[1])?, p.vertex]))
+        .collect();
+    let ee = (report.ee.iter())
+        .filter_map(|p| {
+            let (a, b) = (find(p.a[0], p.a[1])?, find(p.b[0], p.b[1])?);
+            Some([a.min(b), a.max(b)])
+        })
+        .collect();
+    let fv = report.vf.iter().map(|p| [p.face, p.vertex]).collect();
+    [vv, ev, ee, fv]
+}
+
+/// The library's collisions with the mesh's own edge ids (ipctk's ids index the mesh's
+/// `edges`) and each edge's vertices in the mesh's order.
+pub fn from_core(
+    mesh: &MeshView<'_>,
+    core: &topoccd::ipc::NormalCollisions,
+) -> Result<Collisions, MissingEdge> {
+    let edge_of: HashMap<(u32, u32), u32> = (mesh.edges.iter().enumerate())
+        .map(|(i, e)| ((e[0].min(e[1]), e[0].max(e[1])), i as u32))
+        .collect();
+    let find = |e: [u32; 2]| {
+        edge_of
+            .get(&(e[0].min(e[1]), e[0].max(e[1])))
+            .copied()
+            .ok_or(MissingEdge(e))
+    };
+    let mut items = Vec::with_capacity(core.len());
+    for c in &core.vv {
+        let [a, b] = c.vertices;
+        items.push(Collision {
+            kind: 0,
+            ids: [a, b],
+            verts: [a, b, 0, 0],
+            weight: c.weight,
+            eps_x: 0.0,
+        });
+    }
+    for c in &core.ev {
+        let e = find(c.edge)?;
+        let [e0, e1] = mesh.edges[e as usize];
+        items.push(Collision {
+            kind: 1,
+            ids: [e, c.vertex],
+            verts: [c.vertex, e0, e1, 0],
+            weight: c.weight,
+            eps_x: 0.0,
+        });
+    }
+    for c in &core.ee {
+        let (ia, ib) = (find(c.a)?, find(c.b)?);
+        let ([a0, a1], [b0, b1]) = (mesh.edges[ia as usize], mesh.edges[ib as usize]);
+        items.push(Collision {
+            kind: 2,
+            ids: [ia, ib],
+            verts: [a0, a1, b0, b1],
+            weight: c.weight,
+            eps_x: c.eps_x,
+        });
+    }
+    for c in &core.fv {
+        let [t0, t1, t2] = c.triangle;
+        items.push(Collision {
+            kind: 3,
+            ids: [c.face, c.vertex],
+            verts: [c.vertex, t0, t1, t2],
+            weight: c.weight,
+            eps_x: 0.0,
+        });
+    }
+    let counts = [core.vv.len(), core.ev.len(), core.ee.len(), core.fv.len()];
+    Ok(Collisions {
+        items,
+        counts,
+        dmin: core.dmin,
+        num_vertices: mesh.rest.len() / 3,
+    })
+}
