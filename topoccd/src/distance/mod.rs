@@ -13,15 +13,68 @@
 //!
 //! The computations run on coordinates relative to the pair's first point, so the error
 //! scales with the pair's own size, not with the coordinates' magnitude.
+//!
+//! # Derivatives
+//!
+//! For a contact potential, each closest-feature type has its squared distance, gradient and
+//! Hessian in closed form, with respect to all the pair's points (x, y, z of each point in
+//! argument order; row-major, symmetric Hessians), as the IPC toolkit defines them:
+//! [`point_edge_distance_of_type`], [`point_triangle_distance_of_type`] and
+//! [`edge_edge_distance_of_type`] with their `_gradient` and `_hessian`. A type maps to one of
+//! the sub-distances [`point_point_distance`], [`point_line_distance`] (to the infinite
+//! line), [`point_plane_distance`] and [`line_line_distance`], each with its own derivatives.
+//! [`edge_edge_mollifier`] and its derivatives smooth the edge-edge barrier for nearly
+//! parallel edges, and [`point_triangle_distance_batch`] and its siblings run a whole batch
+//! of pairs into the caller's buffers.
+//!
+//! Point-plane and line-line share one kernel, `(r . n)^2 / |n|^2` with `n = u x v`, derived
+//! once in the three difference vectors `(r, u, v)` and mapped to the points' coordinates by
+//! the constant linear map (`g = A^T g_d`, `H = A^T H_d A`), applied block by block. Each
+//! file documents its derivation. Where an interior formula is undefined (a zero-length edge,
+//! a zero-area triangle, parallel lines) the functions return the distance to what the
+//! feature degenerates to, documented per function, never a NaN for finite input.
 
+mod batch;
+mod by_type;
 mod edge_edge;
+mod line_line;
+mod linear_map;
+mod mollifier;
 mod point_edge;
+mod point_line;
+mod point_plane;
 mod point_point;
 mod point_triangle;
+mod triple;
 
+pub use batch::{
+    edge_edge_distance_batch, point_edge_distance_batch, point_point_distance_batch,
+    point_triangle_distance_batch, BatchLengthError, BatchOutput,
+};
+pub use by_type::{
+    edge_edge_distance_gradient, edge_edge_distance_hessian, edge_edge_distance_of_type,
+    point_edge_distance_gradient, point_edge_distance_hessian, point_edge_distance_of_type,
+    point_triangle_distance_gradient, point_triangle_distance_hessian,
+    point_triangle_distance_of_type,
+};
 pub use edge_edge::{edge_edge_distance, EdgeEdgeType};
+pub use line_line::{line_line_distance, line_line_distance_gradient, line_line_distance_hessian};
+pub use mollifier::{
+    edge_edge_cross_squarednorm, edge_edge_cross_squarednorm_gradient,
+    edge_edge_cross_squarednorm_hessian, edge_edge_mollifier, edge_edge_mollifier_derivative,
+    edge_edge_mollifier_gradient, edge_edge_mollifier_hessian, edge_edge_mollifier_scalar,
+    edge_edge_mollifier_second_derivative, edge_edge_mollifier_threshold,
+};
 pub use point_edge::{point_edge_distance, PointEdgeType};
-pub use point_point::point_point_distance;
+pub use point_line::{
+    point_line_distance, point_line_distance_gradient, point_line_distance_hessian,
+};
+pub use point_plane::{
+    point_plane_distance, point_plane_distance_gradient, point_plane_distance_hessian,
+};
+pub use point_point::{
+    point_point_distance, point_point_distance_gradient, point_point_distance_hessian,
+};
 pub use point_triangle::{point_triangle_distance, PointTriangleType};
 
 use crate::math::{DVec3, UNIT_ROUNDOFF};
