@@ -40,6 +40,7 @@ mod barrier;
 mod collisions;
 mod collisions_build;
 mod deriv;
+pub mod friction;
 mod mesh;
 mod potential;
 mod psd;

@@ -55,7 +55,11 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     fn point(rng: &mut ChaCha8Rng) -> DVec3 {
-        DVec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0))
+        DVec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        )
     }
 
     /// Brute-force minimisation of `f` over a 2-parameter box by shrinking grids.
@@ -103,7 +107,10 @@ mod tests {
             let h = |s: f64, t: f64| (p - (a + (b - a) * s + (c - a) * t)).length_squared();
             let st = argmin2(h, [0.3, 0.3], 8.0);
             let bc = point_triangle_closest_point(p, a, b, c);
-            assert!(h(bc[0], bc[1]) <= h(st[0], st[1]) + 1e-12, "{bc:?} vs {st:?}");
+            assert!(
+                h(bc[0], bc[1]) <= h(st[0], st[1]) + 1e-12,
+                "{bc:?} vs {st:?}"
+            );
             let gv = p - (a + (b - a) * bc[0] + (c - a) * bc[1]);
             let scale = gv.length() * (b - a).length().max((c - a).length());
             assert!(gv.dot(b - a).abs() < 1e-9 * scale.max(1e-12));
@@ -115,10 +122,20 @@ mod tests {
     fn analytic_cases() {
         let p = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
         // Crossing lines: x axis and the line x = 3, z = 1 along y, from y = -1 to 1.
-        let ab = edge_edge_closest_point(p(0.0, 0.0, 0.0), p(4.0, 0.0, 0.0), p(3.0, -1.0, 1.0), p(3.0, 1.0, 1.0));
+        let ab = edge_edge_closest_point(
+            p(0.0, 0.0, 0.0),
+            p(4.0, 0.0, 0.0),
+            p(3.0, -1.0, 1.0),
+            p(3.0, 1.0, 1.0),
+        );
         assert_eq!(ab, [0.75, 0.5]);
         // Unclamped: the point projects outside the triangle.
-        let bc = point_triangle_closest_point(p(2.0, 0.5, 1.0), p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0), p(0.0, 1.0, 0.0));
+        let bc = point_triangle_closest_point(
+            p(2.0, 0.5, 1.0),
+            p(0.0, 0.0, 0.0),
+            p(1.0, 0.0, 0.0),
+            p(0.0, 1.0, 0.0),
+        );
         assert_eq!(bc, [2.0, 0.5]);
         assert!(!point_edge_closest_point(DVec3::X, DVec3::Y, DVec3::Y).is_finite());
     }

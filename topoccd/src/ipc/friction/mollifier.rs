@@ -257,14 +257,23 @@ mod tests {
         let (ms, mk) = (0.9, 0.4);
         for y in samples() {
             let d = fd(|t| smooth_mu(t, ms, mk, EPS), y);
-            assert!((d - smooth_mu_derivative(y, ms, mk, EPS)).abs() < 1e-7, "mu' at {y}");
+            assert!(
+                (d - smooth_mu_derivative(y, ms, mk, EPS)).abs() < 1e-7,
+                "mu' at {y}"
+            );
             let g = fd(|t| smooth_mu_f0(t, ms, mk, EPS), y);
             assert!((g - smooth_mu_f1(y, ms, mk, EPS)).abs() < 1e-8, "g1 at {y}");
             let g2 = fd(|t| smooth_mu_f1(t, ms, mk, EPS), y);
-            assert!((g2 - smooth_mu_f2(y, ms, mk, EPS)).abs() < 1e-6, "g2 at {y}");
+            assert!(
+                (g2 - smooth_mu_f2(y, ms, mk, EPS)).abs() < 1e-6,
+                "g2 at {y}"
+            );
             let c = (smooth_mu_f2(y, ms, mk, EPS) * y - smooth_mu_f1(y, ms, mk, EPS)) / y.powi(3);
             let got = smooth_mu_f2_x_minus_mu_f1_over_x3(y, ms, mk, EPS);
-            assert!((c - got).abs() <= 1e-9 * got.abs().max(1.0), "{c} vs {got} at {y}");
+            assert!(
+                (c - got).abs() <= 1e-9 * got.abs().max(1.0),
+                "{c} vs {got} at {y}"
+            );
             let r = smooth_mu_f1_over_x(y, ms, mk, EPS) * y;
             assert!((r - smooth_mu_f1(y, ms, mk, EPS)).abs() < 1e-14);
         }
@@ -294,7 +303,10 @@ mod tests {
     #[test]
     fn equal_coefficients_reduce_to_the_mollifier() {
         for y in samples() {
-            assert_eq!(smooth_mu_f0(y, 0.5, 0.5, EPS), 0.5 * smooth_friction_f0(y, EPS));
+            assert_eq!(
+                smooth_mu_f0(y, 0.5, 0.5, EPS),
+                0.5 * smooth_friction_f0(y, EPS)
+            );
             assert_eq!(
                 smooth_mu_f2_x_minus_mu_f1_over_x3(y, 0.5, 0.5, EPS),
                 0.5 * smooth_friction_f2_x_minus_f1_over_x3(y, EPS)

@@ -18,7 +18,7 @@
 use super::mollifier::{smooth_mu_f0, smooth_mu_f1_over_x, smooth_mu_f2_x_minus_mu_f1_over_x3};
 use super::tangential_collisions::{TangentialCollision, TangentialCollisions};
 use super::FrictionError;
-use crate::ipc::{PSDProjectionMethod, SparseMatrix};
+use crate::ipc::{PsdProjection, SparseMatrix};
 use crate::math::DVec3;
 
 /// The friction dissipative potential with the smooth mollifier's threshold `eps_v`.
@@ -117,7 +117,7 @@ impl FrictionPotential {
 
     /// The Hessian of `D` with respect to the velocities, `3n × 3n`, with each collision's
     /// 2×2 inner matrix projected to PSD by `project` (no projection with
-    /// [`PSDProjectionMethod::None`]).
+    /// [`PsdProjection::None`]).
     ///
     /// # Errors
     /// A collision's vertex outside `velocities`.
@@ -125,33 +125,37 @@ impl FrictionPotential {
         &self,
         collisions: &TangentialCollisions,
         velocities: &[[f64; 3]],
-        project: PSDProjectionMethod,
+        project: PsdProjection,
     ) -> Result<SparseMatrix, FrictionError> {
         let v = check(collisions, velocities)?;
-        let n = 3 * v.len();
-        let mut rows = Vec::with_capacity(collisions.len() * 144);
-        let mut cols = Vec::with_capacity(collisions.len() * 144);
-        let mut vals = Vec::with_capacity(collisions.len() * 144);
+        // The local 3k×3k blocks end to end, assembled once by vertex blocks.
+        let mut ids: Vec<u32> = Vec::with_capacity(4 * collisions.len());
+        let mut offsets = Vec::with_capacity(collisions.len() + 1);
+        let mut vals = Vec::with_capacity(144 * collisions.len());
+        offsets.push(0);
         for c in collisions.iter() {
             let m = self.local_tangent_hessian(c, v, project);
             if m == [[0.0; 3]; 3] {
                 continue;
             }
-            let ids = c.vertex_ids();
-            for (a, &va) in ids.iter().enumerate() {
-                for (b, &vb) in ids.iter().enumerate() {
-                    let s = c.gamma[a] * c.gamma[b];
-                    for (r, row) in m.iter().enumerate() {
-                        for (k, &x) in row.iter().enumerate() {
-                            rows.push(3 * va + r);
-                            cols.push(3 * vb + k);
-                            vals.push(s * x);
-                        }
+            let k = c.num_vertices();
+            ids.extend(c.vertex_ids().iter().map(|&i| i as u32));
+            offsets.push(ids.len());
+            for a in 0..k {
+                for r in &m {
+                    for b in 0..k {
+                        let s = c.gamma[a] * c.gamma[b];
+                        vals.extend(r.iter().map(|x| s * x));
                     }
                 }
             }
         }
-        Ok(SparseMatrix::from_triplets(n, n, &rows, &cols, &vals))
+        Ok(SparseMatrix::from_vertex_blocks(
+            v.len(),
+            &ids,
+            &offsets,
+            &vals,
+        ))
     }
 
     /// One collision's energy.
@@ -181,13 +185,13 @@ impl FrictionPotential {
         &self,
         c: &TangentialCollision,
         v: &[DVec3],
-        project: PSDProjectionMethod,
+        project: PsdProjection,
     ) -> [[f64; 3]; 3] {
         let r = c.relative_velocity(v);
         let u = tangential(c, r);
         let y = u.length();
         let scale = c.weight * c.normal_force_magnitude;
-        let projecting = project != PSDProjectionMethod::None;
+        let projecting = project != PsdProjection::None;
         let f1x = smooth_mu_f1_over_x(y, c.mu_s, c.mu_k, self.eps_v);
         let h: [[f64; 2]; 2] = if y > self.eps_v {
             // Sliding: w N g1/|u| times the projector on u's orthogonal, already PSD.
@@ -196,7 +200,10 @@ impl FrictionPotential {
             }
             let k = scale * f1x / (y * y);
             let p = [-u.y, u.x];
-            [[k * p[0] * p[0], k * p[0] * p[1]], [k * p[1] * p[0], k * p[1] * p[1]]]
+            [
+                [k * p[0] * p[0], k * p[0] * p[1]],
+                [k * p[1] * p[0], k * p[1] * p[1]],
+            ]
         } else if y == 0.0 {
             if projecting && scale <= 0.0 {
                 return [[0.0; 3]; 3];
@@ -252,8 +259,8 @@ fn check<'a>(
 
 /// Projects a symmetric 2×2 matrix to PSD: its negative eigenvalues set to 0 (clamp) or to
 /// their absolute values (abs); unchanged when both are non-negative.
-pub(crate) fn project_2x2(h: [[f64; 2]; 2], method: PSDProjectionMethod) -> [[f64; 2]; 2] {
-    if method == PSDProjectionMethod::None {
+pub(crate) fn project_2x2(h: [[f64; 2]; 2], method: PsdProjection) -> [[f64; 2]; 2] {
+    if method == PsdProjection::None {
         return h;
     }
     let (a, b, d) = (h[0][0], 0.5 * (h[0][1] + h[1][0]), h[1][1]);
@@ -266,7 +273,7 @@ pub(crate) fn project_2x2(h: [[f64; 2]; 2], method: PSDProjectionMethod) -> [[f6
     let fix = |l: f64| {
         if l >= 0.0 {
             l
-        } else if method == PSDProjectionMethod::Abs {
+        } else if method == PsdProjection::Abs {
             -l
         } else {
             0.0
@@ -279,7 +286,11 @@ pub(crate) fn project_2x2(h: [[f64; 2]; 2], method: PSDProjectionMethod) -> [[f6
         (l1 - d, b)
     };
     let len = (e0 * e0 + e1 * e1).sqrt();
-    let (c, s) = if len > 0.0 { (e0 / len, e1 / len) } else { (1.0, 0.0) };
+    let (c, s) = if len > 0.0 {
+        (e0 / len, e1 / len)
+    } else {
+        (1.0, 0.0)
+    };
     // V = [q1 q0] with q1 = (c, s) for l1 and q0 = (-s, c) for l0.
     let (m1, m0) = (fix(l1), fix(l0));
     [

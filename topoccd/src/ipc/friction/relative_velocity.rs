@@ -53,7 +53,10 @@ pub fn point_triangle_relative_velocity_jacobian(b: [f64; 2]) -> [f64; 4] {
 #[inline]
 pub fn relative_velocity(gamma: &[f64], velocities: &[DVec3]) -> DVec3 {
     debug_assert_eq!(gamma.len(), velocities.len());
-    gamma.iter().zip(velocities).fold(DVec3::ZERO, |s, (g, v)| s + *v * *g)
+    gamma
+        .iter()
+        .zip(velocities)
+        .fold(DVec3::ZERO, |s, (g, v)| s + *v * *g)
 }
 
 /// The Jacobian `[gamma_0 I, gamma_1 I, ...]` as a row-major 3×3k matrix (`3 * 3k` entries).
@@ -76,7 +79,11 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     fn point(rng: &mut ChaCha8Rng) -> DVec3 {
-        DVec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0))
+        DVec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        )
     }
 
     /// The relative velocity is the time derivative of the gap between the two closest
@@ -87,12 +94,14 @@ mod tests {
         for _ in 0..100 {
             let x: Vec<DVec3> = (0..4).map(|_| point(&mut rng)).collect();
             let v: Vec<DVec3> = (0..4).map(|_| point(&mut rng)).collect();
-            let at = |t: f64| -> Vec<DVec3> { x.iter().zip(&v).map(|(a, b)| *a + *b * t).collect() };
+            let at =
+                |t: f64| -> Vec<DVec3> { x.iter().zip(&v).map(|(a, b)| *a + *b * t).collect() };
             let h = 1e-6;
             let rate = |gap: &dyn Fn(&[DVec3]) -> DVec3| (gap(&at(h)) - gap(&at(-h))) / (2.0 * h);
 
             let ab = edge_edge_closest_point(x[0], x[1], x[2], x[3]);
-            let gap_ee = |y: &[DVec3]| (y[0] + (y[1] - y[0]) * ab[0]) - (y[2] + (y[3] - y[2]) * ab[1]);
+            let gap_ee =
+                |y: &[DVec3]| (y[0] + (y[1] - y[0]) * ab[0]) - (y[2] + (y[3] - y[2]) * ab[1]);
             let g = edge_edge_relative_velocity_jacobian(ab);
             assert!((relative_velocity(&g, &v) - rate(&gap_ee)).length() < 1e-8);
 
@@ -115,7 +124,12 @@ mod tests {
     #[test]
     fn jacobian_matrix_times_velocities() {
         let g = [0.3, -0.7, 0.25, -0.85];
-        let v = [DVec3::new(1.0, 2.0, 3.0), DVec3::new(-1.0, 0.5, 0.0), DVec3::Y, DVec3::Z];
+        let v = [
+            DVec3::new(1.0, 2.0, 3.0),
+            DVec3::new(-1.0, 0.5, 0.0),
+            DVec3::Y,
+            DVec3::Z,
+        ];
         let m = jacobian_matrix(&g);
         let flat: Vec<f64> = v.iter().flat_map(|p| p.to_array()).collect();
         let r = relative_velocity(&g, &v);

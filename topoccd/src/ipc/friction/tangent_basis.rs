@@ -73,7 +73,11 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     fn point(rng: &mut ChaCha8Rng) -> DVec3 {
-        DVec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0))
+        DVec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        )
     }
 
     /// Orthonormal, and orthogonal to `n`.
@@ -81,7 +85,10 @@ mod tests {
         let n = n.normalize();
         assert!((b[0].length() - 1.0).abs() < 1e-14 && (b[1].length() - 1.0).abs() < 1e-14);
         assert!(b[0].dot(b[1]).abs() < 1e-14);
-        assert!(b[0].dot(n).abs() < 1e-13 && b[1].dot(n).abs() < 1e-13, "{b:?} {n}");
+        assert!(
+            b[0].dot(n).abs() < 1e-13 && b[1].dot(n).abs() < 1e-13,
+            "{b:?} {n}"
+        );
     }
 
     #[test]
@@ -93,9 +100,15 @@ mod tests {
             // Point-edge normal: p - e0 minus its projection on the edge.
             let e = c - b;
             let r = a - b;
-            check(point_edge_tangent_basis(a, b, c), r - e * (r.dot(e) / e.dot(e)));
+            check(
+                point_edge_tangent_basis(a, b, c),
+                r - e * (r.dot(e) / e.dot(e)),
+            );
             check(edge_edge_tangent_basis(a, b, c, d), (b - a).cross(d - c));
-            check(point_triangle_tangent_basis(a, b, c, d), (c - b).cross(d - b));
+            check(
+                point_triangle_tangent_basis(a, b, c, d),
+                (c - b).cross(d - b),
+            );
         }
         // Normals along the axes, where the point-point choice switches.
         for n in [DVec3::X, DVec3::Y, DVec3::Z, DVec3::new(1.0, 1.0, 0.0)] {

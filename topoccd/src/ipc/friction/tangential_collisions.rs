@@ -16,6 +16,7 @@ use super::FrictionError;
 use crate::distance::{
     edge_edge_distance, point_edge_distance, point_point_distance, point_triangle_distance,
 };
+use crate::ipc::{BarrierPotential, NormalCollisions};
 use crate::math::DVec3;
 
 /// The kind of a contact stencil, named as the IPC toolkit's collision lists.
@@ -252,7 +253,9 @@ impl TangentialCollisions {
                     )
                 }
             };
-            if !(basis[0].is_finite() && basis[1].is_finite() && closest.iter().all(|c| c.is_finite()))
+            if !(basis[0].is_finite()
+                && basis[1].is_finite()
+                && closest.iter().all(|c| c.is_finite()))
             {
                 return Err(FrictionError::DegenerateStencil {
                     kind: s.kind,
@@ -280,6 +283,86 @@ impl TangentialCollisions {
             }
         }
         Ok(out)
+    }
+
+    /// Builds the tangential collisions from the normal collision set at the lagged
+    /// `positions`, with the normal forces of the barrier potential (ipctk's
+    /// `TangentialCollisions.build(mesh, x, collisions, B, mu_s, mu_k)`).
+    ///
+    /// The normal force of a collision is the barrier's force at the collision's squared
+    /// distance `d2`: `N = -2 sqrt(d2) B'(d2)`, with the set's `dmin` (ipctk's
+    /// `force_magnitude`), without the weight, which the potential applies.
+    ///
+    /// ```
+    /// use topoccd::ipc::friction::{FrictionCoefficients, TangentialCollisions};
+    /// use topoccd::ipc::{BarrierPotential, CollisionOptions, NormalCollisions};
+    /// use topoccd::{Ccd, Configuration};
+    /// let x = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.2, 0.2, 5e-4]];
+    /// let config = Configuration::new(&x, &[[0u32, 1, 2]], &[])?;
+    /// let options = CollisionOptions { dhat: 1e-3, ..Default::default() };
+    /// let normal = NormalCollisions::build(&mut Ccd::new(), &config, &x, &options)?;
+    /// let b = BarrierPotential::new(1e-3, 10.0);
+    /// let t = TangentialCollisions::build(&x, &normal, &b, FrictionCoefficients::uniform(0.5))?;
+    /// assert_eq!(t.fv_collisions.len(), 1);
+    /// assert_eq!(t.fv_collisions[0].closest_point, [0.2, 0.2]);
+    /// assert!(t.fv_collisions[0].normal_force_magnitude > 0.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`build_from_stencils`](Self::build_from_stencils).
+    pub fn build(
+        positions: &[[f64; 3]],
+        collisions: &NormalCollisions,
+        barrier: &BarrierPotential,
+        mu: FrictionCoefficients<'_>,
+    ) -> Result<Self, FrictionError> {
+        let dmin = collisions.dmin;
+        let stencil = |kind, primitives: [u32; 2], v: [u32; 4], weight, eps_x| NormalStencil {
+            kind,
+            primitives: primitives.map(|p| p as usize),
+            vertices: v.map(|p| p as usize),
+            weight,
+            dmin,
+            eps_x,
+        };
+        let vv = collisions.vv.iter().map(|c| {
+            let [a, b] = c.vertices;
+            stencil(
+                StencilKind::VertexVertex,
+                [a, b],
+                [a, b, 0, 0],
+                c.weight,
+                0.0,
+            )
+        });
+        let ev = collisions.ev.iter().map(|c| {
+            let v = [c.vertex, c.edge[0], c.edge[1], 0];
+            stencil(
+                StencilKind::EdgeVertex,
+                [c.edge_id, c.vertex],
+                v,
+                c.weight,
+                0.0,
+            )
+        });
+        let ee = collisions.ee.iter().map(|c| {
+            let v = [c.a[0], c.a[1], c.b[0], c.b[1]];
+            stencil(StencilKind::EdgeEdge, c.edge_ids, v, c.weight, c.eps_x)
+        });
+        let fv = collisions.fv.iter().map(|c| {
+            let [t0, t1, t2] = c.triangle;
+            let v = [c.vertex, t0, t1, t2];
+            stencil(
+                StencilKind::FaceVertex,
+                [c.face, c.vertex],
+                v,
+                c.weight,
+                0.0,
+            )
+        });
+        let force = |d2: f64, dmin: f64| -2.0 * d2.sqrt() * barrier.first_derivative(d2, dmin);
+        Self::build_from_stencils(positions, vv.chain(ev).chain(ee).chain(fv), force, mu)
     }
 
     /// Number of tangential collisions.
@@ -329,7 +412,9 @@ fn check_coefficients(mu: FrictionCoefficients<'_>, n: usize) -> Result<(), Fric
     match mu {
         FrictionCoefficients::Global { mu_s, mu_k } => {
             if bad(mu_s) || bad(mu_k) {
-                return Err(FrictionError::BadCoefficient { value: if bad(mu_s) { mu_s } else { mu_k } });
+                return Err(FrictionError::BadCoefficient {
+                    value: if bad(mu_s) { mu_s } else { mu_k },
+                });
             }
         }
         FrictionCoefficients::PerVertex { mu_s, mu_k } => {
