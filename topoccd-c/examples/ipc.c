@@ -9,7 +9,10 @@
  *  - a 5x5 cloth patch 0.4e-3 above a floor of two triangles (rest positions: the patch
  *    flat at z = 0.5): the gradient must match central finite differences of the energy, the
  *    plain Hessian central differences of the gradient, and the projected Hessian must be
- *    symmetric and positive semi-definite along random directions. */
+ *    symmetric and positive semi-definite along random directions;
+ *  - friction (mu = 0.5) over both: the lagged normal force of the point is the barrier's push
+ *    |dE/dz|, a sliding motion dissipates mu N |v|, and the friction gradient matches central
+ *    differences. */
 #include <topoccd.h>
 
 #include <math.h>
@@ -102,6 +105,25 @@ int main(void) {
         check(topoccd_collisions_minimum_distance(c, x, 4, &d2min, &error), &error, "minimum distance");
         printf("point over triangle: minimum squared distance %.12g (analytic %.12g)\n", d2min, d2);
         expect(d2min <= d2 * (1 + 1e-12) && d2min >= d2 * (1 - 1e-12), "the minimum distance is h^2");
+
+        /* Friction, mu = 0.5: the lagged normal force is the barrier's push |dE/dz|, and the
+         * point sliding at speed 2 (above eps_v) dissipates mu N |v|. */
+        topoccd_tangential_collisions *t = NULL;
+        check(topoccd_tangential_collisions_build(c, &barrier, x, 4, 0.5, 0.5, &t, &error), &error,
+              "tangential collisions");
+        const topoccd_tangential_collision *rows = NULL;
+        size_t count = 0;
+        check(topoccd_tangential_collisions_arrays(t, &rows, &count, &error), &error, "arrays");
+        const double v[12] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 0};
+        double fe = 0;
+        check(topoccd_friction_energy(1e-3, t, v, 4, &fe, &error), &error, "friction energy");
+        printf("point over triangle: %zu tangential collision, normal force %.12g (|dE/dz| %.12g), "
+               "friction energy %.12g (mu N |v| %.12g)\n",
+               count, count ? rows[0].normal_force_magnitude : 0.0, fabs(gz), fe, 0.5 * fabs(gz) * 2);
+        expect(count == 1 && fabs(rows[0].normal_force_magnitude - fabs(gz)) <= 1e-10 * fabs(gz),
+               "the normal force is the barrier's push");
+        expect(fabs(fe - 0.5 * fabs(gz) * 2) <= 1e-10 * fe, "the friction energy is mu N |v|");
+        topoccd_tangential_collisions_free(&t);
         topoccd_collisions_free(&c);
     }
 
@@ -235,6 +257,55 @@ int main(void) {
         expect(k0 > 0 && k0 <= kmax, "the initial stiffness is in range");
         /* The minimum distance is far above 1e-9 of the diagonal: no doubling. */
         expect(k1 == k0, "no update when the gap is wide");
+
+        /* Friction over the patch, mu = 0.5, eps_v = 1e-3. */
+        topoccd_tangential_collisions *tc = NULL;
+        check(topoccd_tangential_collisions_build(c, &barrier, x, NV, 0.5, 0.5, &tc, &error), &error,
+              "tangential collisions");
+        const topoccd_tangential_collision *rows = NULL;
+        size_t count = 0;
+        check(topoccd_tangential_collisions_arrays(tc, &rows, &count, &error), &error, "arrays");
+        /* The patch sliding as one (the floor fixed): every relative velocity is +-v, so the
+         * energy is sum w N mu |P^T v| (all above eps_v). */
+        double vel[3 * NV] = {0}, fe = 0, truth = 0;
+        for (int k = 12; k < 3 * NV; k += 3) vel[k] = 0.3, vel[k + 1] = -0.1;
+        for (size_t i = 0; i < count; i++) {
+            const double *p = rows[i].tangent_basis;
+            const double a = p[0] * 0.3 - p[1] * 0.1, b = p[3] * 0.3 - p[4] * 0.1;
+            truth += rows[i].weight * rows[i].normal_force_magnitude * rows[i].mu_k * sqrt(a * a + b * b);
+        }
+        check(topoccd_friction_energy(1e-3, tc, vel, NV, &fe, &error), &error, "friction energy");
+        printf("cloth patch: %zu tangential collisions, friction energy %.12g (sum w N mu |P'v| %.12g)\n",
+               count, fe, truth);
+        expect(count > 0 && count <= a.vv_count + a.ev_count + a.ee_count + a.fv_count,
+               "tangential collisions");
+        expect(fabs(fe - truth) <= 1e-10 * truth, "the sliding patch's friction energy");
+        /* A varied velocity field: the gradient against central differences. */
+        for (int k = 12; k < 3 * NV; k++) vel[k] = 1e-3 * sin(0.37 * k);
+        double fg[3 * NV];
+        check(topoccd_friction_gradient(1e-3, tc, vel, NV, fg, 3 * NV, &error), &error, "friction gradient");
+        diff = 0, norm = 0;
+        for (int k = 0; k < 3 * NV; k++) {
+            const double step = 1e-8, saved = vel[k];
+            double ep = 0, em = 0;
+            vel[k] = saved + step;
+            check(topoccd_friction_energy(1e-3, tc, vel, NV, &ep, &error), &error, "friction energy");
+            vel[k] = saved - step;
+            check(topoccd_friction_energy(1e-3, tc, vel, NV, &em, &error), &error, "friction energy");
+            vel[k] = saved;
+            const double fd = (ep - em) / (2 * step);
+            diff += (fd - fg[k]) * (fd - fg[k]);
+            norm += fg[k] * fg[k];
+        }
+        printf("cloth patch: friction gradient within %.2e of finite differences\n", sqrt(diff / norm));
+        expect(sqrt(diff / norm) < 1e-6, "the friction gradient matches finite differences");
+        check(topoccd_friction_hessian(1e-3, tc, vel, NV, TOPOCCD_PSD_PROJECTION_CLAMP, &hessian, &error), &error,
+              "friction hessian");
+        check(topoccd_sparse_csr(hessian, &h, &error), &error, "csr");
+        printf("cloth patch: friction Hessian %zu nonzeros\n", h.nnz);
+        expect(h.size == 3 * NV && h.nnz > 0, "a friction Hessian");
+        topoccd_sparse_free(&hessian);
+        topoccd_tangential_collisions_free(&tc);
         topoccd_collisions_free(&c);
     }
     topoccd_ccd_free(&ccd);

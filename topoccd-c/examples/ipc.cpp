@@ -6,7 +6,7 @@
 // kappa * b(d^2); then a 5x5 cloth patch over a floor: the gradient against central finite
 // differences of the energy, the plain Hessian against those of the gradient, and the
 // PSD-projected Hessian symmetric with v^T H v >= 0 (with Eigen: its smallest eigenvalue). The
-// stiffness helpers follow. Exits with 1 on a mismatch.
+// stiffness helpers and friction (mu = 0.5) follow. Exits with 1 on a mismatch.
 #include <topoccd.hpp>
 
 #include <algorithm>
@@ -152,6 +152,41 @@ int main() {
     std::printf("cloth patch: minimum distance %.6g, initial stiffness %.6g (max %.6g), updated %.6g\n",
                 std::sqrt(d2min), k0, kmax, k1);
     expect(k0 > 0 && k0 <= kmax && k1 == k0, "the stiffness helpers");
+
+    // Friction, mu = 0.5, eps_v = 1e-3: the patch sliding as one dissipates sum w N mu |P^T v|
+    // (each relative velocity is +-v); on a varied field the gradient matches differences.
+    ti::TangentialCollisions tc;
+    tc.build(mesh, x, collisions, B, 0.5);
+    const ti::FrictionPotential D(1e-3);
+    std::vector<std::array<double, 3>> vel(x.size(), {0, 0, 0});
+    for (std::size_t i = 4; i < vel.size(); i++) vel[i] = {0.3, -0.1, 0};
+    double truth = 0;
+    for (const auto& t : tc.collisions()) {
+      const double* p = t.tangent_basis;
+      const double a = p[0] * 0.3 - p[1] * 0.1, b = p[3] * 0.3 - p[4] * 0.1;
+      truth += t.weight * t.normal_force_magnitude * t.mu_k * std::sqrt(a * a + b * b);
+    }
+    const double fe = D(tc, mesh, vel);
+    std::printf("cloth patch: %zu tangential collisions, friction energy %.12g (sum w N mu |P'v| %.12g)\n",
+                tc.size(), fe, truth);
+    expect(!tc.empty() && std::abs(fe - truth) <= 1e-10 * truth, "the sliding patch's friction energy");
+    for (std::size_t k = 12; k < dof; k++) vel[k / 3][k % 3] = 1e-3 * std::sin(0.37 * k);
+    const std::vector<double> fg = D.gradient(tc, mesh, vel);
+    diff = 0, norm = 0;
+    for (std::size_t k = 0; k < dof; k++) {
+      const double step = 1e-8, saved = vel[k / 3][k % 3];
+      vel[k / 3][k % 3] = saved + step;
+      const double ep = D(tc, vel);
+      vel[k / 3][k % 3] = saved - step;
+      const double em = D(tc, vel);
+      vel[k / 3][k % 3] = saved;
+      diff += ((ep - em) / (2 * step) - fg[k]) * ((ep - em) / (2 * step) - fg[k]);
+      norm += fg[k] * fg[k];
+    }
+    const ti::Csr FH = D.hessian(tc, mesh, vel, ti::PSDProjectionMethod::CLAMP);
+    std::printf("cloth patch: friction gradient within %.2e of finite differences, Hessian %zu nonzeros\n",
+                std::sqrt(diff / norm), FH.nnz());
+    expect(std::sqrt(diff / norm) < 1e-6 && FH.size == dof && FH.nnz() > 0, "the friction gradient");
   } catch (const topoccd::Error& e) {
     std::fprintf(stderr, "error: %s (%s)\n", e.what(), e.status_name());
     return 2;

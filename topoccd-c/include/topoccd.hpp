@@ -15,6 +15,11 @@
 //
 // topoccd.hpp includes topoccd.h, <array>, <cstdint>, <optional>, <string> and <vector>.
 //
+// topoccd::ipc holds the contact potential in the IPC toolkit's names: NormalCollisions,
+// BarrierPotential, TangentialCollisions, FrictionPotential, PSDProjectionMethod and the
+// stiffness helpers; Hessians come back as a topoccd::ipc::Csr (and as an Eigen::SparseMatrix
+// through Csr::eigen() when <Eigen/Sparse> is found too).
+//
 // Eigen: with <Eigen/Dense> on the include path (and TOPOCCD_NO_EIGEN not defined), Rows (so
 // Step and Ccd::query) also take Eigen matrices, maps and blocks with 3 columns in row-major
 // order, read in place: Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> for
@@ -1092,6 +1097,102 @@ class BarrierPotential {
   }
 
   topoccd_barrier_potential c_;
+};
+
+/// The tangential collisions of a normal collision set at its lagged positions (ipctk's
+/// `TangentialCollisions`), with the barrier's normal forces and friction coefficients.
+class TangentialCollisions {
+ public:
+  TangentialCollisions() = default;
+
+  /// ipctk's `build(mesh, x, collisions, B, mu)` (static and kinetic `mu`), or `mu_s`, `mu_k`.
+  void build(const CollisionMesh&, Points x, const NormalCollisions& collisions,
+             const BarrierPotential& B, double mu_s, double mu_k) {
+    if (collisions.get() == nullptr) {
+      throw Error(TOPOCCD_STATUS_NULL_POINTER, "the NormalCollisions were never built");
+    }
+    topoccd_tangential_collisions* t = nullptr;
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_tangential_collisions_build(collisions.get(), &B.c(), x.data(), x.rows(),
+                                                      mu_s, mu_k, &t, &error),
+                  error);
+    set_ = detail::Owned<topoccd_tangential_collisions, topoccd_tangential_collisions_free>(t);
+    detail::check(topoccd_tangential_collisions_arrays(set_.get(), &rows_, &count_, &error), error);
+  }
+  void build(const CollisionMesh& mesh, Points x, const NormalCollisions& collisions,
+             const BarrierPotential& B, double mu) {
+    build(mesh, x, collisions, B, mu, mu);
+  }
+
+  std::size_t size() const noexcept { return set_.get() ? count_ : 0; }
+  bool empty() const noexcept { return size() == 0; }
+  Span<const topoccd_tangential_collision> collisions() const noexcept { return {rows_, size()}; }
+  const topoccd_tangential_collision& operator[](std::size_t i) const noexcept { return rows_[i]; }
+
+  const topoccd_tangential_collisions* get() const noexcept { return set_.get(); }
+
+ private:
+  detail::Owned<topoccd_tangential_collisions, topoccd_tangential_collisions_free> set_;
+  const topoccd_tangential_collision* rows_ = nullptr;
+  std::size_t count_ = 0;
+};
+
+/// The smooth friction potential over velocities (ipctk's `FrictionPotential(eps_v)`).
+class FrictionPotential {
+ public:
+  explicit FrictionPotential(double eps_v) noexcept : eps_v_(eps_v) {}
+
+  double eps_v() const noexcept { return eps_v_; }
+
+  /// The energy at velocities `v` (ipctk's `D(collisions, mesh, v)`).
+  double operator()(const TangentialCollisions& t, const CollisionMesh&, Points v) const {
+    return (*this)(t, v);
+  }
+  double operator()(const TangentialCollisions& t, Points v) const {
+    double e = 0.0;
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_friction_energy(eps_v_, need(t), v.data(), v.rows(), &e, &error), error);
+    return e;
+  }
+
+  /// The gradient in the velocities, 3 n entries.
+  std::vector<double> gradient(const TangentialCollisions& t, const CollisionMesh&, Points v) const {
+    return gradient(t, v);
+  }
+  std::vector<double> gradient(const TangentialCollisions& t, Points v) const {
+    std::vector<double> g(3 * v.rows());
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_friction_gradient(eps_v_, need(t), v.data(), v.rows(), g.data(),
+                                            g.size(), &error),
+                  error);
+    return g;
+  }
+
+  /// The Hessian in the velocities, 3 n square.
+  Csr hessian(const TangentialCollisions& t, const CollisionMesh&, Points v,
+              PSDProjectionMethod project_hessian_to_psd = PSDProjectionMethod::NONE) const {
+    return hessian(t, v, project_hessian_to_psd);
+  }
+  Csr hessian(const TangentialCollisions& t, Points v,
+              PSDProjectionMethod project_hessian_to_psd = PSDProjectionMethod::NONE) const {
+    topoccd_sparse* m = nullptr;
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_friction_hessian(eps_v_, need(t), v.data(), v.rows(),
+                                           static_cast<std::uint32_t>(project_hessian_to_psd), &m,
+                                           &error),
+                  error);
+    return Csr::take(m);
+  }
+
+ private:
+  static const topoccd_tangential_collisions* need(const TangentialCollisions& t) {
+    if (t.get() == nullptr) {
+      throw Error(TOPOCCD_STATUS_NULL_POINTER, "the TangentialCollisions were never built");
+    }
+    return t.get();
+  }
+
+  double eps_v_;
 };
 
 /// ipctk's `initial_barrier_stiffness`: the stiffness, with its cap in `max_barrier_stiffness`.

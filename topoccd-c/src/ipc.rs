@@ -491,7 +491,7 @@ pub(crate) fn projection(p: u32) -> Result<PsdProjection, Failure> {
 
 /// # Safety
 /// `p` is NULL or points to a `topoccd_barrier_potential`.
-unsafe fn potential(p: *const topoccd_barrier_potential) -> Result<BarrierPotential, Failure> {
+pub(crate) unsafe fn potential(p: *const topoccd_barrier_potential) -> Result<BarrierPotential, Failure> {
     if p.is_null() {
         return Err(Failure::null("potential"));
     }

@@ -27,6 +27,8 @@
 //!   (`topoccd_collisions`); `topoccd_barrier_energy`, `topoccd_barrier_gradient` and
 //!   `topoccd_barrier_hessian` (a `topoccd_sparse` read as CSR) evaluate the barrier
 //!   potential over it, with the stiffness helpers and the minimum distance beside them;
+//!   `topoccd_tangential_collisions_build` and `topoccd_friction_energy`, `_gradient`,
+//!   `_hessian` are friction over lagged tangential collisions;
 //! - `topoccd_mesh_read`, `topoccd_frames_read` and `topoccd_sequence_open` read meshes, steps
 //!   and frame sequences into objects that own their arrays.
 //!
@@ -67,6 +69,7 @@
 
 mod ccd;
 mod error;
+mod friction;
 mod handle;
 mod io;
 mod ipc;
@@ -90,6 +93,12 @@ pub use io::{
     topoccd_mesh_data, topoccd_mesh_free, topoccd_mesh_note, topoccd_mesh_note_count,
     topoccd_mesh_read, topoccd_mesh_view, topoccd_sequence, topoccd_sequence_free,
     topoccd_sequence_load, topoccd_sequence_open, topoccd_sequence_step_count,
+};
+pub use friction::{
+    topoccd_friction_energy, topoccd_friction_gradient, topoccd_friction_hessian,
+    topoccd_tangential_collision, topoccd_tangential_collisions,
+    topoccd_tangential_collisions_arrays, topoccd_tangential_collisions_build,
+    topoccd_tangential_collisions_free,
 };
 pub use ipc::{
     topoccd_barrier, topoccd_barrier_energy, topoccd_barrier_gradient, topoccd_barrier_hessian,

@@ -1137,6 +1137,50 @@ static void test_ipc(void) {
     expect_error(topoccd_update_barrier_stiffness(1, 1, 100, 1, 1e-9, 0, NULL, &error), TOPOCCD_STATUS_NULL_POINTER,
                  &error, "stiffness is NULL", "NULL stiffness");
 
+    /* Friction. */
+    topoccd_tangential_collisions *tc = (topoccd_tangential_collisions *)&config;
+    expect_error(topoccd_tangential_collisions_build(c, &b, x, 4, -0.5, 0.5, &tc, &error),
+                 TOPOCCD_STATUS_INVALID_OPTIONS, &error, "friction coefficient", "negative mu");
+    CHECK(tc == NULL, "the output is NULL after a failure");
+    expect_error(topoccd_tangential_collisions_build(c, NULL, x, 4, 0.5, 0.5, &tc, &error),
+                 TOPOCCD_STATUS_NULL_POINTER, &error, "potential is NULL", "NULL barrier");
+    expect_error(topoccd_tangential_collisions_build(c, &b, nan_x, 4, 0.5, 0.5, &tc, &error),
+                 TOPOCCD_STATUS_INVALID_STEP, &error, "not finite", "NaN lagged positions");
+    expect_error(topoccd_tangential_collisions_build(c, &b, x, 3, 0.5, 0.5, &tc, &error),
+                 TOPOCCD_STATUS_INVALID_ARGUMENT, &error, "x has 3 rows", "lagged positions of the wrong count");
+    CHECK_STATUS(topoccd_tangential_collisions_build(c, &b, x, 4, 0.5, 0.5, &tc, &error), TOPOCCD_STATUS_OK,
+                 "tangential build");
+    const topoccd_tangential_collision *rows = NULL;
+    size_t count = 0;
+    CHECK_STATUS(topoccd_tangential_collisions_arrays(tc, &rows, &count, &error), TOPOCCD_STATUS_OK, "arrays");
+    CHECK(count == 1 && rows[0].kind == 3 && rows[0].vertices[0] == 3 && rows[0].vertex_count == 4,
+          "one face-vertex tangential collision");
+    /* The normal force: the barrier's push on the point, |dE/dz|. */
+    CHECK(count == 1 && fabs(rows[0].normal_force_magnitude + g[11]) <= 1e-12 * fabs(g[11]), "normal force %g",
+          count ? rows[0].normal_force_magnitude : 0.0);
+    const double v[12] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0};
+    double fe = 0, fg[12];
+    CHECK_STATUS(topoccd_friction_energy(1e-3, tc, v, 4, &fe, &error), TOPOCCD_STATUS_OK, "friction energy");
+    CHECK(fabs(fe - 0.5 * rows[0].normal_force_magnitude) <= 1e-12 * fe, "mu N |v|, got %g", fe);
+    expect_error(topoccd_friction_energy(0, tc, v, 4, &fe, &error), TOPOCCD_STATUS_INVALID_OPTIONS, &error,
+                 "eps_v", "zero eps_v");
+    expect_error(topoccd_friction_energy(1e-3, (const topoccd_tangential_collisions *)c, v, 4, &fe, &error),
+                 TOPOCCD_STATUS_INVALID_HANDLE, &error, "not a live topoccd_tangential_collisions",
+                 "collisions as tangential");
+    expect_error(topoccd_friction_gradient(1e-3, tc, v, 4, fg, 3, &error), TOPOCCD_STATUS_INVALID_ARGUMENT, &error,
+                 "gradient_len is 3", "short friction gradient");
+    expect_error(topoccd_friction_gradient(1e-3, tc, nan_x, 4, fg, 12, &error), TOPOCCD_STATUS_INVALID_STEP,
+                 &error, "velocities: vertex 1 is not finite", "NaN velocity");
+    topoccd_sparse *fh = NULL;
+    expect_error(topoccd_friction_hessian(1e-3, tc, v, 4, 5, &fh, &error), TOPOCCD_STATUS_INVALID_OPTIONS, &error,
+                 "projection", "unknown projection");
+    CHECK_STATUS(topoccd_friction_hessian(1e-3, tc, v, 4, TOPOCCD_PSD_PROJECTION_NONE, &fh, &error),
+                 TOPOCCD_STATUS_OK, "friction hessian");
+    topoccd_sparse_free(&fh);
+    topoccd_tangential_collisions_free(&tc);
+    CHECK(tc == NULL, "free sets NULL");
+    topoccd_tangential_collisions_free(&tc);
+
     topoccd_collisions_free(&c);
     CHECK(c == NULL, "free sets NULL");
     topoccd_collisions_free(&c);

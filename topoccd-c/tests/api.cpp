@@ -386,6 +386,18 @@ static void test_ipc() {
       [&] { ti::initial_barrier_stiffness(1, ti::Barrier::ClampedLog, 1e-3, 1, {0, 1}, {0}, kmax); },
       TOPOCCD_STATUS_INVALID_ARGUMENT, "different lengths", "gradients of different lengths");
   CHECK(ti::update_barrier_stiffness(1e-20, 1e-21, 100, 1, 1) == 2.0, "the stiffness doubles");
+  ti::TangentialCollisions tc;
+  const ti::FrictionPotential D(1e-3);
+  expect_error([&] { D(tc, x); }, TOPOCCD_STATUS_NULL_POINTER, "never built", "unbuilt tangential set");
+  expect_error([&] { tc.build(mesh, x, c, B, -1.0); }, TOPOCCD_STATUS_INVALID_OPTIONS, "friction coefficient",
+               "negative mu");
+  tc.build(mesh, x, c, B, 0.5);
+  std::vector<std::array<double, 3>> v(4, {0, 0, 0});
+  v[3] = {1, 0, 0};
+  // mu N |v|, with N the barrier's push on the point (its gradient's z).
+  const double push = -B.gradient(c, x)[11];
+  CHECK(tc.size() == 1 && std::abs(D(tc, mesh, v) - 0.5 * push) <= 1e-12 * push, "friction energy");
+  expect_error([&] { ti::FrictionPotential(-1.0)(tc, v); }, TOPOCCD_STATUS_INVALID_OPTIONS, "eps_v", "bad eps_v");
 }
 
 int main() {
