@@ -37,7 +37,11 @@ fn write<T: Copy>(p: &Path, v: &[T], f: impl Fn(T) -> Vec<u8>) -> std::io::Resul
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dir = std::env::args().nth(1).ok_or("usage: ipc_dump DIR")?;
     let dir = Path::new(&dir);
-    let rows3 = |v: Vec<f64>| v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect::<Vec<_>>();
+    let rows3 = |v: Vec<f64>| {
+        v.chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect::<Vec<_>>()
+    };
     let x = rows3(read_f64(&dir.join("x.f64")));
     let rest = rows3(read_f64(&dir.join("rest.f64")));
     let faces: Vec<[u32; 3]> = read_u32(&dir.join("faces.u32"))
@@ -88,9 +92,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     ] {
         let h = b.hessian(&c, &x, m);
         let (ip, ix, d) = h.csr();
-        write(&dir.join(format!("hess_{name}.indptr.u64")), ip, |v| (v as u64).to_le_bytes().to_vec())?;
-        write(&dir.join(format!("hess_{name}.indices.u64")), ix, |v| (v as u64).to_le_bytes().to_vec())?;
-        write(&dir.join(format!("hess_{name}.data.f64")), d, |v| v.to_le_bytes().to_vec())?;
+        write(&dir.join(format!("hess_{name}.indptr.u64")), ip, |v| {
+            (v as u64).to_le_bytes().to_vec()
+        })?;
+        write(&dir.join(format!("hess_{name}.indices.u64")), ix, |v| {
+            (v as u64).to_le_bytes().to_vec()
+        })?;
+        write(&dir.join(format!("hess_{name}.data.f64")), d, |v| {
+            v.to_le_bytes().to_vec()
+        })?;
         nnz.insert(name.into(), h.nnz().into());
     }
     let out = serde_json::json!({

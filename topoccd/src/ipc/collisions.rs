@@ -90,8 +90,8 @@ pub struct EeCollision {
     pub a: [u32; 2],
     /// The second edge's vertices (`eb0`, `eb1`).
     pub b: [u32; 2],
-    /// The mollifier threshold, from the rest positions
-    /// ([`edge_edge_mollifier_threshold`](crate::distance::edge_edge_mollifier_threshold)).
+    /// The mollifier threshold from the rest positions, `1e-3 |ea|^2 |eb|^2` (ipctk's
+    /// `edge_edge_mollifier_threshold`).
     pub eps_x: f64,
     /// The closest features whose distance the barrier uses (the interiors, or another type
     /// when the edges are nearly parallel and the collision is mollified).

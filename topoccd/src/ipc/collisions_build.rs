@@ -41,12 +41,15 @@ impl CollisionOptions {
     }
 }
 
+/// An edge-edge collision's features: edge a, edge b, the type.
+type EeKey = ([u32; 2], [u32; 2], EdgeEdgeType);
+
 /// The weights being merged, by kind and features.
 #[derive(Default)]
 struct Builder {
     vv: HashMap<(u32, u32), f64>,
     ev: HashMap<(u32, u32), f64>,
-    ee: HashMap<([u32; 2], [u32; 2], EdgeEdgeType), (f64, f64)>,
+    ee: HashMap<EeKey, (f64, f64)>,
     fv: Vec<FvCollision>,
 }
 

@@ -6,6 +6,9 @@
 //! line-line: `w`, `a`, `b` with `F = (w . (a x b))^2 / |a x b|^2`); the derivatives in `x`
 //! are `A^T grad F` and `A^T hess F A`, block by block.
 
+// Index loops over small fixed-size arrays read as the formulas do.
+#![allow(clippy::needless_range_loop)]
+
 use crate::distance::EdgeEdgeType;
 use crate::math::DVec3;
 

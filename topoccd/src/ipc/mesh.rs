@@ -2,6 +2,9 @@
 //! triangles and free edges: the edge list, each triangle's edges, and the rest areas of
 //! vertices and edges (ipctk's `CollisionMesh` areas).
 
+// Index loops over small fixed-size arrays read as the formulas do.
+#![allow(clippy::needless_range_loop)]
+
 use std::collections::HashMap;
 
 use crate::math::DVec3;

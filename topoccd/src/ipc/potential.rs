@@ -1,6 +1,9 @@
 //! The barrier potential over a collision set: energy, gradient and sparse Hessian (ipctk's
 //! `BarrierPotential` and `NormalPotential`).
 
+// Index loops over small fixed-size arrays read as the formulas do.
+#![allow(clippy::needless_range_loop)]
+
 use super::barrier::Barrier;
 use super::collisions::NormalCollisions;
 use super::deriv::{self, Local};

@@ -1,6 +1,9 @@
 //! Projection of a symmetric matrix onto the positive semi-definite cone, by its
 //! eigen-decomposition (nalgebra's `SymmetricEigen`).
 
+// Index loops over small fixed-size arrays read as the formulas do.
+#![allow(clippy::needless_range_loop)]
+
 use nalgebra::{DMatrix, SMatrix};
 
 /// How a collision's Hessian is made positive semi-definite before assembly (ipctk's

@@ -1,5 +1,8 @@
 //! A sparse symmetric matrix as triplets and as CSR, for any Rust sparse solver.
 
+// Index loops over small fixed-size arrays read as the formulas do.
+#![allow(clippy::needless_range_loop)]
+
 /// A square sparse matrix of size `n x n`, kept both as triplets (row, column, value; one
 /// per nonzero, sorted by row then column, duplicates summed) and as compressed sparse rows.
 ///

@@ -5,6 +5,9 @@
 //! The proximity query's own types ([`crate::distance`]) agree with these except on the
 //! boundaries between regions, where either choice gives the same distance up to rounding.
 
+// Index loops over small fixed-size arrays read as the formulas do.
+#![allow(clippy::needless_range_loop)]
+
 use crate::distance::{EdgeEdgeType, PointEdgeType, PointTriangleType};
 use crate::math::DVec3;
 
