@@ -14,6 +14,10 @@
 #     below it) and its pairs must be those of `topoccd step --pairs -`; the same on the steps
 #     of a generated nidus-cut sequence with their parents files; `line_search` must give the
 #     earliest times of `topoccd run --earliest --json`.
+#     `ipc` (the contact potential, in C and C++) checks itself against independent truth
+#     and must exit 0: the analytic barrier energy and gradient of a point over a triangle,
+#     and, on a cloth patch over a floor, the gradient and Hessian against central finite
+#     differences and the projected Hessian's PSD-ness.
 #  4. Runs the C and C++ tests (topoccd-c/tests) under AddressSanitizer and UBSan (leaks
 #     included), the C++ ones with and without Eigen, and checks that a column-major Eigen
 #     matrix is refused at compile time, and that a reference into a temporary (the dangling
@@ -87,7 +91,7 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:exitcode=23"
 export UBSAN_OPTIONS="print_stacktrace=1"
 
 echo "== C and C++: the examples with plain cc and g++"
-for ex in step line_search proximity; do
+for ex in step line_search proximity ipc; do
     "$CC" "${cflags[@]}" -I"$include" "topoccd-c/examples/$ex.c" "$lib" "${system_libs[@]}" \
         -o "$work/plain/$ex"
     # shellcheck disable=SC2086
@@ -239,6 +243,19 @@ EOF
     then pass; else fail "$bin: not the earliest times of topoccd run --earliest"; fi
 done
 echo "   nidus-cut line search: $(grep -c '^step' "$work/search.txt") steps, the CLI's earliest times (${#search_bins[@]} builds)"
+
+echo "== C and C++: the ipc examples (analytic values, finite differences, PSD)"
+ipc_bins=("$work/plain/ipc" "$work/plain/ipc_cpp" "$work/plain/ipc_cpp_no_eigen"
+    "$work/cmake/topoccd_ipc" "$work/cmake/topoccd_ipc_cpp")
+for bin in "${ipc_bins[@]}"; do
+    if "$bin" >"$work/ipc.txt" 2>"$work/ipc.err"; then
+        pass
+    else
+        cat "$work/ipc.err" >&2
+        fail "$bin: its checks failed"
+    fi
+done
+echo "   $(grep -c . "$work/ipc.txt") lines, $(tail -1 "$work/ipc.txt") (${#ipc_bins[@]} builds)"
 
 echo "== C and C++: the tests under AddressSanitizer and UBSan"
 run_test() { # BINARY: its last line must be "N passed, 0 failed"

@@ -204,6 +204,70 @@ typedef uint32_t topoccd_growth;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// How the collision set is built (ipctk's `CollisionSetType`).
+enum topoccd_collision_set_type
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // The original IPC set (ipctk's `IPC`, the default).
+  TOPOCCD_COLLISION_SET_TYPE_IPC = 0,
+  // ipctk's `IMPROVED_MAX_APPROX` (refused while the Rust library does not build it).
+  TOPOCCD_COLLISION_SET_TYPE_IMPROVED_MAX_APPROX = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum topoccd_collision_set_type topoccd_collision_set_type;
+#else
+typedef uint32_t topoccd_collision_set_type;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// How a collision's Hessian is made positive semi-definite before it is added (ipctk's
+// `PSDProjectionMethod`).
+enum topoccd_psd_projection
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // No projection.
+  TOPOCCD_PSD_PROJECTION_NONE = 0,
+  // Negative eigenvalues set to 0.
+  TOPOCCD_PSD_PROJECTION_CLAMP = 1,
+  // Negative eigenvalues replaced by their absolute values.
+  TOPOCCD_PSD_PROJECTION_ABS = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum topoccd_psd_projection topoccd_psd_projection;
+#else
+typedef uint32_t topoccd_psd_projection;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// A barrier function (ipctk's barrier classes).
+enum topoccd_barrier
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // `-(d - dhat)^2 ln(d / dhat)` (ipctk's default `ClampedLogBarrier`).
+  TOPOCCD_BARRIER_CLAMPED_LOG = 0,
+  // The clamped log barrier of `d / dhat`, dimensionless.
+  TOPOCCD_BARRIER_NORMALIZED_CLAMPED_LOG = 1,
+  // `(d - dhat)^2 ln(d / dhat)^2`.
+  TOPOCCD_BARRIER_CLAMPED_LOG_SQ = 2,
+  // `-2/(3 dhat) (d - dhat)^3`.
+  TOPOCCD_BARRIER_CUBIC = 3,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum topoccd_barrier topoccd_barrier;
+#else
+typedef uint32_t topoccd_barrier;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // A reusable continuous-collision-detection query. Keep one per simulation and query it every
 // step: its buffers (hierarchy, candidate pairs, the report's arrays) are reused, and the
 // topology may change freely from one step to the next. It holds the report of its last query
@@ -220,6 +284,11 @@ typedef uint32_t topoccd_growth;
 // topoccd_ccd_free(&ccd); /* ccd is NULL now */
 // ```
 typedef struct topoccd_ccd topoccd_ccd;
+
+// The normal collision set of one configuration (ipctk's `NormalCollisions`), built by
+// `topoccd_collisions_build`, freed by `topoccd_collisions_free`. Read-only once built: it
+// may be used from several threads at once.
+typedef struct topoccd_collisions topoccd_collisions;
 
 // The details of a failed call that takes no `topoccd_ccd` (reading a file, a per-pair test):
 // its status and its message. Such a function takes a last argument `topoccd_error **error`:
@@ -252,6 +321,15 @@ typedef struct topoccd_mesh topoccd_mesh;
 // parents files beside them (`0001.parents`: one line `NEW_ID PARENT_ID` per new vertex). Step
 // `k` goes from frame `k` to frame `k + 1`. Free it with `topoccd_sequence_free`.
 typedef struct topoccd_sequence topoccd_sequence;
+
+// A square sparse matrix, `size x size`, symmetric for a Hessian (so its CSR arrays read as
+// CSC too), made by `topoccd_barrier_hessian` or `topoccd_friction_hessian`, freed by
+// `topoccd_sparse_free`.
+typedef struct topoccd_sparse topoccd_sparse;
+
+// The tangential collisions of a normal collision set at its lagged positions, built by
+// `topoccd_tangential_collisions_build`, freed by `topoccd_tangential_collisions_free`.
+typedef struct topoccd_tangential_collisions topoccd_tangential_collisions;
 
 // The input of one step, borrowed: nothing is copied, and nothing is kept after the call.
 // Vertices move linearly from their position at t=0 to their position at t=1. Zero-initialise
@@ -577,6 +655,42 @@ typedef struct topoccd_report {
   size_t vv_count;
 } topoccd_report;
 
+// The barrier potential's parameters (ipctk's `BarrierPotential(dhat, stiffness)`), passed
+// by pointer to the potential's functions; `topoccd_barrier_potential_new` fills them.
+typedef struct topoccd_barrier_potential {
+  // The activation distance (not squared), finite, > 0.
+  double dhat;
+  // The stiffness kappa, finite, > 0.
+  double stiffness;
+  // A `topoccd_barrier`. Default `TOPOCCD_BARRIER_CLAMPED_LOG`.
+  uint32_t barrier;
+  // ipctk's `use_physical_barrier`. Default false.
+  bool use_physical_barrier;
+} topoccd_barrier_potential;
+
+// One tangential collision (ipctk's `TangentialCollision`), from the lagged positions.
+typedef struct topoccd_tangential_collision {
+  // Its kind: 0 vertex-vertex, 1 edge-vertex, 2 edge-edge, 3 face-vertex.
+  uint32_t kind;
+  // Its stencil's vertices (`vertex_count` of them: 2, 3, 4, 4): vertex-vertex `a b`,
+  // edge-vertex `v e0 e1`, edge-edge `a0 a1 b0 b1`, face-vertex `v t0 t1 t2`.
+  uint32_t vertices[4];
+  // How many of `vertices` are used.
+  uint32_t vertex_count;
+  // The closest point's coordinates (edge-vertex: 1, edge-edge and face-vertex: 2).
+  double closest_point[2];
+  // The tangent basis, two orthonormal 3-vectors (`t0 t1`, 6 doubles).
+  double tangent_basis[6];
+  // The lagged normal force magnitude.
+  double normal_force_magnitude;
+  // The normal collision's weight.
+  double weight;
+  // The static friction coefficient.
+  double mu_s;
+  // The kinetic friction coefficient.
+  double mu_k;
+} topoccd_tangential_collision;
+
 // The arrays of a `topoccd_mesh`, borrowed from it: valid until `topoccd_mesh_free`.
 typedef struct topoccd_mesh_view {
   // `vertex_count` rows of 3 doubles.
@@ -593,6 +707,126 @@ typedef struct topoccd_mesh_view {
   // comes from, and its rank among that face's triangles.
   const uint32_t *face_origin;
 } topoccd_mesh_view;
+
+// The options of `topoccd_collisions_build`; `topoccd_collision_options_default()` gives
+// ipctk's defaults.
+typedef struct topoccd_collision_options {
+  // The activation distance, finite, > 0. Default 1e-3.
+  double dhat;
+  // The minimum distance (a thickness), finite, >= 0. Default 0.
+  double dmin;
+  // Weight each collision by the rest areas of its primitives. Default false.
+  bool use_area_weighting;
+  // A `topoccd_collision_set_type`. Default `TOPOCCD_COLLISION_SET_TYPE_IPC`.
+  uint32_t collision_set_type;
+} topoccd_collision_options;
+
+// One configuration: positions, triangles, free edges (rods, hair) and optional groups,
+// borrowed for the call. Vertices in no triangle and no edge are free points.
+//
+// ```c
+// topoccd_configuration config = {0};
+// config.x = x; config.vertex_count = 4;
+// config.triangles = triangles; config.triangle_count = 1;
+// ```
+typedef struct topoccd_configuration {
+  // Positions: `vertex_count` rows of 3 doubles.
+  const double *x;
+  // Number of vertices.
+  size_t vertex_count;
+  // Triangles: `triangle_count` rows of 3 vertex indices.
+  const uint32_t *triangles;
+  // Number of triangles.
+  size_t triangle_count;
+  // NULL, or `edge_count` rows of 2 vertex indices: free edges (an edge of a triangle
+  // given here counts once).
+  const uint32_t *edges;
+  // Number of free edges.
+  size_t edge_count;
+  // NULL, or one group id per vertex: features whose vertices all share one group are not
+  // paired.
+  const uint32_t *groups;
+  // Number of group ids (`vertex_count` when `groups` is not NULL).
+  size_t group_count;
+} topoccd_configuration;
+
+// A vertex-vertex collision.
+typedef struct topoccd_vv_collision {
+  // The two vertices.
+  uint32_t vertices[2];
+  // Its weight (multiplicity, or area with area weighting).
+  double weight;
+} topoccd_vv_collision;
+
+// An edge-vertex collision.
+typedef struct topoccd_ev_collision {
+  // The edge's index in the set's edge list (`topoccd_collision_arrays.edges`).
+  uint32_t edge_id;
+  // The edge's vertices.
+  uint32_t edge[2];
+  // The vertex.
+  uint32_t vertex;
+  // Its weight.
+  double weight;
+} topoccd_ev_collision;
+
+// An edge-edge collision (closest points inside both edges, or mollified).
+typedef struct topoccd_ee_collision {
+  // The two edges' indices in the set's edge list.
+  uint32_t edge_ids[2];
+  // The first edge's vertices.
+  uint32_t a[2];
+  // The second edge's vertices.
+  uint32_t b[2];
+  // The mollifier's threshold, from the rest positions.
+  double eps_x;
+  // ipctk's `EdgeEdgeDistanceType`, 0 (`EA0_EB0`) to 8 (`EA_EB`).
+  uint32_t type;
+  // Its weight.
+  double weight;
+} topoccd_ee_collision;
+
+// A face-vertex collision (the closest point inside the triangle).
+typedef struct topoccd_fv_collision {
+  // The face (a row of the configuration's triangles).
+  uint32_t face;
+  // The face's vertices.
+  uint32_t triangle[3];
+  // The vertex.
+  uint32_t vertex;
+  // Its weight.
+  double weight;
+} topoccd_fv_collision;
+
+// The arrays of a `topoccd_collisions`, borrowed: valid until `topoccd_collisions_free`.
+// Each kind in ipctk's order.
+typedef struct topoccd_collision_arrays {
+  // Vertex-vertex collisions.
+  const struct topoccd_vv_collision *vv;
+  // Their number.
+  size_t vv_count;
+  // Edge-vertex collisions.
+  const struct topoccd_ev_collision *ev;
+  // Their number.
+  size_t ev_count;
+  // Edge-edge collisions.
+  const struct topoccd_ee_collision *ee;
+  // Their number.
+  size_t ee_count;
+  // Face-vertex collisions.
+  const struct topoccd_fv_collision *fv;
+  // Their number.
+  size_t fv_count;
+  // The edge list the `edge_id`s index: `edge_count` rows of 2 vertex indices.
+  const uint32_t *edges;
+  // Its number of rows.
+  size_t edge_count;
+  // The number of vertices of the configuration the set was built on: positions given to
+  // the potentials have this many rows.
+  size_t vertex_count;
+  // The set's `dmin`.
+  double dmin;
+} topoccd_collision_arrays;
 
 // The options of `topoccd_collision_free_stepsize` and `topoccd_is_step_collision_free`.
 //
@@ -705,35 +939,6 @@ typedef struct topoccd_proximity_options {
   uint32_t threads;
 } topoccd_proximity_options;
 
-// One configuration: positions, triangles, free edges (rods, hair) and optional groups,
-// borrowed for the call. Vertices in no triangle and no edge are free points.
-//
-// ```c
-// topoccd_configuration config = {0};
-// config.x = x; config.vertex_count = 4;
-// config.triangles = triangles; config.triangle_count = 1;
-// ```
-typedef struct topoccd_configuration {
-  // Positions: `vertex_count` rows of 3 doubles.
-  const double *x;
-  // Number of vertices.
-  size_t vertex_count;
-  // Triangles: `triangle_count` rows of 3 vertex indices.
-  const uint32_t *triangles;
-  // Number of triangles.
-  size_t triangle_count;
-  // NULL, or `edge_count` rows of 2 vertex indices: free edges (an edge of a triangle
-  // given here counts once).
-  const uint32_t *edges;
-  // Number of free edges.
-  size_t edge_count;
-  // NULL, or one group id per vertex: features whose vertices all share one group are not
-  // paired.
-  const uint32_t *groups;
-  // Number of group ids (`vertex_count` when `groups` is not NULL).
-  size_t group_count;
-} topoccd_configuration;
-
 // A vertex closer than the threshold to a triangle. `type` is ipctk's
 // `PointTriangleDistanceType`: 0-2 a corner, 3-5 an edge (edge k from corner k to k+1),
 // 6 the interior.
@@ -808,6 +1013,23 @@ typedef struct topoccd_proximity_report {
   // built.
   bool refitted;
 } topoccd_proximity_report;
+
+// The arrays of a `topoccd_sparse` in compressed sparse rows, borrowed: valid until
+// `topoccd_sparse_free`. Row `i`'s nonzeros are `data[k]` at column `indices[k]` for `k` in
+// `[indptr[i], indptr[i + 1])`, columns increasing (Eigen's `Map<SparseMatrix<double,
+// RowMajor, ...>>`, SciPy's `csr_matrix`, MKL's and SuiteSparse's CSR read them).
+typedef struct topoccd_csr {
+  // Rows and columns.
+  size_t size;
+  // Number of stored entries (`indptr[size]`).
+  size_t nnz;
+  // `size + 1` row offsets.
+  const size_t *indptr;
+  // `nnz` column indices.
+  const size_t *indices;
+  // `nnz` values.
+  const double *data;
+} topoccd_csr;
 
 #ifdef __cplusplus
 extern "C" {
@@ -913,6 +1135,95 @@ topoccd_status topoccd_error_status(const struct topoccd_error *error);
 // `error` is NULL or points to NULL or to a `topoccd_error` this library returned, freed only
 // once and not in use by another thread.
 void topoccd_error_free(struct topoccd_error **error);
+
+// Builds the tangential collisions of `collisions` at the lagged positions `x`
+// (`vertex_count` rows, the set's vertex count), with the normal force magnitudes of
+// `barrier` and the friction coefficients `mu_s` (static) and `mu_k` (kinetic), both finite
+// and >= 0 (ipctk's `TangentialCollisions::build(mesh, x, collisions, B, mu)` with
+// `mu_s = mu_k = mu`). Nearly parallel edge-edge collisions get no friction, as in ipctk.
+//
+// Returns `TOPOCCD_STATUS_OK`, `TOPOCCD_STATUS_NULL_POINTER`, `TOPOCCD_STATUS_INVALID_HANDLE`,
+// `TOPOCCD_STATUS_INVALID_OPTIONS` (a coefficient, the barrier's parameters),
+// `TOPOCCD_STATUS_INVALID_ARGUMENT` (`vertex_count` not the set's), or
+// `TOPOCCD_STATUS_INVALID_STEP` (a NaN position, a degenerate stencil), with the message in
+// `*error`.
+//
+// # Safety
+// `collisions` is NULL or a `topoccd_collisions` this library returned; `barrier` is NULL or
+// points to a `topoccd_barrier_potential`; `x` is NULL or valid for `3 vertex_count` doubles;
+// `tangential` and `error` are NULL or valid for a write of a pointer.
+topoccd_status topoccd_tangential_collisions_build(const struct topoccd_collisions *collisions,
+                                                   const struct topoccd_barrier_potential *barrier,
+                                                   const double *x,
+                                                   size_t vertex_count,
+                                                   double mu_s,
+                                                   double mu_k,
+                                                   struct topoccd_tangential_collisions **tangential,
+                                                   struct topoccd_error **error);
+
+// Frees `*tangential` and sets it to NULL. NULL, or a pointer to NULL, is allowed.
+//
+// # Safety
+// `tangential` is NULL or points to NULL or to a `topoccd_tangential_collisions` this library
+// returned, not in use by another thread.
+void topoccd_tangential_collisions_free(struct topoccd_tangential_collisions **tangential);
+
+// The tangential collisions as an array, in ipctk's order (vertex-vertex, edge-vertex,
+// edge-edge, face-vertex): `*rows` receives a pointer valid until
+// `topoccd_tangential_collisions_free`, `*count` their number.
+//
+// # Safety
+// `tangential` is NULL or a `topoccd_tangential_collisions` this library returned; `rows`,
+// `count` and `error` are NULL or valid for a write.
+topoccd_status topoccd_tangential_collisions_arrays(const struct topoccd_tangential_collisions *tangential,
+                                                    const struct topoccd_tangential_collision **rows,
+                                                    size_t *count,
+                                                    struct topoccd_error **error);
+
+// The friction potential `D(v)` with the smooth mollifier's threshold `eps_v` (finite, > 0, a
+// speed in the velocities' unit) over `tangential`, at velocities `v` (`vertex_count` rows)
+// into `*energy` (ipctk's `FrictionPotential(eps_v)(collisions, mesh, v)`).
+//
+// Returns as `topoccd_barrier_energy` (`TOPOCCD_STATUS_INVALID_OPTIONS` for `eps_v`).
+//
+// # Safety
+// `tangential` is NULL or a `topoccd_tangential_collisions` this library returned; `v` is
+// NULL or valid for `3 vertex_count` doubles; `energy` and `error` are NULL or valid for a
+// write.
+topoccd_status topoccd_friction_energy(double eps_v,
+                                       const struct topoccd_tangential_collisions *tangential,
+                                       const double *v,
+                                       size_t vertex_count,
+                                       double *energy,
+                                       struct topoccd_error **error);
+
+// The gradient of the friction potential with respect to the velocities into `gradient`,
+// `gradient_len` = `3 vertex_count` doubles. Returns as `topoccd_friction_energy`.
+//
+// # Safety
+// As `topoccd_friction_energy`; `gradient` is NULL or valid for `gradient_len` writes.
+topoccd_status topoccd_friction_gradient(double eps_v,
+                                         const struct topoccd_tangential_collisions *tangential,
+                                         const double *v,
+                                         size_t vertex_count,
+                                         double *gradient,
+                                         size_t gradient_len,
+                                         struct topoccd_error **error);
+
+// The Hessian of the friction potential with respect to the velocities, `3 vertex_count`
+// square, each collision's 2x2 tangential matrix projected by `projection` (a
+// `topoccd_psd_projection`): `*hessian` receives a new `topoccd_sparse`. Returns as
+// `topoccd_friction_energy`.
+//
+// # Safety
+// As `topoccd_friction_energy`; `hessian` is NULL or valid for a write of a pointer.
+topoccd_status topoccd_friction_hessian(double eps_v,
+                                        const struct topoccd_tangential_collisions *tangential,
+                                        const double *v,
+                                        size_t vertex_count,
+                                        uint32_t projection,
+                                        struct topoccd_sparse **hessian,
+                                        struct topoccd_error **error);
 
 // Reads a triangle mesh: PLY (ASCII or binary), OBJ or STL (ASCII or binary), by the file's
 // extension. Polygons are split into triangles (`face_origin` maps them back), STL corners
@@ -1094,6 +1405,184 @@ topoccd_status topoccd_sequence_load(const struct topoccd_sequence *sequence,
 // in use by another thread.
 void topoccd_sequence_free(struct topoccd_sequence **sequence);
 
+// The collision options' defaults (ipctk's).
+struct topoccd_collision_options topoccd_collision_options_default(void);
+
+// Builds the normal collision set of `config` (ipctk's `NormalCollisions::build(mesh, x,
+// dhat, dmin)`): the pairs closer than `dhat + dmin` found with `ccd`'s proximity (its
+// hierarchy is kept and refitted across a solver's iterations), each reduced to its closest
+// features and merged with its multiplicity. `rest_positions` (`rest_count` rows of 3
+// doubles, one per vertex) give the edge-edge mollifier thresholds and, with
+// `use_area_weighting`, the weights; pass `config->x` when there is no rest shape.
+// `options` may be NULL for the defaults. `*collisions` receives a new set (free it with
+// `topoccd_collisions_free`), NULL on failure.
+//
+// Returns `TOPOCCD_STATUS_OK`, or `TOPOCCD_STATUS_NULL_POINTER`,
+// `TOPOCCD_STATUS_INVALID_HANDLE`, `TOPOCCD_STATUS_BUSY`, `TOPOCCD_STATUS_INVALID_OPTIONS`
+// (`dhat`, `dmin`, the set type), `TOPOCCD_STATUS_INVALID_STEP` (a triangle or edge naming a
+// vertex out of range, a NaN position or rest position), `TOPOCCD_STATUS_INVALID_ARGUMENT`
+// (`rest_count` not the vertex count); the message is `topoccd_ccd_last_error(ccd)`.
+//
+// ```c
+// /* A vertex (3) 0.5e-3 above a triangle. */
+// const double x[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0.2, 0.2, 0.5e-3};
+// const uint32_t triangles[] = {0, 1, 2};
+// topoccd_configuration config = {0};
+// config.x = x; config.vertex_count = 4;
+// config.triangles = triangles; config.triangle_count = 1;
+// topoccd_collisions *c = NULL;
+// topoccd_collisions_build(ccd, &config, x, 4, NULL, &c); /* one face-vertex collision */
+// ```
+//
+// # Safety
+// `ccd` is NULL or a `topoccd_ccd` this library returned; `config` is NULL or points to a
+// `topoccd_configuration` whose arrays are valid for their counts; `rest_positions` is NULL
+// or valid for `3 rest_count` doubles; `options` is NULL or points to options; `collisions`
+// is NULL or valid for a write of a pointer.
+topoccd_status topoccd_collisions_build(struct topoccd_ccd *ccd,
+                                        const struct topoccd_configuration *config,
+                                        const double *rest_positions,
+                                        size_t rest_count,
+                                        const struct topoccd_collision_options *options,
+                                        struct topoccd_collisions **collisions);
+
+// Frees `*collisions` and sets it to NULL. NULL, or a pointer to NULL, is allowed.
+//
+// # Safety
+// `collisions` is NULL or points to NULL or to a `topoccd_collisions` this library returned,
+// not in use by another thread.
+void topoccd_collisions_free(struct topoccd_collisions **collisions);
+
+// The collisions as arrays: `*arrays` is filled with pointers into `collisions`, valid until
+// `topoccd_collisions_free`.
+//
+// ```c
+// topoccd_collision_arrays a;
+// topoccd_collisions_arrays(c, &a, NULL);
+// for (size_t i = 0; i < a.fv_count; i++)
+//     printf("vertex %u over face %u, weight %g\n", a.fv[i].vertex, a.fv[i].face, a.fv[i].weight);
+// ```
+//
+// # Safety
+// `collisions` is NULL or a `topoccd_collisions` this library returned; `arrays` and `error`
+// are NULL or valid for a write.
+topoccd_status topoccd_collisions_arrays(const struct topoccd_collisions *collisions,
+                                         struct topoccd_collision_arrays *arrays,
+                                         struct topoccd_error **error);
+
+// The clamped log barrier potential with `dhat` and `stiffness`.
+struct topoccd_barrier_potential topoccd_barrier_potential_new(double dhat,
+                                                               double stiffness);
+
+// The barrier energy over `collisions` at positions `x` (`vertex_count` rows, the set's
+// vertex count; ipctk's `B(collisions, mesh, x)`) into `*energy`: `+inf` when a pair
+// touches.
+//
+// Returns `TOPOCCD_STATUS_OK`, or `TOPOCCD_STATUS_NULL_POINTER`,
+// `TOPOCCD_STATUS_INVALID_HANDLE`, `TOPOCCD_STATUS_INVALID_OPTIONS` (`dhat`, `stiffness`,
+// `barrier`), `TOPOCCD_STATUS_INVALID_ARGUMENT` (`vertex_count` not the set's),
+// `TOPOCCD_STATUS_INVALID_STEP` (a NaN or infinite position), with the message in `*error`.
+//
+// # Safety
+// `potential` is NULL or points to a `topoccd_barrier_potential`; `collisions` is NULL or a
+// `topoccd_collisions` this library returned; `x` is NULL or valid for `3 vertex_count`
+// doubles; `energy` and `error` are NULL or valid for a write.
+topoccd_status topoccd_barrier_energy(const struct topoccd_barrier_potential *potential,
+                                      const struct topoccd_collisions *collisions,
+                                      const double *x,
+                                      size_t vertex_count,
+                                      double *energy,
+                                      struct topoccd_error **error);
+
+// The gradient of the barrier energy into `gradient`, `gradient_len` = `3 vertex_count`
+// doubles (`x0 y0 z0 x1 ...`), overwritten. Returns as `topoccd_barrier_energy`, and
+// `TOPOCCD_STATUS_INVALID_ARGUMENT` when `gradient_len` is not `3 vertex_count`.
+//
+// # Safety
+// As `topoccd_barrier_energy`; `gradient` is NULL or valid for `gradient_len` writes.
+topoccd_status topoccd_barrier_gradient(const struct topoccd_barrier_potential *potential,
+                                        const struct topoccd_collisions *collisions,
+                                        const double *x,
+                                        size_t vertex_count,
+                                        double *gradient,
+                                        size_t gradient_len,
+                                        struct topoccd_error **error);
+
+// The Hessian of the barrier energy, `3 vertex_count` square, each collision's Hessian
+// projected by `projection` (a `topoccd_psd_projection`) before it is added (ipctk's
+// `hessian(collisions, mesh, x, project_hessian_to_psd)`): `*hessian` receives a new
+// `topoccd_sparse` (read it with `topoccd_sparse_csr`, free it with `topoccd_sparse_free`).
+// Returns as `topoccd_barrier_energy`, and `TOPOCCD_STATUS_INVALID_OPTIONS` for an unknown
+// projection.
+//
+// # Safety
+// As `topoccd_barrier_energy`; `hessian` is NULL or valid for a write of a pointer.
+topoccd_status topoccd_barrier_hessian(const struct topoccd_barrier_potential *potential,
+                                       const struct topoccd_collisions *collisions,
+                                       const double *x,
+                                       size_t vertex_count,
+                                       uint32_t projection,
+                                       struct topoccd_sparse **hessian,
+                                       struct topoccd_error **error);
+
+// ipctk's `compute_minimum_distance`: the smallest **squared** distance over the
+// collisions' pairs at positions `x` (`+inf` for an empty set), never larger than the exact
+// one beyond a rounding bound. Returns as `topoccd_barrier_energy`.
+//
+// # Safety
+// `collisions` is NULL or a `topoccd_collisions` this library returned; `x` is NULL or valid
+// for `3 vertex_count` doubles; `distance_squared` and `error` are NULL or valid for a write.
+topoccd_status topoccd_collisions_minimum_distance(const struct topoccd_collisions *collisions,
+                                                   const double *x,
+                                                   size_t vertex_count,
+                                                   double *distance_squared,
+                                                   struct topoccd_error **error);
+
+// ipctk's `initial_barrier_stiffness`: the stiffness that balances the barrier's gradient
+// `grad_barrier` (at stiffness 1) against the energy's `grad_energy` (both `len` doubles),
+// clamped to `[kappa_min, 100 kappa_min]`; `*stiffness` receives it and `*max_stiffness`
+// (may be NULL) the cap for `topoccd_update_barrier_stiffness`. ipctk's defaults:
+// `min_barrier_stiffness_scale` = 1e11, `dmin` = 0.
+//
+// Returns `TOPOCCD_STATUS_OK`, `TOPOCCD_STATUS_NULL_POINTER`, or
+// `TOPOCCD_STATUS_INVALID_OPTIONS` (a value out of range or NaN; the message names it).
+//
+// # Safety
+// `grad_energy`, `grad_barrier` are NULL or valid for `len` doubles; `stiffness`,
+// `max_stiffness` and `error` are NULL or valid for a write.
+topoccd_status topoccd_initial_barrier_stiffness(double bbox_diagonal,
+                                                 uint32_t barrier,
+                                                 double dhat,
+                                                 double average_mass,
+                                                 const double *grad_energy,
+                                                 const double *grad_barrier,
+                                                 size_t len,
+                                                 double min_barrier_stiffness_scale,
+                                                 double dmin,
+                                                 double *stiffness,
+                                                 double *max_stiffness,
+                                                 struct topoccd_error **error);
+
+// ipctk's `update_barrier_stiffness`: `*stiffness` doubled (up to `max_barrier_stiffness`)
+// when the squared minimum distance keeps falling below `(dhat_epsilon_scale (bbox_diagonal
+// + dmin))^2`, else unchanged. The distances are squared ones
+// (`topoccd_collisions_minimum_distance`). ipctk's defaults: `dhat_epsilon_scale` = 1e-9,
+// `dmin` = 0.
+//
+// Returns `TOPOCCD_STATUS_OK`, `TOPOCCD_STATUS_NULL_POINTER`, or
+// `TOPOCCD_STATUS_INVALID_OPTIONS` (a NaN, or a negative value).
+//
+// # Safety
+// `stiffness` is NULL or valid for a read and a write; `error` is NULL or valid for a write.
+topoccd_status topoccd_update_barrier_stiffness(double prev_min_distance,
+                                                double min_distance,
+                                                double max_barrier_stiffness,
+                                                double bbox_diagonal,
+                                                double dhat_epsilon_scale,
+                                                double dmin,
+                                                double *stiffness,
+                                                struct topoccd_error **error);
+
 // Fills `*options` with the defaults, for a caller whose struct has `size` bytes. Call it
 // through `topoccd_line_search_options_default(&options)`, which passes `sizeof options`.
 //
@@ -1236,6 +1725,30 @@ topoccd_status topoccd_proximity(struct topoccd_ccd *ccd,
                                  const struct topoccd_configuration *config,
                                  const struct topoccd_proximity_options *options,
                                  const struct topoccd_proximity_report **report);
+
+// The CSR arrays of `matrix` into `*csr`.
+//
+// ```c
+// topoccd_csr h;
+// topoccd_sparse_csr(hessian, &h, NULL);
+// for (size_t i = 0; i < h.size; i++)
+//     for (size_t k = h.indptr[i]; k < h.indptr[i + 1]; k++)
+//         y[i] += h.data[k] * x[h.indices[k]];
+// ```
+//
+// # Safety
+// `matrix` is NULL or a `topoccd_sparse` this library returned; `csr` and `error` are NULL
+// or valid for a write.
+topoccd_status topoccd_sparse_csr(const struct topoccd_sparse *matrix,
+                                  struct topoccd_csr *csr,
+                                  struct topoccd_error **error);
+
+// Frees `*matrix` and sets it to NULL. NULL, or a pointer to NULL, is allowed.
+//
+// # Safety
+// `matrix` is NULL or points to NULL or to a `topoccd_sparse` this library returned, not in
+// use by another thread.
+void topoccd_sparse_free(struct topoccd_sparse **matrix);
 
 // The name of a status code (a `topoccd_status`) as text, e.g.
 // `"TOPOCCD_STATUS_INVALID_STEP"`. Never NULL: an unknown code gives

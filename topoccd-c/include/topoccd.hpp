@@ -15,6 +15,11 @@
 //
 // topoccd.hpp includes topoccd.h, <array>, <cstdint>, <optional>, <string> and <vector>.
 //
+// topoccd::ipc holds the contact potential in the IPC toolkit's names: NormalCollisions,
+// BarrierPotential, TangentialCollisions, FrictionPotential, PSDProjectionMethod and the
+// stiffness helpers; Hessians come back as a topoccd::ipc::Csr (and as an Eigen::SparseMatrix
+// through Csr::eigen() when <Eigen/Sparse> is found too).
+//
 // Eigen: with <Eigen/Dense> on the include path (and TOPOCCD_NO_EIGEN not defined), Rows (so
 // Step and Ccd::query) also take Eigen matrices, maps and blocks with 3 columns in row-major
 // order, read in place: Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> for
@@ -46,6 +51,10 @@
 #if __has_include(<Eigen/Dense>)
 #include <Eigen/Dense>
 #define TOPOCCD_HAS_EIGEN 1
+#if __has_include(<Eigen/Sparse>)
+#include <Eigen/Sparse>
+#define TOPOCCD_HAS_EIGEN_SPARSE 1
+#endif
 #endif
 #endif
 
@@ -838,6 +847,391 @@ class Sequence {
 
 /// The library's version, "MAJOR.MINOR.PATCH".
 inline std::string version() { return topoccd_version(); }
+
+/// The contact potential of incremental potential contact, in the IPC toolkit's names:
+/// `NormalCollisions` (with `build(mesh, x, dhat)`), `BarrierPotential` (called as
+/// `B(collisions, x)`, with `gradient` and `hessian`), `PSDProjectionMethod`, the stiffness
+/// helpers. Gradients are std::vector<double> of 3 n entries `x0 y0 z0 x1 ...`; Hessians a
+/// `Csr` (and, with Eigen, an Eigen::SparseMatrix through `Csr::eigen()`).
+namespace ipc {
+
+/// How the collision set is built (ipctk's `CollisionSetType`).
+enum class CollisionSetType : std::uint32_t {
+  IPC = TOPOCCD_COLLISION_SET_TYPE_IPC,
+  IMPROVED_MAX_APPROX = TOPOCCD_COLLISION_SET_TYPE_IMPROVED_MAX_APPROX,
+};
+
+/// How each collision's Hessian is made positive semi-definite (ipctk's `PSDProjectionMethod`).
+enum class PSDProjectionMethod : std::uint32_t {
+  NONE = TOPOCCD_PSD_PROJECTION_NONE,
+  CLAMP = TOPOCCD_PSD_PROJECTION_CLAMP,
+  ABS = TOPOCCD_PSD_PROJECTION_ABS,
+};
+
+/// A barrier function (ipctk's barrier classes).
+enum class Barrier : std::uint32_t {
+  ClampedLog = TOPOCCD_BARRIER_CLAMPED_LOG,
+  NormalizedClampedLog = TOPOCCD_BARRIER_NORMALIZED_CLAMPED_LOG,
+  ClampedLogSq = TOPOCCD_BARRIER_CLAMPED_LOG_SQ,
+  Cubic = TOPOCCD_BARRIER_CUBIC,
+};
+
+/// A square sparse matrix in compressed sparse rows, owned (copied out of the library's).
+struct Csr {
+  std::size_t size = 0;
+  std::vector<std::size_t> indptr;
+  std::vector<std::size_t> indices;
+  std::vector<double> data;
+
+  std::size_t nnz() const noexcept { return data.size(); }
+
+  /// Entry (i, j), 0 where nothing is stored.
+  double operator()(std::size_t i, std::size_t j) const noexcept {
+    for (std::size_t k = indptr[i]; k < indptr[i + 1]; k++) {
+      if (indices[k] == j) return data[k];
+    }
+    return 0.0;
+  }
+
+  /// y = A x (x of `size` entries).
+  std::vector<double> operator*(const std::vector<double>& x) const {
+    if (x.size() != size) {
+      throw Error(TOPOCCD_STATUS_INVALID_ARGUMENT, "a vector of " + std::to_string(x.size()) +
+                                                       " entries times a matrix of size " +
+                                                       std::to_string(size));
+    }
+    std::vector<double> y(size, 0.0);
+    for (std::size_t i = 0; i < size; i++) {
+      for (std::size_t k = indptr[i]; k < indptr[i + 1]; k++) y[i] += data[k] * x[indices[k]];
+    }
+    return y;
+  }
+
+#if defined(TOPOCCD_HAS_EIGEN_SPARSE)
+  /// The matrix as Eigen's (row-major, so the arrays are copied once, not re-sorted).
+  Eigen::SparseMatrix<double, Eigen::RowMajor> eigen() const {
+    Eigen::SparseMatrix<double, Eigen::RowMajor> m(static_cast<Eigen::Index>(size),
+                                                   static_cast<Eigen::Index>(size));
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(nnz());
+    for (std::size_t i = 0; i < size; i++) {
+      for (std::size_t k = indptr[i]; k < indptr[i + 1]; k++) {
+        t.emplace_back(static_cast<int>(i), static_cast<int>(indices[k]), data[k]);
+      }
+    }
+    m.setFromTriplets(t.begin(), t.end());
+    return m;
+  }
+#endif
+
+  /// Copies (and frees) a topoccd_sparse.
+  static Csr take(topoccd_sparse* m) {
+    detail::Owned<topoccd_sparse, topoccd_sparse_free> owned(m);
+    topoccd_csr c{};
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_sparse_csr(owned.get(), &c, &error), error);
+    Csr out;
+    out.size = c.size;
+    out.indptr.assign(c.indptr, c.indptr + c.size + 1);
+    out.indices.assign(c.indices, c.indices + c.nnz);
+    out.data.assign(c.data, c.data + c.nnz);
+    return out;
+  }
+};
+
+/// The mesh a collision set is built on (ipctk's `CollisionMesh`), borrowed: rest positions
+/// (one row per vertex), triangles and free edges. The arrays must outlive the builds.
+struct CollisionMesh {
+  Points rest_positions;
+  Indices faces;
+  Rows<std::uint32_t, 2> edges;
+
+  CollisionMesh(Points rest, Indices f, Rows<std::uint32_t, 2> e = Rows<std::uint32_t, 2>())
+      : rest_positions(rest), faces(f), edges(e) {}
+
+  std::size_t num_vertices() const noexcept { return rest_positions.rows(); }
+};
+
+/// The normal collision set (ipctk's `NormalCollisions`). It keeps the proximity hierarchy of
+/// its last build, refitted by the next one (a solver builds once per Newton iteration).
+class NormalCollisions {
+ public:
+  NormalCollisions() = default;
+
+  /// ipctk's `use_area_weighting` and `collision_set_type`, read at build().
+  bool use_area_weighting = false;
+  CollisionSetType collision_set_type = CollisionSetType::IPC;
+
+  /// The collisions of `mesh` at positions `x` (one row per vertex) within dhat + dmin.
+  void build(const CollisionMesh& mesh, Points x, double dhat, double dmin = 0.0) {
+    topoccd_configuration config{};
+    config.x = x.data();
+    config.vertex_count = x.rows();
+    config.triangles = mesh.faces.data();
+    config.triangle_count = mesh.faces.rows();
+    config.edges = mesh.edges.data();
+    config.edge_count = mesh.edges.rows();
+    topoccd_collision_options o = topoccd_collision_options_default();
+    o.dhat = dhat;
+    o.dmin = dmin;
+    o.use_area_weighting = use_area_weighting;
+    o.collision_set_type = static_cast<std::uint32_t>(collision_set_type);
+    topoccd_collisions* c = nullptr;
+    const topoccd_status s = topoccd_collisions_build(
+        ccd_.get(), &config, mesh.rest_positions.data(), mesh.rest_positions.rows(), &o, &c);
+    if (s != TOPOCCD_STATUS_OK) {
+      throw Error(s, topoccd_ccd_last_error(ccd_.get()));
+    }
+    set_ = detail::Owned<topoccd_collisions, topoccd_collisions_free>(c);
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_collisions_arrays(set_.get(), &arrays_, &error), error);
+  }
+
+  /// Number of collisions of all kinds (0 before the first build).
+  std::size_t size() const noexcept {
+    return set_.get() == nullptr
+               ? 0
+               : arrays_.vv_count + arrays_.ev_count + arrays_.ee_count + arrays_.fv_count;
+  }
+  bool empty() const noexcept { return size() == 0; }
+
+  /// The collisions by kind (ipctk's `vv_collisions` ... `fv_collisions`), valid until the
+  /// next build or destruction.
+  Span<const topoccd_vv_collision> vv_collisions() const noexcept {
+    return {arrays_.vv, set_.get() ? arrays_.vv_count : 0};
+  }
+  Span<const topoccd_ev_collision> ev_collisions() const noexcept {
+    return {arrays_.ev, set_.get() ? arrays_.ev_count : 0};
+  }
+  Span<const topoccd_ee_collision> ee_collisions() const noexcept {
+    return {arrays_.ee, set_.get() ? arrays_.ee_count : 0};
+  }
+  Span<const topoccd_fv_collision> fv_collisions() const noexcept {
+    return {arrays_.fv, set_.get() ? arrays_.fv_count : 0};
+  }
+
+  /// The smallest squared distance over the collisions at `x` (ipctk's
+  /// `compute_minimum_distance`; +inf when empty).
+  double compute_minimum_distance(const CollisionMesh&, Points x) const {
+    return compute_minimum_distance(x);
+  }
+  double compute_minimum_distance(Points x) const {
+    double d = 0.0;
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_collisions_minimum_distance(get(), x.data(), x.rows(), &d, &error),
+                  error);
+    return d;
+  }
+
+  /// The C set (NULL before the first build).
+  const topoccd_collisions* get() const noexcept { return set_.get(); }
+
+ private:
+  Ccd ccd_;
+  detail::Owned<topoccd_collisions, topoccd_collisions_free> set_;
+  topoccd_collision_arrays arrays_{};
+};
+
+/// The barrier potential (ipctk's `BarrierPotential(dhat, stiffness)`).
+class BarrierPotential {
+ public:
+  BarrierPotential(double dhat, double stiffness, bool use_physical_barrier = false)
+      : c_(topoccd_barrier_potential_new(dhat, stiffness)) {
+    c_.use_physical_barrier = use_physical_barrier;
+  }
+
+  double dhat() const noexcept { return c_.dhat; }
+  double barrier_stiffness() const noexcept { return c_.stiffness; }
+  void set_barrier_stiffness(double k) noexcept { c_.stiffness = k; }
+  void set_barrier(Barrier b) noexcept { c_.barrier = static_cast<std::uint32_t>(b); }
+
+  /// The energy (ipctk's `B(collisions, mesh, x)`).
+  double operator()(const NormalCollisions& c, const CollisionMesh&, Points x) const {
+    return (*this)(c, x);
+  }
+  double operator()(const NormalCollisions& c, Points x) const {
+    double e = 0.0;
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_barrier_energy(&c_, need(c), x.data(), x.rows(), &e, &error), error);
+    return e;
+  }
+
+  /// The gradient, 3 n entries.
+  std::vector<double> gradient(const NormalCollisions& c, const CollisionMesh&, Points x) const {
+    return gradient(c, x);
+  }
+  std::vector<double> gradient(const NormalCollisions& c, Points x) const {
+    std::vector<double> g(3 * x.rows());
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_barrier_gradient(&c_, need(c), x.data(), x.rows(), g.data(), g.size(),
+                                           &error),
+                  error);
+    return g;
+  }
+
+  /// The Hessian, 3 n square, each collision's projected by `project_hessian_to_psd`.
+  Csr hessian(const NormalCollisions& c, const CollisionMesh&, Points x,
+              PSDProjectionMethod project_hessian_to_psd = PSDProjectionMethod::NONE) const {
+    return hessian(c, x, project_hessian_to_psd);
+  }
+  Csr hessian(const NormalCollisions& c, Points x,
+              PSDProjectionMethod project_hessian_to_psd = PSDProjectionMethod::NONE) const {
+    topoccd_sparse* m = nullptr;
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_barrier_hessian(&c_, need(c), x.data(), x.rows(),
+                                          static_cast<std::uint32_t>(project_hessian_to_psd), &m,
+                                          &error),
+                  error);
+    return Csr::take(m);
+  }
+
+  const topoccd_barrier_potential& c() const& noexcept { return c_; }
+  const topoccd_barrier_potential& c() const&& = delete;
+
+ private:
+  static const topoccd_collisions* need(const NormalCollisions& c) {
+    if (c.get() == nullptr) {
+      throw Error(TOPOCCD_STATUS_NULL_POINTER, "the NormalCollisions were never built");
+    }
+    return c.get();
+  }
+
+  topoccd_barrier_potential c_;
+};
+
+/// The tangential collisions of a normal collision set at its lagged positions (ipctk's
+/// `TangentialCollisions`), with the barrier's normal forces and friction coefficients.
+class TangentialCollisions {
+ public:
+  TangentialCollisions() = default;
+
+  /// ipctk's `build(mesh, x, collisions, B, mu)` (static and kinetic `mu`), or `mu_s`, `mu_k`.
+  void build(const CollisionMesh&, Points x, const NormalCollisions& collisions,
+             const BarrierPotential& B, double mu_s, double mu_k) {
+    if (collisions.get() == nullptr) {
+      throw Error(TOPOCCD_STATUS_NULL_POINTER, "the NormalCollisions were never built");
+    }
+    topoccd_tangential_collisions* t = nullptr;
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_tangential_collisions_build(collisions.get(), &B.c(), x.data(), x.rows(),
+                                                      mu_s, mu_k, &t, &error),
+                  error);
+    set_ = detail::Owned<topoccd_tangential_collisions, topoccd_tangential_collisions_free>(t);
+    detail::check(topoccd_tangential_collisions_arrays(set_.get(), &rows_, &count_, &error), error);
+  }
+  void build(const CollisionMesh& mesh, Points x, const NormalCollisions& collisions,
+             const BarrierPotential& B, double mu) {
+    build(mesh, x, collisions, B, mu, mu);
+  }
+
+  std::size_t size() const noexcept { return set_.get() ? count_ : 0; }
+  bool empty() const noexcept { return size() == 0; }
+  Span<const topoccd_tangential_collision> collisions() const noexcept { return {rows_, size()}; }
+  const topoccd_tangential_collision& operator[](std::size_t i) const noexcept { return rows_[i]; }
+
+  const topoccd_tangential_collisions* get() const noexcept { return set_.get(); }
+
+ private:
+  detail::Owned<topoccd_tangential_collisions, topoccd_tangential_collisions_free> set_;
+  const topoccd_tangential_collision* rows_ = nullptr;
+  std::size_t count_ = 0;
+};
+
+/// The smooth friction potential over velocities (ipctk's `FrictionPotential(eps_v)`).
+class FrictionPotential {
+ public:
+  explicit FrictionPotential(double eps_v) noexcept : eps_v_(eps_v) {}
+
+  double eps_v() const noexcept { return eps_v_; }
+
+  /// The energy at velocities `v` (ipctk's `D(collisions, mesh, v)`).
+  double operator()(const TangentialCollisions& t, const CollisionMesh&, Points v) const {
+    return (*this)(t, v);
+  }
+  double operator()(const TangentialCollisions& t, Points v) const {
+    double e = 0.0;
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_friction_energy(eps_v_, need(t), v.data(), v.rows(), &e, &error), error);
+    return e;
+  }
+
+  /// The gradient in the velocities, 3 n entries.
+  std::vector<double> gradient(const TangentialCollisions& t, const CollisionMesh&, Points v) const {
+    return gradient(t, v);
+  }
+  std::vector<double> gradient(const TangentialCollisions& t, Points v) const {
+    std::vector<double> g(3 * v.rows());
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_friction_gradient(eps_v_, need(t), v.data(), v.rows(), g.data(),
+                                            g.size(), &error),
+                  error);
+    return g;
+  }
+
+  /// The Hessian in the velocities, 3 n square.
+  Csr hessian(const TangentialCollisions& t, const CollisionMesh&, Points v,
+              PSDProjectionMethod project_hessian_to_psd = PSDProjectionMethod::NONE) const {
+    return hessian(t, v, project_hessian_to_psd);
+  }
+  Csr hessian(const TangentialCollisions& t, Points v,
+              PSDProjectionMethod project_hessian_to_psd = PSDProjectionMethod::NONE) const {
+    topoccd_sparse* m = nullptr;
+    topoccd_error* error = nullptr;
+    detail::check(topoccd_friction_hessian(eps_v_, need(t), v.data(), v.rows(),
+                                           static_cast<std::uint32_t>(project_hessian_to_psd), &m,
+                                           &error),
+                  error);
+    return Csr::take(m);
+  }
+
+ private:
+  static const topoccd_tangential_collisions* need(const TangentialCollisions& t) {
+    if (t.get() == nullptr) {
+      throw Error(TOPOCCD_STATUS_NULL_POINTER, "the TangentialCollisions were never built");
+    }
+    return t.get();
+  }
+
+  double eps_v_;
+};
+
+/// ipctk's `initial_barrier_stiffness`: the stiffness, with its cap in `max_barrier_stiffness`.
+inline double initial_barrier_stiffness(double bbox_diagonal, Barrier barrier, double dhat,
+                                        double average_mass,
+                                        const std::vector<double>& grad_energy,
+                                        const std::vector<double>& grad_barrier,
+                                        double& max_barrier_stiffness,
+                                        double min_barrier_stiffness_scale = 1e11,
+                                        double dmin = 0.0) {
+  if (grad_energy.size() != grad_barrier.size()) {
+    throw Error(TOPOCCD_STATUS_INVALID_ARGUMENT,
+                "grad_energy and grad_barrier have different lengths");
+  }
+  double k = 0.0;
+  topoccd_error* error = nullptr;
+  detail::check(topoccd_initial_barrier_stiffness(
+                    bbox_diagonal, static_cast<std::uint32_t>(barrier), dhat, average_mass,
+                    grad_energy.data(), grad_barrier.data(), grad_energy.size(),
+                    min_barrier_stiffness_scale, dmin, &k, &max_barrier_stiffness, &error),
+                error);
+  return k;
+}
+
+/// ipctk's `update_barrier_stiffness` (squared distances).
+inline double update_barrier_stiffness(double prev_min_distance, double min_distance,
+                                       double max_barrier_stiffness, double barrier_stiffness,
+                                       double bbox_diagonal, double dhat_epsilon_scale = 1e-9,
+                                       double dmin = 0.0) {
+  topoccd_error* error = nullptr;
+  detail::check(topoccd_update_barrier_stiffness(prev_min_distance, min_distance,
+                                                 max_barrier_stiffness, bbox_diagonal,
+                                                 dhat_epsilon_scale, dmin, &barrier_stiffness,
+                                                 &error),
+                error);
+  return barrier_stiffness;
+}
+
+}  // namespace ipc
 
 }  // namespace topoccd
 

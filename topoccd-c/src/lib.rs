@@ -23,6 +23,12 @@
 //!   `topoccd_configuration` closer than `dhat` (free edges and points included), with
 //!   distances and closest-feature types, in a `topoccd_proximity_report` it owns;
 //! - `topoccd_pair_vertex_face` and `topoccd_pair_edge_edge` are the per-pair tests;
+//! - `topoccd_collisions_build` makes, on a `topoccd_ccd`, the normal collision set of IPC
+//!   (`topoccd_collisions`); `topoccd_barrier_energy`, `topoccd_barrier_gradient` and
+//!   `topoccd_barrier_hessian` (a `topoccd_sparse` read as CSR) evaluate the barrier
+//!   potential over it, with the stiffness helpers and the minimum distance beside them;
+//!   `topoccd_tangential_collisions_build` and `topoccd_friction_energy`, `_gradient`,
+//!   `_hessian` are friction over lagged tangential collisions;
 //! - `topoccd_mesh_read`, `topoccd_frames_read` and `topoccd_sequence_open` read meshes, steps
 //!   and frame sequences into objects that own their arrays.
 //!
@@ -63,13 +69,16 @@
 
 mod ccd;
 mod error;
+mod friction;
 mod handle;
 mod io;
+mod ipc;
 mod line_search;
 mod options;
 mod pair;
 mod proximity;
 mod report;
+mod sparse;
 mod status;
 mod step;
 
@@ -84,6 +93,21 @@ pub use io::{
     topoccd_mesh_data, topoccd_mesh_free, topoccd_mesh_note, topoccd_mesh_note_count,
     topoccd_mesh_read, topoccd_mesh_view, topoccd_sequence, topoccd_sequence_free,
     topoccd_sequence_load, topoccd_sequence_open, topoccd_sequence_step_count,
+};
+pub use friction::{
+    topoccd_friction_energy, topoccd_friction_gradient, topoccd_friction_hessian,
+    topoccd_tangential_collision, topoccd_tangential_collisions,
+    topoccd_tangential_collisions_arrays, topoccd_tangential_collisions_build,
+    topoccd_tangential_collisions_free,
+};
+pub use ipc::{
+    topoccd_barrier, topoccd_barrier_energy, topoccd_barrier_gradient, topoccd_barrier_hessian,
+    topoccd_barrier_potential, topoccd_barrier_potential_new, topoccd_collision_arrays,
+    topoccd_collision_options, topoccd_collision_options_default, topoccd_collision_set_type,
+    topoccd_collisions, topoccd_collisions_arrays, topoccd_collisions_build,
+    topoccd_collisions_free, topoccd_collisions_minimum_distance, topoccd_ee_collision,
+    topoccd_ev_collision, topoccd_fv_collision, topoccd_initial_barrier_stiffness,
+    topoccd_psd_projection, topoccd_update_barrier_stiffness, topoccd_vv_collision,
 };
 pub use line_search::{
     topoccd_collision_free_stepsize, topoccd_is_step_collision_free, topoccd_line_search_options,
@@ -106,5 +130,6 @@ pub use report::{
     topoccd_ee_geometry, topoccd_report, topoccd_seconds, topoccd_stats, topoccd_ve_contact,
     topoccd_vf_contact, topoccd_vf_geometry, topoccd_vv_contact,
 };
+pub use sparse::{topoccd_csr, topoccd_sparse, topoccd_sparse_csr, topoccd_sparse_free};
 pub use status::{topoccd_status, topoccd_status_name, topoccd_version};
 pub use step::topoccd_step;

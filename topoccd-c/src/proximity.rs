@@ -215,7 +215,29 @@ impl ProximityBuffers {
     }
 }
 
-fn failure(e: ProximityError) -> Failure {
+/// The `topoccd::Configuration` of a `topoccd_configuration`, borrowing its arrays.
+///
+/// # Safety
+/// The arrays of `c` are NULL or valid for reads of their counts' rows during `'a`.
+pub(crate) unsafe fn configuration<'a>(
+    c: &topoccd_configuration,
+) -> Result<Configuration<'a>, Failure> {
+    let x = rows::<f64, 3>(c.x, c.vertex_count, "x")?;
+    let tris = rows::<u32, 3>(c.triangles, c.triangle_count, "triangles")?;
+    let edges = rows::<u32, 2>(c.edges, c.edge_count, "edges")?;
+    let groups = if c.groups.is_null() {
+        None
+    } else {
+        Some(rows::<u32, 1>(c.groups, c.group_count, "groups")?)
+    };
+    let configuration = Configuration::new(x, tris, edges).map_err(failure)?;
+    match groups.map(|g| g.as_flattened()) {
+        Some(g) => configuration.with_groups(g).map_err(failure),
+        None => Ok(configuration),
+    }
+}
+
+pub(crate) fn failure(e: ProximityError) -> Failure {
     let status = match e {
         ProximityError::Dhat(_) | ProximityError::Dmin(_) => topoccd_status::InvalidOptions,
         _ => topoccd_status::InvalidStep,
@@ -297,20 +319,7 @@ pub unsafe extern "C" fn topoccd_proximity(
             ..ProximityOptions::default()
         };
         options.validate().map_err(failure)?;
-        let x = rows::<f64, 3>(c.x, c.vertex_count, "x")?;
-        let tris = rows::<u32, 3>(c.triangles, c.triangle_count, "triangles")?;
-        let edges = rows::<u32, 2>(c.edges, c.edge_count, "edges")?;
-        let groups = if c.groups.is_null() {
-            None
-        } else {
-            Some(rows::<u32, 1>(c.groups, c.group_count, "groups")?)
-        };
-        let groups = groups.map(|g| g.as_flattened());
-        let configuration = Configuration::new(x, tris, edges).map_err(failure)?;
-        let configuration = match groups {
-            Some(g) => configuration.with_groups(g).map_err(failure)?,
-            None => configuration,
-        };
+        let configuration = configuration(c)?;
         let found = run_on(state, o.threads as usize, |ccd| {
             ccd.proximity(&configuration, &options)
         })?

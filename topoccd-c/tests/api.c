@@ -990,6 +990,204 @@ static void test_codim(void) {
     topoccd_ccd_free(&ccd);
 }
 
+/* The contact potential: a point 0.5e-3 above a triangle (one face-vertex collision), then
+ * every error path of the collision set, the potentials, the sparse matrix and the helpers. */
+static void test_ipc(void) {
+    const double x[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0.2, 0.2, 0.5e-3};
+    const uint32_t tris[] = {0, 1, 2};
+    topoccd_configuration config = {0};
+    config.x = x;
+    config.vertex_count = 4;
+    config.triangles = tris;
+    config.triangle_count = 1;
+    topoccd_ccd *ccd = topoccd_ccd_new();
+    topoccd_collisions *c = NULL;
+    topoccd_error *error = NULL;
+    CHECK_STATUS(topoccd_collisions_build(ccd, &config, x, 4, NULL, &c), TOPOCCD_STATUS_OK, "build");
+    topoccd_collision_arrays a;
+    CHECK_STATUS(topoccd_collisions_arrays(c, &a, &error), TOPOCCD_STATUS_OK, "arrays");
+    CHECK(a.fv_count == 1 && a.vv_count == 0 && a.ev_count == 0 && a.ee_count == 0 && a.vertex_count == 4,
+          "one fv collision, got %zu %zu %zu %zu", a.vv_count, a.ev_count, a.ee_count, a.fv_count);
+    CHECK(a.fv_count == 1 && a.fv[0].vertex == 3 && a.fv[0].triangle[2] == 2, "the fv collision's ids");
+    CHECK(a.edge_count == 3, "the triangle's 3 edges, got %zu", a.edge_count);
+    topoccd_barrier_potential b = topoccd_barrier_potential_new(1e-3, 1.0);
+    double e = 0, g[12], d2 = 0;
+    CHECK_STATUS(topoccd_barrier_energy(&b, c, x, 4, &e, &error), TOPOCCD_STATUS_OK, "energy");
+    const double s = 0.25e-6, t = 1e-6;
+    CHECK(fabs(e + (s - t) * (s - t) * log(s / t)) <= 1e-12 * e, "energy %g", e);
+    CHECK_STATUS(topoccd_collisions_minimum_distance(c, x, 4, &d2, &error), TOPOCCD_STATUS_OK, "min distance");
+    CHECK(fabs(d2 - s) <= 1e-12 * s, "minimum squared distance %g", d2);
+
+    /* The build's errors, with the message on the ccd. */
+    topoccd_collisions *none = (topoccd_collisions *)&config;
+    CHECK_STATUS(topoccd_collisions_build(ccd, NULL, x, 4, NULL, &none), TOPOCCD_STATUS_NULL_POINTER, "NULL config");
+    CHECK(none == NULL, "the output is NULL after a failure");
+    CHECK(contains(topoccd_ccd_last_error(ccd), "config is NULL"), "%s", topoccd_ccd_last_error(ccd));
+    CHECK_STATUS(topoccd_collisions_build(ccd, &config, x, 4, NULL, NULL), TOPOCCD_STATUS_NULL_POINTER, "NULL out");
+    CHECK_STATUS(topoccd_collisions_build(NULL, &config, x, 4, NULL, &none), TOPOCCD_STATUS_NULL_POINTER, "NULL ccd");
+    CHECK_STATUS(topoccd_collisions_build(ccd, &config, NULL, 4, NULL, &none), TOPOCCD_STATUS_NULL_POINTER,
+                 "NULL rest positions");
+    CHECK_STATUS(topoccd_collisions_build(ccd, &config, x, 3, NULL, &none), TOPOCCD_STATUS_INVALID_ARGUMENT,
+                 "rest positions of the wrong count");
+    CHECK(contains(topoccd_ccd_last_error(ccd), "rest positions have 3 rows"), "%s", topoccd_ccd_last_error(ccd));
+    const uint32_t bad_tris[] = {0, 1, 9};
+    topoccd_configuration bad = config;
+    bad.triangles = bad_tris;
+    CHECK_STATUS(topoccd_collisions_build(ccd, &bad, x, 4, NULL, &none), TOPOCCD_STATUS_INVALID_STEP, "bad index");
+    CHECK(contains(topoccd_ccd_last_error(ccd), "vertex 9"), "%s", topoccd_ccd_last_error(ccd));
+    double nan_x[12];
+    memcpy(nan_x, x, sizeof nan_x);
+    nan_x[4] = NAN;
+    bad = config;
+    bad.x = nan_x;
+    CHECK_STATUS(topoccd_collisions_build(ccd, &bad, x, 4, NULL, &none), TOPOCCD_STATUS_INVALID_STEP, "NaN position");
+    CHECK_STATUS(topoccd_collisions_build(ccd, &config, nan_x, 4, NULL, &none), TOPOCCD_STATUS_INVALID_STEP,
+                 "NaN rest position");
+    CHECK(contains(topoccd_ccd_last_error(ccd), "rest position 1"), "%s", topoccd_ccd_last_error(ccd));
+    topoccd_collision_options o = topoccd_collision_options_default();
+    o.dhat = -1;
+    CHECK_STATUS(topoccd_collisions_build(ccd, &config, x, 4, &o, &none), TOPOCCD_STATUS_INVALID_OPTIONS, "dhat < 0");
+    CHECK(contains(topoccd_ccd_last_error(ccd), "dhat"), "%s", topoccd_ccd_last_error(ccd));
+    o = topoccd_collision_options_default();
+    o.dmin = NAN;
+    CHECK_STATUS(topoccd_collisions_build(ccd, &config, x, 4, &o, &none), TOPOCCD_STATUS_INVALID_OPTIONS, "dmin NaN");
+    o = topoccd_collision_options_default();
+    o.collision_set_type = 7;
+    CHECK_STATUS(topoccd_collisions_build(ccd, &config, x, 4, &o, &none), TOPOCCD_STATUS_INVALID_OPTIONS,
+                 "unknown set type");
+    CHECK(contains(topoccd_ccd_last_error(ccd), "collision_set_type"), "%s", topoccd_ccd_last_error(ccd));
+    CHECK(none == NULL, "no set after the failures");
+
+    /* The potentials' errors, with the message in a topoccd_error. */
+    expect_error(topoccd_barrier_energy(NULL, c, x, 4, &e, &error), TOPOCCD_STATUS_NULL_POINTER, &error,
+                 "potential is NULL", "NULL potential");
+    expect_error(topoccd_barrier_energy(&b, NULL, x, 4, &e, &error), TOPOCCD_STATUS_NULL_POINTER, &error,
+                 "collisions is NULL", "NULL collisions");
+    expect_error(topoccd_barrier_energy(&b, (const topoccd_collisions *)ccd, x, 4, &e, &error),
+                 TOPOCCD_STATUS_INVALID_HANDLE, &error, "not a live topoccd_collisions", "a ccd as collisions");
+    expect_error(topoccd_barrier_energy(&b, c, NULL, 4, &e, &error), TOPOCCD_STATUS_NULL_POINTER, &error,
+                 "x is NULL", "NULL x");
+    expect_error(topoccd_barrier_energy(&b, c, x, 4, NULL, &error), TOPOCCD_STATUS_NULL_POINTER, &error,
+                 "energy is NULL", "NULL energy");
+    expect_error(topoccd_barrier_energy(&b, c, x, 5, &e, &error), TOPOCCD_STATUS_INVALID_ARGUMENT, &error,
+                 "x has 5 rows, but the collision set has 4 vertices", "x of the wrong count");
+    expect_error(topoccd_barrier_energy(&b, c, nan_x, 4, &e, &error), TOPOCCD_STATUS_INVALID_STEP, &error,
+                 "vertex 1 is not finite", "NaN x");
+    topoccd_barrier_potential bad_b = b;
+    bad_b.stiffness = 0;
+    expect_error(topoccd_barrier_energy(&bad_b, c, x, 4, &e, &error), TOPOCCD_STATUS_INVALID_OPTIONS, &error,
+                 "stiffness must be finite and > 0", "zero stiffness");
+    bad_b = b;
+    bad_b.dhat = NAN;
+    expect_error(topoccd_barrier_energy(&bad_b, c, x, 4, &e, &error), TOPOCCD_STATUS_INVALID_OPTIONS, &error,
+                 "dhat must be finite", "NaN dhat");
+    bad_b = b;
+    bad_b.barrier = 9;
+    expect_error(topoccd_barrier_energy(&bad_b, c, x, 4, &e, &error), TOPOCCD_STATUS_INVALID_OPTIONS, &error,
+                 "barrier must be", "unknown barrier");
+    expect_error(topoccd_barrier_gradient(&b, c, x, 4, g, 11, &error), TOPOCCD_STATUS_INVALID_ARGUMENT, &error,
+                 "gradient_len is 11", "short gradient");
+    expect_error(topoccd_barrier_gradient(&b, c, x, 4, NULL, 12, &error), TOPOCCD_STATUS_NULL_POINTER, &error,
+                 "gradient is NULL", "NULL gradient");
+    CHECK_STATUS(topoccd_barrier_gradient(&b, c, x, 4, g, 12, &error), TOPOCCD_STATUS_OK, "gradient");
+    CHECK(g[11] < 0 && fabs(g[2] + g[5] + g[8] + g[11]) <= 1e-12 * fabs(g[11]), "the point is pushed up, the triangle down");
+    topoccd_sparse *h = (topoccd_sparse *)&config;
+    expect_error(topoccd_barrier_hessian(&b, c, x, 4, 3, &h, &error), TOPOCCD_STATUS_INVALID_OPTIONS, &error,
+                 "projection must be", "unknown projection");
+    CHECK(h == NULL, "the output is NULL after a failure");
+    expect_error(topoccd_barrier_hessian(&b, c, x, 4, TOPOCCD_PSD_PROJECTION_ABS, NULL, &error),
+                 TOPOCCD_STATUS_NULL_POINTER, &error, "hessian is NULL", "NULL hessian");
+    CHECK_STATUS(topoccd_barrier_hessian(&b, c, x, 4, TOPOCCD_PSD_PROJECTION_ABS, &h, &error), TOPOCCD_STATUS_OK,
+                 "hessian");
+    topoccd_csr csr;
+    CHECK_STATUS(topoccd_sparse_csr(h, &csr, &error), TOPOCCD_STATUS_OK, "csr");
+    CHECK(csr.size == 12 && csr.nnz == csr.indptr[12] && csr.nnz == 144, "a dense 12x12 block, nnz %zu", csr.nnz);
+    expect_error(topoccd_sparse_csr(h, NULL, &error), TOPOCCD_STATUS_NULL_POINTER, &error, "csr is NULL", "NULL csr");
+    expect_error(topoccd_sparse_csr((const topoccd_sparse *)c, &csr, &error), TOPOCCD_STATUS_INVALID_HANDLE, &error,
+                 "not a live topoccd_sparse", "collisions as a matrix");
+    topoccd_sparse_free(&h);
+    CHECK(h == NULL, "free sets NULL");
+    topoccd_sparse_free(&h);
+    topoccd_sparse_free(NULL);
+    expect_error(topoccd_collisions_minimum_distance(c, x, 4, NULL, &error), TOPOCCD_STATUS_NULL_POINTER, &error,
+                 "distance_squared is NULL", "NULL distance");
+    expect_error(topoccd_collisions_arrays(c, NULL, &error), TOPOCCD_STATUS_NULL_POINTER, &error, "arrays is NULL",
+                 "NULL arrays");
+
+    /* The stiffness helpers. */
+    double k = 0, kmax = 0;
+    const double ge[] = {0, 0, 1}, gb[] = {0, 0, -2};
+    CHECK_STATUS(topoccd_initial_barrier_stiffness(1, TOPOCCD_BARRIER_CLAMPED_LOG, 1e-3, 1, ge, gb, 3, 1e11, 0, &k,
+                                                   &kmax, &error),
+                 TOPOCCD_STATUS_OK, "initial stiffness");
+    /* The balance -ge.gb/|gb|^2 = 0.5 is far below kappa_min: clamped up to it, kmax / 100. */
+    CHECK(k > 0.5 && fabs(100 * k - kmax) <= 1e-12 * kmax, "initial stiffness %g, max %g", k, kmax);
+    expect_error(topoccd_initial_barrier_stiffness(NAN, 0, 1e-3, 1, ge, gb, 3, 1e11, 0, &k, &kmax, &error),
+                 TOPOCCD_STATUS_INVALID_OPTIONS, &error, "bbox_diagonal", "NaN diagonal");
+    expect_error(topoccd_initial_barrier_stiffness(1, 0, 1e-3, 1, NULL, gb, 3, 1e11, 0, &k, &kmax, &error),
+                 TOPOCCD_STATUS_NULL_POINTER, &error, "grad_energy is NULL", "NULL grad_energy");
+    expect_error(topoccd_initial_barrier_stiffness(1, 0, 1e-3, 1, ge, gb, 3, 1e11, 0, NULL, &kmax, &error),
+                 TOPOCCD_STATUS_NULL_POINTER, &error, "stiffness is NULL", "NULL stiffness");
+    k = 1;
+    CHECK_STATUS(topoccd_update_barrier_stiffness(1e-20, 1e-21, 100, 1, 1e-9, 0, &k, &error), TOPOCCD_STATUS_OK,
+                 "update");
+    CHECK(k == 2, "doubled, got %g", k);
+    expect_error(topoccd_update_barrier_stiffness(NAN, 1e-21, 100, 1, 1e-9, 0, &k, &error),
+                 TOPOCCD_STATUS_INVALID_OPTIONS, &error, "prev_min_distance", "NaN distance");
+    expect_error(topoccd_update_barrier_stiffness(1, 1, 100, 1, 1e-9, 0, NULL, &error), TOPOCCD_STATUS_NULL_POINTER,
+                 &error, "stiffness is NULL", "NULL stiffness");
+
+    /* Friction. */
+    topoccd_tangential_collisions *tc = (topoccd_tangential_collisions *)&config;
+    expect_error(topoccd_tangential_collisions_build(c, &b, x, 4, -0.5, 0.5, &tc, &error),
+                 TOPOCCD_STATUS_INVALID_OPTIONS, &error, "friction coefficient", "negative mu");
+    CHECK(tc == NULL, "the output is NULL after a failure");
+    expect_error(topoccd_tangential_collisions_build(c, NULL, x, 4, 0.5, 0.5, &tc, &error),
+                 TOPOCCD_STATUS_NULL_POINTER, &error, "potential is NULL", "NULL barrier");
+    expect_error(topoccd_tangential_collisions_build(c, &b, nan_x, 4, 0.5, 0.5, &tc, &error),
+                 TOPOCCD_STATUS_INVALID_STEP, &error, "not finite", "NaN lagged positions");
+    expect_error(topoccd_tangential_collisions_build(c, &b, x, 3, 0.5, 0.5, &tc, &error),
+                 TOPOCCD_STATUS_INVALID_ARGUMENT, &error, "x has 3 rows", "lagged positions of the wrong count");
+    CHECK_STATUS(topoccd_tangential_collisions_build(c, &b, x, 4, 0.5, 0.5, &tc, &error), TOPOCCD_STATUS_OK,
+                 "tangential build");
+    const topoccd_tangential_collision *rows = NULL;
+    size_t count = 0;
+    CHECK_STATUS(topoccd_tangential_collisions_arrays(tc, &rows, &count, &error), TOPOCCD_STATUS_OK, "arrays");
+    CHECK(count == 1 && rows[0].kind == 3 && rows[0].vertices[0] == 3 && rows[0].vertex_count == 4,
+          "one face-vertex tangential collision");
+    /* The normal force: the barrier's push on the point, |dE/dz|. */
+    CHECK(count == 1 && fabs(rows[0].normal_force_magnitude + g[11]) <= 1e-12 * fabs(g[11]), "normal force %g",
+          count ? rows[0].normal_force_magnitude : 0.0);
+    const double v[12] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0};
+    double fe = 0, fg[12];
+    CHECK_STATUS(topoccd_friction_energy(1e-3, tc, v, 4, &fe, &error), TOPOCCD_STATUS_OK, "friction energy");
+    CHECK(fabs(fe - 0.5 * rows[0].normal_force_magnitude) <= 1e-12 * fe, "mu N |v|, got %g", fe);
+    expect_error(topoccd_friction_energy(0, tc, v, 4, &fe, &error), TOPOCCD_STATUS_INVALID_OPTIONS, &error,
+                 "eps_v", "zero eps_v");
+    expect_error(topoccd_friction_energy(1e-3, (const topoccd_tangential_collisions *)c, v, 4, &fe, &error),
+                 TOPOCCD_STATUS_INVALID_HANDLE, &error, "not a live topoccd_tangential_collisions",
+                 "collisions as tangential");
+    expect_error(topoccd_friction_gradient(1e-3, tc, v, 4, fg, 3, &error), TOPOCCD_STATUS_INVALID_ARGUMENT, &error,
+                 "gradient_len is 3", "short friction gradient");
+    expect_error(topoccd_friction_gradient(1e-3, tc, nan_x, 4, fg, 12, &error), TOPOCCD_STATUS_INVALID_STEP,
+                 &error, "velocities: vertex 1 is not finite", "NaN velocity");
+    topoccd_sparse *fh = NULL;
+    expect_error(topoccd_friction_hessian(1e-3, tc, v, 4, 5, &fh, &error), TOPOCCD_STATUS_INVALID_OPTIONS, &error,
+                 "projection", "unknown projection");
+    CHECK_STATUS(topoccd_friction_hessian(1e-3, tc, v, 4, TOPOCCD_PSD_PROJECTION_NONE, &fh, &error),
+                 TOPOCCD_STATUS_OK, "friction hessian");
+    topoccd_sparse_free(&fh);
+    topoccd_tangential_collisions_free(&tc);
+    CHECK(tc == NULL, "free sets NULL");
+    topoccd_tangential_collisions_free(&tc);
+
+    topoccd_collisions_free(&c);
+    CHECK(c == NULL, "free sets NULL");
+    topoccd_collisions_free(&c);
+    topoccd_collisions_free(NULL);
+    topoccd_ccd_free(&ccd);
+}
+
 int main(void) {
     test_version_and_names();
     test_options();
@@ -1003,6 +1201,7 @@ int main(void) {
     test_line_search();
     test_files();
     test_proximity();
+    test_ipc();
     printf("%d passed, %d failed\n", passed, failed);
     return failed != 0;
 }

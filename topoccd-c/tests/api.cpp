@@ -341,6 +341,65 @@ static void test_codim() {
                TOPOCCD_STATUS_INVALID_STEP, "edge 0 names vertex 9", "an edge out of range");
 }
 
+// The contact potential's wrapper: a point over a triangle (the analytic energy), Eigen's
+// sparse matrix when there, and the errors as exceptions.
+static void test_ipc() {
+  namespace ti = topoccd::ipc;
+  const std::vector<std::array<double, 3>> x = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.2, 0.2, 0.5e-3}};
+  const std::vector<std::array<std::uint32_t, 3>> f = {{0, 1, 2}};
+  const ti::CollisionMesh mesh(x, f);
+  ti::NormalCollisions c;
+  const ti::BarrierPotential B(1e-3, 1.0);
+  expect_error([&] { B(c, mesh, x); }, TOPOCCD_STATUS_NULL_POINTER, "never built", "unbuilt set");
+  CHECK(c.size() == 0 && c.empty(), "empty before build");
+  c.build(mesh, x, 1e-3);
+  CHECK(c.size() == 1 && c.fv_collisions().size() == 1 && c.fv_collisions()[0].vertex == 3, "one fv");
+  const double s = 0.25e-6, t = 1e-6;
+  CHECK(std::abs(B(c, mesh, x) + (s - t) * (s - t) * std::log(s / t)) <= 1e-12 * B(c, x), "energy");
+  const ti::Csr h = B.hessian(c, x, ti::PSDProjectionMethod::CLAMP);
+  CHECK(h.size == 12 && h.nnz() == 144 && h.indptr.size() == 13, "a 12x12 Hessian block");
+  // Rebuilt after the point moved above dhat: no collision, zero gradient.
+  std::vector<std::array<double, 3>> far = x;
+  far[3][2] = 2e-3;
+  c.build(mesh, far, 1e-3);
+  CHECK(c.empty() && B(c, far) == 0.0 && B.hessian(c, far).nnz() == 0, "nothing beyond dhat");
+#if defined(TOPOCCD_HAS_EIGEN_SPARSE)
+  c.build(mesh, x, 1e-3);
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> e = B.hessian(c, x).eigen();
+  CHECK(e.rows() == 12 && e.nonZeros() == 144 && e.coeff(11, 11) > 0, "Eigen's sparse Hessian");
+#endif
+  const std::vector<std::array<std::uint32_t, 3>> bad = {{0, 1, 9}};
+  expect_error([&] { c.build(ti::CollisionMesh(x, bad), x, 1e-3); }, TOPOCCD_STATUS_INVALID_STEP, "vertex 9",
+               "bad index");
+  expect_error([&] { c.build(mesh, x, -1.0); }, TOPOCCD_STATUS_INVALID_OPTIONS, "dhat", "negative dhat");
+  std::vector<std::array<double, 3>> nan = x;
+  nan[1][0] = std::nan("");
+  expect_error([&] { c.build(mesh, nan, 1e-3); }, TOPOCCD_STATUS_INVALID_STEP, "", "NaN position");
+  c.build(mesh, x, 1e-3);
+  expect_error([&] { B.gradient(c, nan); }, TOPOCCD_STATUS_INVALID_STEP, "vertex 1 is not finite", "NaN x");
+  const std::vector<std::array<double, 3>> three(x.begin(), x.begin() + 3);
+  expect_error([&] { B(c, three); }, TOPOCCD_STATUS_INVALID_ARGUMENT, "x has 3 rows", "short x");
+  expect_error([&] { ti::BarrierPotential(1e-3, -1.0)(c, x); }, TOPOCCD_STATUS_INVALID_OPTIONS, "stiffness",
+               "negative stiffness");
+  double kmax = 0;
+  expect_error(
+      [&] { ti::initial_barrier_stiffness(1, ti::Barrier::ClampedLog, 1e-3, 1, {0, 1}, {0}, kmax); },
+      TOPOCCD_STATUS_INVALID_ARGUMENT, "different lengths", "gradients of different lengths");
+  CHECK(ti::update_barrier_stiffness(1e-20, 1e-21, 100, 1, 1) == 2.0, "the stiffness doubles");
+  ti::TangentialCollisions tc;
+  const ti::FrictionPotential D(1e-3);
+  expect_error([&] { D(tc, x); }, TOPOCCD_STATUS_NULL_POINTER, "never built", "unbuilt tangential set");
+  expect_error([&] { tc.build(mesh, x, c, B, -1.0); }, TOPOCCD_STATUS_INVALID_OPTIONS, "friction coefficient",
+               "negative mu");
+  tc.build(mesh, x, c, B, 0.5);
+  std::vector<std::array<double, 3>> v(4, {0, 0, 0});
+  v[3] = {1, 0, 0};
+  // mu N |v|, with N the barrier's push on the point (its gradient's z).
+  const double push = -B.gradient(c, x)[11];
+  CHECK(tc.size() == 1 && std::abs(D(tc, mesh, v) - 0.5 * push) <= 1e-12 * push, "friction energy");
+  expect_error([&] { ti::FrictionPotential(-1.0)(tc, v); }, TOPOCCD_STATUS_INVALID_OPTIONS, "eps_v", "bad eps_v");
+}
+
 int main() {
   test_layouts();
   test_options_and_errors();
@@ -349,6 +408,7 @@ int main() {
   test_pairs_and_files();
   test_line_search();
   test_proximity();
+  test_ipc();
 #if defined(TOPOCCD_HAS_EIGEN)
   test_eigen();
   std::printf("(with Eigen %d.%d.%d) ", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION);
