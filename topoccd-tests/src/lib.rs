@@ -20,6 +20,7 @@ doctests! {
     GuideCuttingAndFracture => "../../docs/guide/src/cutting-and-fracture.md",
     GuideEarliestAndLineSearch => "../../docs/guide/src/earliest-and-line-search.md",
     GuideFileFormats => "../../docs/guide/src/file-formats.md",
+    GuideIpcLoop => "../../docs/guide/src/ipc-loop.md",
     GuideLoopRust => "../../docs/guide/src/loop-rust.md",
     GuideMethods => "../../docs/guide/src/methods.md",
     GuidePairs => "../../docs/guide/src/pairs.md",
