@@ -142,7 +142,7 @@ class Ccd:
         edges: Optional[npt.ArrayLike] = None,
         dmin: float = 0.0,
         groups: Optional[npt.ArrayLike] = None,
-        max_contacts: Optional[int] = None,
+        max_contacts: Optional[int] = 1_000_000,
         timeout: Optional[float] = None,
         threads: Optional[int] = None,
     ) -> Proximity: ...

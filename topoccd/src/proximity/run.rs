@@ -181,11 +181,13 @@ impl State {
             }
             ProximityMethod::Bvh => {
                 let (x, r) = (test.x, test.r);
-                // The pairs kept across a solver's iterations (see `cache`): not under a cap
-                // or a deadline, whose pairs depend on the order of work, nor with groups or a
-                // predicate, which may change from one query to the next.
-                let plain = options.max_contacts.is_none()
-                    && options.deadline.is_none()
+                // The pairs kept across a solver's iterations (see `cache`): not under a
+                // deadline, whose pairs depend on the order of work, nor with groups or a
+                // predicate, which may change from one query to the next. Under a cap they
+                // are kept and reused while the query stays under it (then the answer is the
+                // uncapped one); a query that reaches the cap traverses, so that its pairs are
+                // the first of the fixed order of work, and keeps nothing.
+                let plain = options.deadline.is_none()
                     && test.groups.is_none()
                     && test.can_collide.is_none();
                 let cached = if plain {
@@ -193,11 +195,15 @@ impl State {
                 } else {
                     None
                 };
-                let found = if let Some(cands) = cached.filter(|_| !stop.check()) {
+                let reused = cached
+                    .filter(|_| !stop.check())
+                    .map(|cands| evaluate(cands, config.triangles(), &test))
+                    .filter(|f| f.len() <= max);
+                let found = if let Some(f) = reused {
                     stats.refitted = true;
                     stats.reused = true;
                     stats.build_seconds = start.elapsed().as_secs_f64();
-                    evaluate(cands, config.triangles(), &test)
+                    f
                 } else {
                     let allowance = if plain {
                         self.cache.allowance(x, r)
@@ -234,7 +240,7 @@ impl State {
                         &skip,
                     );
                     let cands = std::mem::take(&mut found.cands);
-                    if test.r_list > 0.0 && stop.reason().is_none() {
+                    if test.r_list > 0.0 && stop.reason().is_none() && !capped {
                         self.cache.keep(x, r, allowance, cands);
                     } else if plain {
                         // (A capped query leaves the listing: still valid where it covers.)
