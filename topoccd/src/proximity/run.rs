@@ -77,6 +77,13 @@ impl Ccd {
     /// to the new positions, not rebuilt. Runs on the caller's rayon pool; the report is the
     /// same for any thread count.
     ///
+    /// A pair can repeat: every primitive pair is reported by its closest features, so a
+    /// vertex near an edge or corner of the mesh comes back once for each face around it
+    /// (`vf` pairs of the edge or corner types). The potentials' collision set
+    /// (`topoccd::ipc::NormalCollisions`) merges repeats with their count as multiplicity.
+    /// The report keeps at most [`ProximityOptions::max_contacts`] pairs (one million by
+    /// default).
+    ///
     /// ```
     /// use topoccd::{Ccd, Configuration, ProximityOptions};
     /// use topoccd::distance::PointTriangleType;
