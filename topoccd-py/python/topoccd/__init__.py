@@ -56,6 +56,7 @@ from ._topoccd import (
     point_point_ccd,
     point_triangle_ccd,
     read_mesh,
+    read_primitives,
     read_sequence,
 )
 from .line_search import Earliest, collision_free_stepsize, is_step_collision_free
@@ -74,6 +75,7 @@ __all__ = [
     "Sequence",
     "query",
     "read_mesh",
+    "read_primitives",
     "read_sequence",
     "point_triangle_ccd",
     "edge_edge_ccd",
