@@ -63,10 +63,12 @@ no_rust python -m pip install --quiet --upgrade pip
 no_rust python -m pip install --quiet "rerun-sdk==0.36.3"
 
 # Every cargo command below selects the whole workspace with the same features, so cargo
-# resolves the dependencies' features one way and builds each crate once. The CLI gets the
-# feature `rerun`: its recording test reads back what it writes with the venv's rerun-sdk,
-# and the C tests and the Python suite below use this binary (target/release/topoccd).
-FEATURES=(--workspace --features topoccd-cli/rerun)
+# resolves the dependencies' features one way and builds each crate once. The CLI has the
+# feature `rerun` by default (its recording test reads back what it writes with the venv's
+# rerun-sdk), and its manifest gives the crates it shares with the tests the workspace's
+# features, so the README's demo build and this one are the same CLI. The C tests and the
+# Python suite below use this binary (target/release/topoccd).
+FEATURES=(--workspace)
 echo "== Rust tests (release, the CLI with the feature rerun)"
 TOPOCCD_RERUN_BIN="$PWD/$VENV/bin/rerun" TOPOCCD_RERUN_PYTHON="$PWD/$VENV/bin/python" \
     cargo test --release "${FEATURES[@]}" --lib --bins --tests --examples

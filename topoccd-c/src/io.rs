@@ -393,8 +393,12 @@ pub unsafe extern "C" fn topoccd_frames_step(
             parent_count: s.parents.len(),
             groups: ptr::null(),
             group_count: 0,
-            // NULL without edges: then vertices in no triangle stay ignored.
-            edges: if s.edges.is_empty() {
+            // The one rule of every reader (`topoccd::io::with_file_primitives`): loose
+            // vertices are free points, so the edges are set (an empty, non-NULL list) when
+            // the file has loose vertices but no edges; NULL when it has neither.
+            edges: if s.edges.is_empty()
+                && topoccd::io::loose_vertices(s.x1.len(), &s.triangles, &s.edges).is_empty()
+            {
                 ptr::null()
             } else {
                 s.edges.as_ptr().cast()

@@ -9,7 +9,9 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use topoccd::check::{frame_intersections_within, CheckLimits};
-use topoccd::io::read_mesh;
+use topoccd::io::{read_mesh, FilePrimitives};
+
+use crate::common::LooseArgs;
 use topoccd::io::sequence::parents_path;
 
 /// Arguments of `topoccd check`.
@@ -17,6 +19,8 @@ use topoccd::io::sequence::parents_path;
 pub struct Args {
     /// The mesh file (PLY, OBJ or STL).
     frame: PathBuf,
+    #[command(flatten)]
+    loose: LooseArgs,
     /// Vertices that count as one, one line `NEW_ID PARENT_ID` each (a sequence's
     /// `NNNN.parents`): the two sides of a crack touch by construction and are not reported.
     /// Default: the file beside FRAME with the extension `.parents`, when there is one.
@@ -44,6 +48,10 @@ struct CheckOut<'a> {
     frame: &'a Path,
     vertices: usize,
     triangles: usize,
+    /// Free edges (in no triangle) and free points of the file, as `step`, `run` and
+    /// `proximity` read them (the check itself is over the triangles).
+    free_edges: usize,
+    free_points: usize,
     parents: Option<&'a Path>,
     intersecting: usize,
     pairs: &'a [[u32; 2]],
@@ -89,6 +97,11 @@ pub fn run(args: &Args) -> Result<ExitCode> {
     for note in &mesh.notes {
         eprintln!("note: {}: {note}", args.frame.display());
     }
+    let loose = mesh.loose_vertices();
+    if let Some(w) = crate::common::loose::loose_warning(&args.frame, &loose, args.loose.loose) {
+        eprintln!("{w}");
+    }
+    let primitives = FilePrimitives::of_mesh(&mesh, args.loose.loose);
     let beside = parents_path(&args.frame);
     let parents_file = match &args.parents {
         Some(p) => Some(p.clone()),
@@ -141,6 +154,8 @@ pub fn run(args: &Args) -> Result<ExitCode> {
             frame: &args.frame,
             vertices: x.len(),
             triangles: mesh.triangles.len(),
+            free_edges: primitives.free_edges.len(),
+            free_points: primitives.free_points.len(),
             parents: parents_file.as_deref(),
             intersecting: pairs.len(),
             pairs: &pairs,

@@ -8,7 +8,7 @@ use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use topoccd::io::sequence::write_frame;
 use topoccd::{Ccd, Method, QueryOptions, Step};
-use topoccd_scenes::codim::{codim_frames, CodimScene};
+use topoccd_scenes::codim::{codim_frames_scaled, CodimScene};
 use topoccd_scenes::paper::{generate, GenOptions, GenSummary, PaperScene};
 
 /// A scene `topoccd gen` writes.
@@ -29,7 +29,8 @@ pub struct Args {
     /// Folder to write the frames to (0000.ply, 0001.ply, ... and .parents files); created if
     /// missing, refused if it exists and is not empty.
     out_dir: PathBuf,
-    /// Triangle count relative to the paper's, in (0, 4]: 0.1 writes a tenth.
+    /// Triangle count relative to the paper's, in (0, 4]: 0.1 writes a tenth (for hair and
+    /// funnel-particles, the count of strands or particles).
     #[arg(long, default_value_t = 1.0)]
     scale: f64,
     /// Number of frames (steps plus one), at least 2.
@@ -116,10 +117,11 @@ pub fn run(args: &Args) -> Result<()> {
     Ok(())
 }
 
-/// `topoccd gen` of a scene with free edges and points: its frames (`--scale` does not apply),
+/// `topoccd gen` of a scene with free edges and points: its frames (`--scale` scales the count
+/// of strands or particles),
 /// and a summary line with each step's contacts of every kind.
 fn run_codim(scene: CodimScene, args: &Args) -> Result<()> {
-    let frames = codim_frames(scene, args.frames, args.seed);
+    let frames = codim_frames_scaled(scene, args.frames, args.seed, args.scale);
     let mut ccd = Ccd::new();
     let mut contacts = Vec::new();
     for (k, mesh) in frames.iter().enumerate() {

@@ -11,7 +11,9 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
-use topoccd::io::read_mesh;
+use topoccd::io::{read_mesh, FilePrimitives};
+
+use crate::common::LooseArgs;
 use topoccd::{Ccd, Configuration, ProximityOptions, ProximityReport, StopReason};
 
 /// Arguments of `topoccd proximity`.
@@ -19,6 +21,8 @@ use topoccd::{Ccd, Configuration, ProximityOptions, ProximityReport, StopReason}
 pub struct Args {
     /// The mesh file (PLY, OBJ or STL).
     frame: PathBuf,
+    #[command(flatten)]
+    loose: LooseArgs,
     /// The distance threshold, in the frame's units, > 0.
     #[arg(long)]
     dhat: f64,
@@ -31,6 +35,10 @@ pub struct Args {
     /// stderr).
     #[arg(long, value_name = "FILE|-")]
     pairs: Option<PathBuf>,
+    /// Stop once N pairs are found (a number, or `off` for no cap); the output then says it
+    /// holds only part of the pairs. Default: one million, as every other command.
+    #[arg(long, value_name = "N|off", value_parser = crate::query_args::parse_cap)]
+    max_contacts: Option<crate::query_args::Cap>,
     /// Print one JSON object (counts, seconds) instead of text.
     #[arg(long)]
     json: bool,
@@ -53,6 +61,10 @@ struct ProximityOut<'a> {
     frame: &'a Path,
     vertices: usize,
     triangles: usize,
+    free_edges: usize,
+    free_points: usize,
+    /// Whether the query stopped at the cap (`--max-contacts`) with part of the pairs.
+    truncated: bool,
     dhat: f64,
     dmin: f64,
     vf: usize,
@@ -105,17 +117,34 @@ pub fn run(args: &Args) -> Result<ExitCode> {
         dhat: args.dhat,
         dmin: args.dmin,
         deadline: crate::query_args::deadline_after(args.timeout),
+        max_contacts: match args.max_contacts {
+            Some(crate::query_args::Cap::At(n)) => Some(n),
+            Some(crate::query_args::Cap::Off) => None,
+            None => Some(topoccd::DEFAULT_MAX_CONTACTS),
+        },
         ..ProximityOptions::default()
     };
     options.validate()?;
+    let loose = mesh.loose_vertices();
+    if let Some(w) = crate::common::loose::loose_warning(&args.frame, &loose, args.loose.loose) {
+        eprintln!("{w}");
+    }
     let config = Configuration::new(&mesh.positions, &mesh.triangles, &mesh.edges)
-        .with_context(|| args.frame.display().to_string())?;
+        .with_context(|| args.frame.display().to_string())?
+        .with_free_points(args.loose.loose.are_points());
+    let primitives = FilePrimitives::of_configuration(&config);
     let report = Ccd::new().proximity(&config, &options)?;
     match report.truncated {
         Some(StopReason::Deadline) => bail!(
             "{}: stopped at --timeout {} s before every pair was found: raise --timeout",
             args.frame.display(),
             args.timeout.unwrap_or_default()
+        ),
+        Some(StopReason::MaxContacts) => eprintln!(
+            "warning: {}: stopped at --max-contacts {} before every pair was found: the \
+             output holds only these pairs (`--max-contacts off` lifts the cap)",
+            args.frame.display(),
+            report.len()
         ),
         Some(why) => bail!(
             "{}: stopped ({why:?}) before every pair was found ({} found)",
@@ -143,6 +172,9 @@ pub fn run(args: &Args) -> Result<ExitCode> {
             frame: &args.frame,
             vertices: mesh.positions.len(),
             triangles: mesh.triangles.len(),
+            free_edges: primitives.free_edges.len(),
+            free_points: primitives.free_points.len(),
+            truncated: report.truncated.is_some(),
             dhat: args.dhat,
             dmin: args.dmin,
             vf: report.vf.len(),

@@ -17,7 +17,7 @@ use topoccd::broad::cluster::{cluster, ClusterOptions};
 
 use crate::common::*;
 use crate::query_args::GrowthArg;
-use topoccd::io::{frame_number, read_mesh, sequence::step_between};
+use topoccd::io::{frame_number, read_mesh, sequence::step_between_loose};
 use topoccd::math::DVec3;
 use topoccd::mesh::Topology;
 use topoccd::Step;
@@ -193,6 +193,8 @@ impl FromStr for Size {
 pub struct Args {
     /// Mesh file (PLY or OBJ). The picture shows its positions (the step's t=0 with --step).
     frame: PathBuf,
+    #[command(flatten)]
+    loose: LooseArgs,
     /// Next frame (PLY or OBJ): FRAME to NEXT_FRAME is the step, with NEXT_FRAME's triangles;
     /// the clusters are computed over the step, the picture shows its start (t=0).
     #[arg(long, value_name = "NEXT_FRAME")]
@@ -250,7 +252,7 @@ pub fn run(args: &Args) -> Result<ExitCode> {
         Some(next_path) => {
             let end = read_mesh(next_path)?;
             let k = frame_number(&args.frame).unwrap_or(0) as usize;
-            step_between(&start, &end, next_path, k)?
+            step_between_loose(&start, &end, next_path, k, args.loose.loose)?
         }
         None => {
             let positions: Vec<DVec3> = start

@@ -23,6 +23,8 @@ pub struct Args {
     /// parents files beside them (`0001.parents`); or a scene folder with `frames/`.
     seq_dir: PathBuf,
     #[command(flatten)]
+    loose: LooseArgs,
+    #[command(flatten)]
     method: MethodArgs,
     #[command(flatten)]
     query: QueryArgs,
@@ -61,6 +63,8 @@ struct Summary {
     steps_with_contacts: usize,
     vf: usize,
     ee: usize,
+    ve: usize,
+    vv: usize,
     earliest_toi: Option<f64>,
     query_seconds: f64,
     wall_seconds: f64,
@@ -122,7 +126,7 @@ impl IntersectionWatch {
 /// Runs the command.
 pub fn run(args: &Args) -> Result<()> {
     let mut options = args.query.options()?;
-    let sequence = Sequence::open(&args.seq_dir)?;
+    let sequence = Sequence::open(&args.seq_dir)?.with_loose_vertices(args.loose.loose);
     if let Some(w) = left_out_warning(&sequence) {
         eprintln!("{w}");
     }
@@ -166,6 +170,8 @@ pub fn run(args: &Args) -> Result<()> {
         summary.steps += 1;
         summary.vf += report.vf.len();
         summary.ee += report.ee.len();
+        summary.ve += report.ve.len();
+        summary.vv += report.vv.len();
         summary.steps_with_contacts += usize::from(report.contact_count() > 0);
         summary.query_seconds += report.stats.seconds.total;
         if let Some(t) = report.earliest_toi() {
@@ -201,11 +207,16 @@ pub fn run(args: &Args) -> Result<()> {
         );
     } else {
         println!(
-            "{} steps ({} with contacts): {} vf and {} ee contacts, earliest toi {}; query {:.3} s, wall {:.3} s",
+            "{} steps ({} with contacts): {} vf and {} ee contacts{}, earliest toi {}; query {:.3} s, wall {:.3} s",
             summary.steps,
             summary.steps_with_contacts,
             summary.vf,
             summary.ee,
+            if summary.ve + summary.vv > 0 {
+                format!(", {} ve and {} vv", summary.ve, summary.vv)
+            } else {
+                String::new()
+            },
             summary.earliest_toi.map_or("none".into(), |t| t.to_string()),
             summary.query_seconds,
             summary.wall_seconds

@@ -14,6 +14,8 @@ use crate::record::Recorder;
 pub struct Args {
     /// Positions at t=0 (.ply, .obj or .stl).
     t0: PathBuf,
+    #[command(flatten)]
+    loose: LooseArgs,
     /// Positions at t=1 and the step's triangles (.ply, .obj or .stl), same vertex count as T0
     /// (or more, with --parents).
     t1: PathBuf,
@@ -81,6 +83,7 @@ pub fn run(args: &Args) -> Result<()> {
         limit,
         args.parents.as_deref(),
         args.weld,
+        args.loose.loose,
     )?;
     for message in &input.messages {
         eprintln!("{message}");

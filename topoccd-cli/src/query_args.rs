@@ -156,7 +156,7 @@ pub enum Cap {
     Off,
 }
 
-fn parse_cap(s: &str) -> Result<Cap, String> {
+pub fn parse_cap(s: &str) -> Result<Cap, String> {
     if s.trim().eq_ignore_ascii_case("off") {
         return Ok(Cap::Off);
     }

@@ -457,12 +457,21 @@ impl Ccd {
     ///         they count once. Vertices in no triangle and no edge are free points.
     ///     dmin: the minimum distance offset, >= 0: pairs closer than ``dhat + dmin``.
     ///     groups: one id per vertex; features whose vertices share one group are not paired.
-    ///     max_contacts: keep at most this many pairs (``truncated`` says so).
+    ///     max_contacts: keep at most this many pairs (``truncated`` says so); one million by
+    ///         default, as every other query; ``None`` lifts the cap. A query under the cap
+    ///         keeps its pairs for the next call's reuse.
     ///     timeout: seconds; ``TimeoutError`` after it.
     ///     threads: ``None`` for one thread per core, or a count.
     ///
     /// Returns:
     ///     Proximity: numpy arrays per kind (see :class:`Proximity`).
+    ///
+    /// A pair can repeat. Every primitive pair is reported by its closest features, so a
+    /// vertex near an edge or a corner of the mesh comes back once for each face around that
+    /// edge or corner (``vf`` rows with types ``P_E*`` or ``P_T0..2``), and two edges near at
+    /// a shared corner likewise. The collision set of the potentials (``topoccd.ipc``, the
+    /// library's ``topoccd::ipc::NormalCollisions``) merges repeats into one collision with
+    /// their count as its multiplicity, as the IPC toolkit does.
     ///
     /// Example: a vertex 0.5e-3 above a triangle.
     ///     >>> import topoccd
@@ -471,8 +480,8 @@ impl Ccd {
     ///     >>> p.vf.tolist(), p.vf_distance.round(6).tolist(), p.vf_type.tolist()
     ///     ([[3, 0]], [0.0005], [6])
     #[pyo3(signature = (
-        x, triangles, dhat, *, edges=None, dmin=0.0, groups=None, max_contacts=None,
-        timeout=None, threads=None
+        x, triangles, dhat, *, edges=None, dmin=0.0, groups=None,
+        max_contacts=Some(topoccd::DEFAULT_MAX_CONTACTS as i64), timeout=None, threads=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn proximity(

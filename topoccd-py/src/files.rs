@@ -43,6 +43,45 @@ pub fn read_mesh<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyT
     (positions, triangles).into_pyobject(py)
 }
 
+/// What a mesh file holds besides its triangles, by the rule every reader and command uses
+/// (the CLI's ``step``, ``run``, ``proximity`` and ``check`` read the same): its free edges
+/// (edges in no triangle) and its free points (vertices in no triangle and no edge).
+///
+/// Args:
+///     path: a ``.ply``, ``.obj`` or ``.stl`` file.
+///     loose_vertices: ``"points"`` (the default, the IPC toolkit's rule: loose vertices are
+///         particles, whether or not the file has edges) or ``"ignore"`` (leftovers).
+///
+/// Returns:
+///     tuple: ``(free_edges, free_points)``: ``(k, 2)`` and ``(p,)`` int64 arrays, sorted; pass
+///     the file's edges as ``edges=`` to a query (an empty ``(0, 2)`` array turns the free
+///     points on when the file has no edges).
+///
+/// Raises:
+///     ValueError: ``loose_vertices`` is neither name.
+///     OSError, FormatError: the file cannot be read.
+#[pyfunction]
+#[pyo3(signature = (path, *, loose_vertices="points"))]
+pub fn read_primitives<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    loose_vertices: &str,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let loose: topoccd::io::LooseVertices = loose_vertices
+        .parse()
+        .map_err(|e: topoccd::io::UnknownLooseVertices| {
+            pyo3::exceptions::PyValueError::new_err(e.to_string())
+        })?;
+    let mesh = py
+        .detach(|| topoccd::io::read_mesh(&path))
+        .map_err(|e| io_error(&e))?;
+    let p = topoccd::io::FilePrimitives::of_mesh(&mesh, loose);
+    let edges = table(py, &p.free_edges, i64::from)?;
+    let points: Vec<i64> = p.free_points.iter().map(|&v| i64::from(v)).collect();
+    let points = numpy::PyArray1::from_vec(py, points);
+    (edges, points).into_pyobject(py)
+}
+
 /// A frame sequence on disk: a folder of frames ``0000.ply``, ``0001.ply``, ... (or ``.obj``),
 /// with optional ``NNNN.parents`` files for topology changes. Step ``k`` goes from frame ``k``
 /// to frame ``k + 1`` and uses the triangles of frame ``k + 1``.

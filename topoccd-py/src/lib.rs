@@ -41,6 +41,7 @@ fn _topoccd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<proximity::Proximity>()?;
     m.add_class::<files::Sequence>()?;
     m.add_function(wrap_pyfunction!(files::read_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(files::read_primitives, m)?)?;
     m.add_function(wrap_pyfunction!(files::read_sequence, m)?)?;
     m.add_function(wrap_pyfunction!(pair::point_triangle_ccd, m)?)?;
     m.add_function(wrap_pyfunction!(pair::edge_edge_ccd, m)?)?;

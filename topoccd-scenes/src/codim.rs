@@ -56,24 +56,40 @@ impl CodimScene {
 /// The `frames` frames (at least 2) of `scene` with random numbers from `seed`. Every frame
 /// has the same triangles and edges; the positions move.
 pub fn codim_frames(scene: CodimScene, frames: usize, seed: u64) -> Vec<Mesh> {
+    codim_frames_scaled(scene, frames, seed, 1.0)
+}
+
+/// [`codim_frames`] with the count of moving primitives scaled by `scale` (finite, > 0; 1 is
+/// [`codim_frames`]'s scene): `round(24 scale)` hair strands, `round(400 scale)` particles, at
+/// least 2 of either. The floor and the funnel stay as they are.
+///
+/// ```
+/// use topoccd_scenes::codim::{codim_frames, codim_frames_scaled, CodimScene};
+/// let small = codim_frames_scaled(CodimScene::FunnelParticles, 2, 1, 0.2);
+/// let large = codim_frames_scaled(CodimScene::FunnelParticles, 2, 1, 0.5);
+/// assert!(small[0].positions.len() < large[0].positions.len());
+/// assert_eq!(codim_frames_scaled(CodimScene::HairBundle, 3, 1, 1.0), codim_frames(CodimScene::HairBundle, 3, 1));
+/// ```
+pub fn codim_frames_scaled(scene: CodimScene, frames: usize, seed: u64, scale: f64) -> Vec<Mesh> {
     let frames = frames.max(2);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let count = |n: usize| ((n as f64 * scale).round() as usize).max(2);
     match scene {
-        CodimScene::HairBundle => hair_bundle(frames, &mut rng),
-        CodimScene::FunnelParticles => funnel_particles(frames, &mut rng),
+        CodimScene::HairBundle => hair_bundle(frames, count(STRANDS), &mut rng),
+        CodimScene::FunnelParticles => funnel_particles(frames, count(PARTICLES), &mut rng),
     }
 }
 
 /// Strands of this many vertices.
 const STRAND_VERTICES: usize = 12;
-/// Strands in the bundle.
+/// Strands in the bundle (at scale 1).
 const STRANDS: usize = 24;
 
-fn hair_bundle(frames: usize, rng: &mut ChaCha8Rng) -> Vec<Mesh> {
+fn hair_bundle(frames: usize, strands: usize, rng: &mut ChaCha8Rng) -> Vec<Mesh> {
     // Roots on a ring of radius 0.2 at z = 1, with a little jitter; strands 1 long.
-    let roots: Vec<(f64, f64)> = (0..STRANDS)
+    let roots: Vec<(f64, f64)> = (0..strands)
         .map(|s| {
-            let angle = TAU * s as f64 / STRANDS as f64 + rng.random_range(-0.05..0.05);
+            let angle = TAU * s as f64 / strands as f64 + rng.random_range(-0.05..0.05);
             (angle, 0.2 + rng.random_range(-0.03..0.03))
         })
         .collect();
@@ -84,7 +100,7 @@ fn hair_bundle(frames: usize, rng: &mut ChaCha8Rng) -> Vec<Mesh> {
         [-1.0, 1.0, 0.1],
     ];
     let mut edges = Vec::new();
-    for s in 0..STRANDS {
+    for s in 0..strands {
         for k in 0..STRAND_VERTICES - 1 {
             let v = (4 + s * STRAND_VERTICES + k) as u32;
             edges.push([v, v + 1]);
@@ -120,7 +136,7 @@ const PARTICLES: usize = 400;
 /// Segments around the funnel.
 const FUNNEL_SEGMENTS: usize = 32;
 
-fn funnel_particles(frames: usize, rng: &mut ChaCha8Rng) -> Vec<Mesh> {
+fn funnel_particles(frames: usize, particles: usize, rng: &mut ChaCha8Rng) -> Vec<Mesh> {
     // A cone from radius 1 at z = 1 down to radius 0.15 at z = 0, in three rings.
     let rings = [(1.0, 1.0), (0.55, 0.5), (0.15, 0.0)];
     let mut funnel = Vec::new();
@@ -139,7 +155,7 @@ fn funnel_particles(frames: usize, rng: &mut ChaCha8Rng) -> Vec<Mesh> {
         }
     }
     // Each particle: a start above the funnel, a sideways velocity, and a delay.
-    let particles: Vec<([f64; 3], [f64; 2], f64)> = (0..PARTICLES)
+    let particles: Vec<([f64; 3], [f64; 2], f64)> = (0..particles)
         .map(|_| {
             let a = rng.random_range(0.0..TAU);
             let r = 0.9 * rng.random_range(0.0f64..1.0).sqrt();

@@ -4,6 +4,7 @@
 //! imports `crate::common::*` and nothing from another command's file.
 
 pub mod files;
+pub mod loose;
 pub mod memory;
 pub mod progress;
 pub mod record_args;
@@ -14,6 +15,7 @@ pub mod tables_text;
 pub mod words;
 
 pub use files::{prepare_dir, refuse_overwrite, same_file, writable};
+pub use loose::LooseArgs;
 pub use memory::{parse_memory_limit, MemoryLimit};
 pub use progress::{progress, with_spinner};
 pub use record_args::{RecordArgs, RecordTarget};

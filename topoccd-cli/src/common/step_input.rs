@@ -4,10 +4,10 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
-use topoccd::io::sequence::{with_file_edges, Sequence, StepFrames};
+use topoccd::io::sequence::{Sequence, StepFrames};
 use topoccd::io::{
-    input_warnings, read_mesh, read_ply_header, weld_frames, FaceOrigin, InputWarning, MeshFormat,
-    PlyCounts,
+    input_warnings, read_mesh, read_ply_header, weld_frames, with_file_primitives, FaceOrigin,
+    InputWarning, LooseVertices, MeshFormat, PlyCounts,
 };
 use topoccd::Step;
 
@@ -63,7 +63,7 @@ pub fn read_step_within(t0: &Path, t1: &Path, limit: MemoryLimit) -> Result<Step
     }
     limit.check(m1.positions.len(), m1.triangles.len(), t0, t1)?;
     Step::new(m0.positions, m1.positions, m1.triangles)
-        .and_then(|step| with_file_edges(step, &m1.edges))
+        .and_then(|step| with_file_primitives(step, &m1.edges, LooseVertices::Points))
         .with_context(|| format!("step from {} to {}", t0.display(), t1.display()))
 }
 
@@ -91,7 +91,9 @@ pub fn read_step_input(
     limit: MemoryLimit,
     parents: Option<&Path>,
     weld: bool,
+    loose_rule: LooseVertices,
 ) -> Result<StepInput> {
+    let loose = loose_rule;
     if parents.is_some() && weld {
         bail!("--weld cannot be combined with --parents (the vertex ids of a topology change must stay as they are)");
     }
@@ -116,7 +118,7 @@ pub fn read_step_input(
     if let Some(parents) = parents {
         let frames = StepFrames::new(0, m0, m1, t0, t1, Some(parents))?;
         let step = Step::with_parents(frames.x0, frames.x1, frames.triangles, &frames.parents)
-            .and_then(|step| with_file_edges(step, &frames.edges))
+            .and_then(|step| with_file_primitives(step, &frames.edges, loose))
             .with_context(context)?;
         return Ok(StepInput {
             step,
@@ -144,6 +146,14 @@ pub fn read_step_input(
             );
         }
         let w = weld_frames(&m0.positions, &m1.positions, &m1.triangles);
+        let loose = m1.loose_vertices().len();
+        if loose > 0 && loose_rule.are_points() {
+            messages.push(format!(
+                "warning: {}: --weld ignores its {loose} vertices in no face and no edge (they \
+                 are free points without --weld)",
+                t1.display()
+            ));
+        }
         let merged = m0.positions.len() - w.x0.len();
         messages.push(format!(
             "note: --weld merged {merged} vertices (in {} groups) and dropped {} degenerate \
@@ -168,7 +178,7 @@ pub fn read_step_input(
         remedy,
     ));
     let step = Step::new(m0.positions, m1.positions, m1.triangles)
-        .and_then(|step| with_file_edges(step, &m1.edges))
+        .and_then(|step| with_file_primitives(step, &m1.edges, loose))
         .with_context(context)?;
     Ok(StepInput {
         step,

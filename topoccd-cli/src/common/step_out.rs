@@ -19,6 +19,11 @@ use super::files::refuse_overwrite;
 pub struct StepOut<'r> {
     vertices: usize,
     triangles: usize,
+    /// Free edges (in no triangle) the step was queried with.
+    free_edges: usize,
+    /// Free points (vertices in no triangle and no edge, read as particles) it was queried
+    /// with.
+    free_points: usize,
     method: String,
     mode: &'static str,
     /// Vertex-face contacts reported (in `--earliest` mode, the earliest pairs).
@@ -63,9 +68,12 @@ impl<'r> StepOut<'r> {
         with_pairs: bool,
     ) -> Self {
         let earliest_mode = mode == Mode::Earliest;
+        let primitives = topoccd::io::FilePrimitives::of_step(step);
         Self {
             vertices: step.vertex_count(),
             triangles: step.triangles().len(),
+            free_edges: primitives.free_edges.len(),
+            free_points: primitives.free_points.len(),
             method: method.to_string(),
             mode: if earliest_mode { "earliest" } else { "all" },
             vf: report.vf.len(),

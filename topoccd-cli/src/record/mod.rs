@@ -67,9 +67,9 @@ impl Recorder {
     #[cfg(not(feature = "rerun"))]
     fn start(_target: &RecordTarget, _name: &str, _options: SceneOptions) -> Result<Self> {
         anyhow::bail!(
-            "--rerun needs a topoccd built with the cargo feature `rerun` (this one was not): \
-             `cargo install --path topoccd-cli --features rerun` or `cargo build --release \
-             -p topoccd-cli --features rerun` (Rust 1.95 or newer; it records with Rerun \
+            "--rerun needs a topoccd built with the cargo feature `rerun` (this one was not; \
+             the feature is on by default): `cargo install --path topoccd-cli` or `cargo \
+             build --release -p topoccd-cli` (Rust 1.95 or newer; it records with Rerun \
              {RERUN_VERSION})"
         )
     }

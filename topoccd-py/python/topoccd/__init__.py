@@ -56,6 +56,7 @@ from ._topoccd import (
     point_point_ccd,
     point_triangle_ccd,
     read_mesh,
+    read_primitives,
     read_sequence,
 )
 from .line_search import Earliest, collision_free_stepsize, is_step_collision_free
@@ -74,6 +75,7 @@ __all__ = [
     "Sequence",
     "query",
     "read_mesh",
+    "read_primitives",
     "read_sequence",
     "point_triangle_ccd",
     "edge_edge_ccd",
@@ -187,7 +189,7 @@ def proximity(
     dmin: float = 0.0,
     ccd: Optional[Ccd] = None,
     groups=None,
-    max_contacts: Optional[int] = None,
+    max_contacts: Optional[int] = DEFAULT_MAX_CONTACTS,
     timeout: Optional[float] = None,
     threads: Optional[int] = None,
 ) -> Proximity:
@@ -201,7 +203,10 @@ def proximity(
     (about 1e-14 times the pair's size).
 
     Pass ``ccd=`` the :class:`Ccd` of the simulation: its hierarchy is kept and refitted
-    across a solver's iterations. Other arguments as :meth:`Ccd.proximity`.
+    across a solver's iterations. ``max_contacts`` caps the pairs at one million by default
+    (``None`` lifts it). A vertex near an edge or corner comes back once per face around it;
+    the potentials' collision set (``topoccd.ipc``) merges such repeats with their
+    multiplicity. Other arguments as :meth:`Ccd.proximity`.
 
     Example: a particle (3) 0.5e-3 above a triangle, and a rod (4, 5) 0.2e-3 above it,
     crossing two of its edges.

@@ -11,6 +11,7 @@ __all__ = [
     "Report",
     "Sequence",
     "read_mesh",
+    "read_primitives",
     "read_sequence",
     "point_triangle_ccd",
     "edge_edge_ccd",
@@ -142,7 +143,7 @@ class Ccd:
         edges: Optional[npt.ArrayLike] = None,
         dmin: float = 0.0,
         groups: Optional[npt.ArrayLike] = None,
-        max_contacts: Optional[int] = None,
+        max_contacts: Optional[int] = 1_000_000,
         timeout: Optional[float] = None,
         threads: Optional[int] = None,
     ) -> Proximity: ...
@@ -181,6 +182,9 @@ class Sequence:
     def __getitem__(self, k: int, /) -> _StepArrays: ...
     def __iter__(self) -> Iterator[_StepArrays]: ...
 
+def read_primitives(
+    path: _Path, *, loose_vertices: str = "points"
+) -> Tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]: ...
 def read_mesh(path: _Path) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
     """Reads a ``.ply``, ``.obj`` or ``.stl`` triangle mesh: ``(positions (n, 3), triangles (m, 3))``."""
 

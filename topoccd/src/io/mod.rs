@@ -13,6 +13,9 @@
 //!   rationals and ground truth), `scene_frames` and `read_scene_truth` the whole-step scenes
 //!   of the shared data, and `MemoryEstimate` refuses a step too large for memory up front.
 //! - [`sequence`] reads and writes frame sequences (`0000.ply`, `0001.ply`, ... and `.parents`).
+//! - [`with_file_primitives`]: what a file holds besides its triangles (free edges, and its
+//!   loose vertices as free points unless [`LooseVertices::Ignore`]), the one rule of every
+//!   reader and command.
 //! - [`read_ply_header`] gives a PLY file's counts before reading it.
 //! - Every error is an [`IoError`] that names the file, and the line (text formats) or the
 //!   element (binary PLY) where reading stopped.
@@ -28,6 +31,7 @@ mod ply_elements;
 mod ply_read;
 mod ply_write;
 mod polygon;
+mod primitives;
 pub mod sequence;
 mod stl;
 mod weld;
@@ -44,6 +48,9 @@ pub use obj::{read_obj, read_obj_from, write_obj, write_obj_to};
 pub use ply_read::{read_ply, read_ply_from, read_ply_header, PlyCounts};
 pub use ply_write::{write_ply, write_ply_to};
 pub use polygon::{triangulate_polygon, PolygonSplit};
+pub use primitives::{
+    loose_vertices, with_file_primitives, FilePrimitives, LooseVertices, UnknownLooseVertices,
+};
 #[cfg(feature = "internals")]
 pub use scene::{
     frame_number, libigl_edges, read_scene_truth, scene_frames, EdgePair, SceneFrames, SceneTruth,

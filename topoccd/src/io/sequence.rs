@@ -26,7 +26,9 @@ use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
-use super::{read_mesh, write_mesh, FaceOrigin, IoError, Mesh, MeshNote};
+use super::{
+    read_mesh, with_file_primitives, write_mesh, FaceOrigin, IoError, LooseVertices, Mesh, MeshNote,
+};
 use crate::mesh::{Step, StepError};
 
 /// Why a sequence could not be read.
@@ -157,6 +159,9 @@ pub struct Sequence {
     /// why it was left out: a front end says so, so that a folder holding two frames among
     /// other files is not taken as a sequence silently.
     pub ignored: Vec<String>,
+    /// What the frames' loose vertices are, for [`Sequence::iter`]'s steps (see
+    /// [`Sequence::with_loose_vertices`]).
+    pub loose_vertices: LooseVertices,
 }
 
 /// A file name split into its prefix and the number that ends its stem.
@@ -292,7 +297,15 @@ impl Sequence {
             frames,
             first,
             ignored,
+            loose_vertices: LooseVertices::Points,
         })
+    }
+
+    /// The sequence, its steps ([`Sequence::iter`]) reading loose vertices as `loose` says
+    /// (see [`with_file_primitives`]; the default is [`LooseVertices::Points`]).
+    pub fn with_loose_vertices(mut self, loose: LooseVertices) -> Self {
+        self.loose_vertices = loose;
+        self
     }
 
     /// Reads step `k` (frames `k` and `k + 1`, and the parents file of frame `k + 1` if there
@@ -354,7 +367,13 @@ impl Iterator for StepIter<'_> {
                 None => read_mesh(&self.sequence.frames[k])?,
             };
             let end = read_mesh(&self.sequence.frames[k + 1])?;
-            let step = step_between(&start, &end, &self.sequence.frames[k + 1], k)?;
+            let step = step_between_loose(
+                &start,
+                &end,
+                &self.sequence.frames[k + 1],
+                k,
+                self.sequence.loose_vertices,
+            )?;
             self.previous = Some(end);
             Ok((k, step))
         })();
@@ -456,6 +475,17 @@ pub fn step_between(
     end_path: &Path,
     k: usize,
 ) -> Result<Step<'static>, SequenceError> {
+    step_between_loose(start, end, end_path, k, LooseVertices::Points)
+}
+
+/// [`step_between`], the loose vertices read as `loose` says ([`with_file_primitives`]).
+pub fn step_between_loose(
+    start: &Mesh,
+    end: &Mesh,
+    end_path: &Path,
+    k: usize,
+    loose: LooseVertices,
+) -> Result<Step<'static>, SequenceError> {
     let (n0, n1) = (start.positions.len(), end.positions.len());
     let parents_file = parents_path(end_path);
     // (A shrinking vertex count is reported by `step_from_frames`.)
@@ -464,7 +494,7 @@ pub fn step_between(
     } else {
         Vec::new()
     };
-    step_from_frames(start, end, &parents, end_path, k)
+    step_from_frames_loose(start, end, &parents, end_path, k, loose)
 }
 
 /// Builds step `k` from its two frames and the `(new, parent)` pairs of the vertices new in
@@ -476,6 +506,18 @@ pub fn step_from_frames(
     parents: &[(u32, u32)],
     end_path: &Path,
     k: usize,
+) -> Result<Step<'static>, SequenceError> {
+    step_from_frames_loose(start, end, parents, end_path, k, LooseVertices::Points)
+}
+
+/// [`step_from_frames`], the loose vertices read as `loose` says ([`with_file_primitives`]).
+pub fn step_from_frames_loose(
+    start: &Mesh,
+    end: &Mesh,
+    parents: &[(u32, u32)],
+    end_path: &Path,
+    k: usize,
+    loose: LooseVertices,
 ) -> Result<Step<'static>, SequenceError> {
     let (n0, n1) = (start.positions.len(), end.positions.len());
     if n1 < n0 {
@@ -492,7 +534,7 @@ pub fn step_from_frames(
         end.triangles.clone(),
         &rows,
     )
-    .and_then(|step| with_file_edges(step, &end.edges))
+    .and_then(|step| with_file_primitives(step, &end.edges, loose))
     .map_err(|source| SequenceError::Step {
         step: k,
         path: end_path.to_path_buf(),
@@ -500,17 +542,14 @@ pub fn step_from_frames(
     })
 }
 
-/// `step` with the free edges of a frame file (`end`'s: PLY `edge` elements, OBJ `l` lines),
-/// when it has any; a file without edges leaves vertices in no triangle ignored, as before.
+/// `step` with the free edges of a frame file (`end`'s: PLY `edge` elements, OBJ `l` lines)
+/// and its loose vertices as free points: [`with_file_primitives`] with the default rule
+/// ([`LooseVertices::Points`]).
 pub fn with_file_edges(
     step: Step<'static>,
     edges: &[[u32; 2]],
 ) -> Result<Step<'static>, StepError> {
-    if edges.is_empty() {
-        Ok(step)
-    } else {
-        step.with_edges_owned(edges.to_vec())
-    }
+    with_file_primitives(step, edges, LooseVertices::Points)
 }
 
 /// Reads a parents file: pairs `(new, parent)` with `previous <= new < current` and

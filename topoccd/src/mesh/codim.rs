@@ -34,7 +34,8 @@ pub(crate) struct Codim {
     /// The free edges: the step's edges that are in no triangle, each `[i, j]` with `i < j`,
     /// sorted, each once.
     pub edges: Vec<[u32; 2]>,
-    /// The free points: vertices in no triangle and no edge, increasing.
+    /// The free points: vertices in no triangle and no edge, increasing (none when the step
+    /// ignores them: [`Step::free_points`]).
     pub points: Vec<u32>,
     /// The vertices in no triangle that are in a free edge or are free points, increasing:
     /// those whose vertex-face pairs the triangles' broad phases do not see.
@@ -67,8 +68,10 @@ impl Codim {
                 continue;
             }
             if !in_edge[v as usize] {
-                points.push(v);
-                free_vertices.push(v);
+                if step.free_points() {
+                    points.push(v);
+                    free_vertices.push(v);
+                }
             } else {
                 free_vertices.push(v);
             }

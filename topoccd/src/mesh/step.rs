@@ -361,6 +361,8 @@ pub struct Step<'a> {
     can_collide: Option<CanCollide<'a>>,
     /// The edges of [`Step::with_edges`], if set: codimensional geometry is on.
     edges: Option<Cow<'a, [[u32; 2]]>>,
+    /// Whether vertices in no triangle and no edge are free points (with edges set).
+    free_points: bool,
 }
 
 impl std::fmt::Debug for Step<'_> {
@@ -386,6 +388,7 @@ impl Default for Step<'_> {
             groups: None,
             can_collide: None,
             edges: None,
+            free_points: true,
         }
     }
 }
@@ -555,6 +558,7 @@ impl<'a> Step<'a> {
             groups: None,
             can_collide: None,
             edges: None,
+            free_points: true,
         })
     }
 
@@ -662,6 +666,34 @@ impl<'a> Step<'a> {
         }
         self.edges = Some(edges);
         Ok(self)
+    }
+
+    /// Whether the vertices in no triangle and no edge are free points once the step has
+    /// edges ([`Step::with_edges`]). `true` (the default) is the IPC toolkit's rule: such
+    /// vertices are particles. `false` ignores them, as leftovers of a mesh (vertices a
+    /// modelling tool kept after deleting their faces), while the free edges stay.
+    ///
+    /// ```
+    /// use topoccd::{query, Method, QueryOptions, Step};
+    /// // A rod (0-1) and a vertex (2) falling across it: a particle, or a leftover.
+    /// let x0 = [[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.3, 0.0, 1.0]];
+    /// let x1 = [[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.3, 0.0, -1.0]];
+    /// let no_triangles: [[u32; 3]; 0] = [];
+    /// let step = Step::new(&x0, &x1, &no_triangles)?.with_edges(&[[0, 1]])?;
+    /// assert_eq!(query(&step, Method::Bvh, &QueryOptions::default())?.ve.len(), 1);
+    /// let step = step.with_free_points(false);
+    /// assert!(query(&step, Method::Bvh, &QueryOptions::default())?.ve.is_empty());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn with_free_points(mut self, free_points: bool) -> Self {
+        self.free_points = free_points;
+        self
+    }
+
+    /// Whether vertices in no triangle and no edge are free points (see
+    /// [`Step::with_free_points`]; they are only with edges set).
+    pub fn free_points(&self) -> bool {
+        self.free_points
     }
 
     /// The edges of [`Step::with_edges`], if set.

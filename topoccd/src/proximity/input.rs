@@ -104,6 +104,32 @@ impl<'a> Configuration<'a> {
         self
     }
 
+    /// Whether vertices in no triangle and no edge are free points (`true`, the default: the
+    /// IPC toolkit's rule) or ignored as leftovers (`false`), as [`Step::with_free_points`].
+    ///
+    /// ```
+    /// use topoccd::{proximity, Configuration, ProximityOptions};
+    /// // Two loose vertices 0.01 apart: two particles near each other, or two leftovers.
+    /// let x = [[0.0, 0.0, 0.0], [0.01, 0.0, 0.0]];
+    /// let none: [[u32; 3]; 0] = [];
+    /// let options = ProximityOptions { dhat: 0.1, ..ProximityOptions::default() };
+    /// let config = Configuration::new(&x, &none, &[])?;
+    /// assert_eq!(proximity(&config, &options)?.vv.len(), 1);
+    /// let config = Configuration::new(&x, &none, &[])?.with_free_points(false);
+    /// assert!(proximity(&config, &options)?.vv.is_empty());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn with_free_points(mut self, free_points: bool) -> Self {
+        self.step = self.step.with_free_points(free_points);
+        self
+    }
+
+    /// Whether vertices in no triangle and no edge are free points (see
+    /// [`Configuration::with_free_points`]).
+    pub fn free_points(&self) -> bool {
+        self.step.free_points()
+    }
+
     /// The positions.
     pub fn x(&self) -> &[[f64; 3]] {
         self.step.x0()

@@ -35,7 +35,11 @@ pub struct ProximityOptions {
     pub dmin: f64,
     /// Stop once this many pairs (all kinds together) are found; the report says it is
     /// truncated. The pairs kept are the first of the query's fixed order of work, the same
-    /// for any thread count. Default `None` (no cap).
+    /// for any thread count. Default [`DEFAULT_MAX_CONTACTS`](crate::DEFAULT_MAX_CONTACTS)
+    /// (one million), as every other entry point: a collapsed configuration (every vertex
+    /// within `dhat` of every face) would otherwise list `n²` pairs. `None` lifts the cap.
+    /// A query that stays under the cap keeps its pairs for the next query's reuse, as
+    /// without one.
     pub max_contacts: Option<usize>,
     /// Stop at this instant (checked as each traversal task starts); the report says it is
     /// truncated, and which pairs it holds then depends on timing. Default `None`.
@@ -49,7 +53,7 @@ impl Default for ProximityOptions {
         Self {
             dhat: 1e-3,
             dmin: 0.0,
-            max_contacts: None,
+            max_contacts: Some(crate::DEFAULT_MAX_CONTACTS),
             deadline: None,
             method: ProximityMethod::Bvh,
         }

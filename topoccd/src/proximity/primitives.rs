@@ -60,15 +60,19 @@ pub(crate) struct Primitives {
     key: Option<Key>,
 }
 
-/// What the primitives were derived from: the triangles, the edges as given, the vertex count.
-type Key = (Vec<[u32; 3]>, Vec<[u32; 2]>, usize);
+/// What the primitives were derived from: the triangles, the edges as given, the vertex count,
+/// whether loose vertices are free points.
+type Key = (Vec<[u32; 3]>, Vec<[u32; 2]>, usize, bool);
 
 impl Primitives {
     /// Whether `config` has the very triangles, edges and vertex count these were derived
     /// from.
     pub fn same(&self, config: &Configuration<'_>) -> bool {
-        self.key.as_ref().is_some_and(|(t, e, n)| {
-            *n == config.vertex_count() && t[..] == *config.triangles() && e[..] == *config.edges()
+        self.key.as_ref().is_some_and(|(t, e, n, p)| {
+            *n == config.vertex_count()
+                && *p == config.free_points()
+                && t[..] == *config.triangles()
+                && e[..] == *config.edges()
         })
     }
 
@@ -105,8 +109,10 @@ impl Primitives {
             }
         }
         self.points.clear();
-        self.points
-            .extend((0..n as u32).filter(|&v| owner[v as usize] == u32::MAX));
+        if config.free_points() {
+            self.points
+                .extend((0..n as u32).filter(|&v| owner[v as usize] == u32::MAX));
+        }
         let first_point_leaf = first_edge_leaf + free.len() as u32;
         for (k, &v) in self.points.iter().enumerate() {
             owner[v as usize] = first_point_leaf + k as u32;
@@ -167,6 +173,11 @@ impl Primitives {
                 ne: 0,
             });
         }
-        self.key = Some((tris.to_vec(), config.edges().to_vec(), n));
+        self.key = Some((
+            tris.to_vec(),
+            config.edges().to_vec(),
+            n,
+            config.free_points(),
+        ));
     }
 }

@@ -77,6 +77,13 @@ impl Ccd {
     /// to the new positions, not rebuilt. Runs on the caller's rayon pool; the report is the
     /// same for any thread count.
     ///
+    /// A pair can repeat: every primitive pair is reported by its closest features, so a
+    /// vertex near an edge or corner of the mesh comes back once for each face around it
+    /// (`vf` pairs of the edge or corner types). The potentials' collision set
+    /// (`topoccd::ipc::NormalCollisions`) merges repeats with their count as multiplicity.
+    /// The report keeps at most [`ProximityOptions::max_contacts`] pairs (one million by
+    /// default).
+    ///
     /// ```
     /// use topoccd::{Ccd, Configuration, ProximityOptions};
     /// use topoccd::distance::PointTriangleType;
@@ -181,11 +188,13 @@ impl State {
             }
             ProximityMethod::Bvh => {
                 let (x, r) = (test.x, test.r);
-                // The pairs kept across a solver's iterations (see `cache`): not under a cap
-                // or a deadline, whose pairs depend on the order of work, nor with groups or a
-                // predicate, which may change from one query to the next.
-                let plain = options.max_contacts.is_none()
-                    && options.deadline.is_none()
+                // The pairs kept across a solver's iterations (see `cache`): not under a
+                // deadline, whose pairs depend on the order of work, nor with groups or a
+                // predicate, which may change from one query to the next. Under a cap they
+                // are kept and reused while the query stays under it (then the answer is the
+                // uncapped one); a query that reaches the cap traverses, so that its pairs are
+                // the first of the fixed order of work, and keeps nothing.
+                let plain = options.deadline.is_none()
                     && test.groups.is_none()
                     && test.can_collide.is_none();
                 let cached = if plain {
@@ -194,11 +203,15 @@ impl State {
                     None
                 };
                 let moved = if plain { self.cache.moved(x) } else { None };
-                let found = if let Some(cands) = cached.filter(|_| !stop.check()) {
+                let reused = cached
+                    .filter(|_| !stop.check())
+                    .map(|cands| evaluate(cands, config.triangles(), &test))
+                    .filter(|f| f.len() <= max);
+                let found = if let Some(f) = reused {
                     stats.refitted = true;
                     stats.reused = true;
                     stats.build_seconds = start.elapsed().as_secs_f64();
-                    evaluate(cands, config.triangles(), &test)
+                    f
                 } else {
                     let allowance = if plain {
                         self.cache.allowance(moved, r)
@@ -235,7 +248,7 @@ impl State {
                         &skip,
                     );
                     let cands = std::mem::take(&mut found.cands);
-                    if test.r_list > 0.0 && stop.reason().is_none() {
+                    if test.r_list > 0.0 && stop.reason().is_none() && !capped {
                         self.cache.keep(x, r, allowance, cands);
                     } else if plain {
                         // (A capped query leaves the listing: still valid where it covers.)
