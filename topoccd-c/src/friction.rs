@@ -9,7 +9,9 @@ use topoccd::ipc::friction::{
 
 use crate::error::{deliver, topoccd_error};
 use crate::handle::{self, Kind};
-use crate::ipc::{self, positions, topoccd_barrier_potential, topoccd_collisions, CollisionsObject};
+use crate::ipc::{
+    self, positions, topoccd_barrier_potential, topoccd_collisions, CollisionsObject,
+};
 use crate::sparse::{self, topoccd_sparse};
 use crate::status::{guard, topoccd_status, Failure};
 

@@ -491,7 +491,9 @@ pub(crate) fn projection(p: u32) -> Result<PsdProjection, Failure> {
 
 /// # Safety
 /// `p` is NULL or points to a `topoccd_barrier_potential`.
-pub(crate) unsafe fn potential(p: *const topoccd_barrier_potential) -> Result<BarrierPotential, Failure> {
+pub(crate) unsafe fn potential(
+    p: *const topoccd_barrier_potential,
+) -> Result<BarrierPotential, Failure> {
     if p.is_null() {
         return Err(Failure::null("potential"));
     }
@@ -693,7 +695,11 @@ pub unsafe extern "C" fn topoccd_initial_barrier_stiffness(
         finite(bbox_diagonal, "bbox_diagonal", true)?;
         finite(dhat, "dhat", true)?;
         finite(average_mass, "average_mass", true)?;
-        finite(min_barrier_stiffness_scale, "min_barrier_stiffness_scale", true)?;
+        finite(
+            min_barrier_stiffness_scale,
+            "min_barrier_stiffness_scale",
+            true,
+        )?;
         finite(dmin, "dmin", false)?;
         let b = self::barrier(barrier)?;
         let ge = rows::<f64, 1>(grad_energy, len, "grad_energy")?.as_flattened();

@@ -87,18 +87,18 @@ pub use ccd::{
     topoccd_ccd_report,
 };
 pub use error::{topoccd_error, topoccd_error_free, topoccd_error_message, topoccd_error_status};
+pub use friction::{
+    topoccd_friction_energy, topoccd_friction_gradient, topoccd_friction_hessian,
+    topoccd_tangential_collision, topoccd_tangential_collisions,
+    topoccd_tangential_collisions_arrays, topoccd_tangential_collisions_build,
+    topoccd_tangential_collisions_free,
+};
 pub use io::{
     topoccd_frames, topoccd_frames_face_origin, topoccd_frames_free, topoccd_frames_note,
     topoccd_frames_note_count, topoccd_frames_read, topoccd_frames_step, topoccd_mesh,
     topoccd_mesh_data, topoccd_mesh_free, topoccd_mesh_note, topoccd_mesh_note_count,
     topoccd_mesh_read, topoccd_mesh_view, topoccd_sequence, topoccd_sequence_free,
     topoccd_sequence_load, topoccd_sequence_open, topoccd_sequence_step_count,
-};
-pub use friction::{
-    topoccd_friction_energy, topoccd_friction_gradient, topoccd_friction_hessian,
-    topoccd_tangential_collision, topoccd_tangential_collisions,
-    topoccd_tangential_collisions_arrays, topoccd_tangential_collisions_build,
-    topoccd_tangential_collisions_free,
 };
 pub use ipc::{
     topoccd_barrier, topoccd_barrier_energy, topoccd_barrier_gradient, topoccd_barrier_hessian,

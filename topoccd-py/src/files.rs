@@ -67,11 +67,12 @@ pub fn read_primitives<'py>(
     path: PathBuf,
     loose_vertices: &str,
 ) -> PyResult<Bound<'py, PyTuple>> {
-    let loose: topoccd::io::LooseVertices = loose_vertices
-        .parse()
-        .map_err(|e: topoccd::io::UnknownLooseVertices| {
-            pyo3::exceptions::PyValueError::new_err(e.to_string())
-        })?;
+    let loose: topoccd::io::LooseVertices =
+        loose_vertices
+            .parse()
+            .map_err(|e: topoccd::io::UnknownLooseVertices| {
+                pyo3::exceptions::PyValueError::new_err(e.to_string())
+            })?;
     let mesh = py
         .detach(|| topoccd::io::read_mesh(&path))
         .map_err(|e| io_error(&e))?;
