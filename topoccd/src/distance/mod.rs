@@ -136,3 +136,6 @@ pub(crate) fn sin2(u: DVec3, v: DVec3) -> f64 {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod derivative_tests;
