@@ -111,6 +111,7 @@ pub(crate) fn pull_back_hessian<const K: usize, const M: usize, const P: usize, 
 
 /// Copies the upper triangle of `h` onto the lower one.
 #[inline]
+#[allow(clippy::needless_range_loop)] // `h[i][j] = h[j][i]` reads across rows
 pub(crate) fn symmetrize<const N: usize>(h: &mut [[f64; N]; N]) {
     for i in 0..N {
         for j in 0..i {
