@@ -94,8 +94,8 @@ pub fn line_line_distance_gradient(ea0: DVec3, ea1: DVec3, eb0: DVec3, eb1: DVec
 /// use topoccd::math::DVec3;
 /// let h = line_line_distance_hessian(
 ///     DVec3::ZERO, DVec3::X, DVec3::new(0.0, 0.0, 3.0), DVec3::new(0.0, 1.0, 3.0));
-/// assert_eq!(h[2][2], 2.0); // ea0 moving along the common normal
-/// assert_eq!(h[8][2], -2.0);
+/// // ea0 raised by t (ea1 fixed) tilts line a: d(t) = (3 - t)^2 / (1 + t^2) = 9 - 6t - 8t^2 + ...
+/// assert_eq!(h[2][2], -16.0);
 /// ```
 #[inline]
 pub fn line_line_distance_hessian(
