@@ -6,6 +6,9 @@
 //! from a point to a line as the norm of the rejection from the line, to a plane and between
 //! lines as the projection on the normal `u x v`, the mollifier from its polynomial, each
 //! generic over the dual number type.
+// The reference is generic over the dual type, whose values it clones; the Hessian loops
+// index two arrays at once.
+#![allow(clippy::clone_on_copy, clippy::needless_range_loop)]
 
 use nalgebra::SVector;
 use num_dual::{hessian, Dual2SVec64, DualNum};
