@@ -1,5 +1,6 @@
 //! The friction potential's derivatives against central finite differences on random
 //! stencils, and the PSD projection against an independent eigensolver.
+#![allow(clippy::needless_range_loop)] // the Jacobi sweeps index rows and columns together
 
 use super::potential::project_2x2;
 use super::*;
