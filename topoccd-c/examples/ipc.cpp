@@ -5,7 +5,7 @@
 // A point 0.5e-3 above a triangle: one face-vertex collision whose energy must be the analytic
 // kappa * b(d^2); then a 5x5 cloth patch over a floor: the gradient against central finite
 // differences of the energy, the plain Hessian against those of the gradient, and the
-// PSD-projected Hessian symmetric with v^T H v >= 0 (with Eigen: its smallest eigenvalue). The
+// PSD-projected Hessian symmetric with v^T H v >= 0 on random vectors. The
 // stiffness helpers and friction (mu = 0.5) follow. Exits with 1 on a mismatch.
 #include <topoccd.hpp>
 
@@ -132,13 +132,6 @@ int main() {
       for (std::size_t k = 0; k < dof; k++) vpv += v[k] * pv[k];
       worst = std::min(worst, vpv / (vv * scale));
     }
-#if defined(TOPOCCD_HAS_EIGEN_SPARSE)
-    const Eigen::MatrixXd dense = Eigen::MatrixXd(P.eigen());
-    const double lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(dense).eigenvalues().minCoeff();
-    std::printf("cloth patch: PSD Hessian %zu nonzeros, smallest eigenvalue %.3g of %.3g (Eigen)\n",
-                P.nnz(), lambda, scale);
-    expect(lambda >= -1e-12 * scale, "the projected Hessian's eigenvalues are >= 0");
-#endif
     std::printf("cloth patch: PSD Hessian symmetric within %.1e, min v'Hv/(|v|^2 max|H|) %.3g\n",
                 asym / scale, worst);
     expect(asym <= 1e-12 * scale && worst >= -1e-12, "the projected Hessian is symmetric PSD");
