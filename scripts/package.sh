@@ -16,7 +16,7 @@ export CARGO_PROFILE_DEV_OPT_LEVEL=2
 
 version=$(cargo metadata --format-version 1 --no-deps \
     | python3 -c 'import json,sys; print(next(p["version"] for p in json.load(sys.stdin)["packages"] if p["name"]=="topoccd"))')
-echo "== cargo package -p topoccd ($version): the packaged sources build on their own"
+echo "== [${SECONDS} s] cargo package -p topoccd ($version): the packaged sources build on their own"
 # --allow-dirty: a local run may have uncommitted changes; CI runs on a clean clone.
 cargo package -p topoccd --allow-dirty --quiet
 crate="target/package/topoccd-$version.crate"
@@ -38,12 +38,12 @@ data="${TOPOCCD_DATA:-../shared/data}"
 if [ -d "$data" ]; then
     export TOPOCCD_DATA="$(cd "$data" && pwd)"
 fi
-echo "== the packaged crate's tests, outside the workspace (no generators, no internals)"
+echo "== [${SECONDS} s] the packaged crate's tests, outside the workspace (no generators, no internals)"
 (cd "$unpacked" && cargo test --quiet)
 # Its doctests are the workspace's (`cargo test -p topoccd --doc`, run by scripts/test.sh) on the
 # same sources; in the packaged crate they need `--features internals` (see its Cargo.toml).
 
-echo "== a scratch crate that depends on the packaged crate"
+echo "== [${SECONDS} s] a scratch crate that depends on the packaged crate"
 mkdir -p "$scratch/user/src"
 cat > "$scratch/user/Cargo.toml" <<TOML
 [package]

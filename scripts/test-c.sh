@@ -48,7 +48,7 @@ fail() {
     echo "FAILED: $*" >&2
 }
 
-echo "== C and C++: tools"
+echo "== [${SECONDS} s] C and C++: tools"
 missing=()
 command -v cmake >/dev/null || missing+=(cmake)
 command -v g++ >/dev/null || missing+=(g++)
@@ -66,7 +66,7 @@ CC="${CC:-cc}"
 CXX="${CXX:-g++}"
 EIGEN_FLAGS="$(pkg-config --cflags eigen3)"
 
-echo "== C and C++: the library and the CLI (cargo build --release)"
+echo "== [${SECONDS} s] C and C++: the library and the CLI (cargo build --release)"
 cargo build --release --quiet -p topoccd-c
 # The CLI compared with: $TOPOCCD_CLI when set (scripts/test.sh passes the one it built with
 # the whole workspace), else this build of target/release/topoccd.
@@ -90,7 +90,7 @@ asan=(-g -O1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:exitcode=23"
 export UBSAN_OPTIONS="print_stacktrace=1"
 
-echo "== C and C++: the examples with plain cc and g++"
+echo "== [${SECONDS} s] C and C++: the examples with plain cc and g++"
 for ex in step line_search proximity ipc; do
     "$CC" "${cflags[@]}" -I"$include" "topoccd-c/examples/$ex.c" "$lib" "${system_libs[@]}" \
         -o "$work/plain/$ex"
@@ -102,7 +102,7 @@ for ex in step line_search proximity ipc; do
 done
 pass
 
-echo "== C and C++: the examples with CMake (top level, install, find_package, add_subdirectory)"
+echo "== [${SECONDS} s] C and C++: the examples with CMake (top level, install, find_package, add_subdirectory)"
 cmake_quiet() { "$@" >"$work/cmake.log" 2>&1 || { cat "$work/cmake.log" >&2; return 1; }; }
 prefix="$work/prefix"
 # The cargo target folder is the workspace's: cargo finds the library built above.
@@ -176,7 +176,7 @@ check_step() { # NAME T0 T1 [PARENTS]
     echo "   $name: $(head -1 "$work/example.txt") (${#step_bins[@]} builds, the CLI's pairs)"
 }
 
-echo "== C and C++: the examples against the ground truth and the CLI"
+echo "== [${SECONDS} s] C and C++: the examples against the ground truth and the CLI"
 data="${TOPOCCD_DATA:-../shared/data}"
 funnel="$data/scenes/cloth-funnel"
 if [ -f "$funnel/frames/227.ply" ]; then
@@ -244,7 +244,7 @@ EOF
 done
 echo "   nidus-cut line search: $(grep -c '^step' "$work/search.txt") steps, the CLI's earliest times (${#search_bins[@]} builds)"
 
-echo "== C and C++: the ipc examples (analytic values, finite differences, PSD)"
+echo "== [${SECONDS} s] C and C++: the ipc examples (analytic values, finite differences, PSD)"
 ipc_bins=("$work/plain/ipc" "$work/plain/ipc_cpp" "$work/plain/ipc_cpp_no_eigen"
     "$work/cmake/topoccd_ipc" "$work/cmake/topoccd_ipc_cpp")
 for bin in "${ipc_bins[@]}"; do
@@ -257,7 +257,7 @@ for bin in "${ipc_bins[@]}"; do
 done
 echo "   $(grep -c . "$work/ipc.txt") lines, $(tail -1 "$work/ipc.txt") (${#ipc_bins[@]} builds)"
 
-echo "== C and C++: the tests under AddressSanitizer and UBSan"
+echo "== [${SECONDS} s] C and C++: the tests under AddressSanitizer and UBSan"
 run_test() { # BINARY: its last line must be "N passed, 0 failed"
     local out
     if out="$("$1" 2>"$work/test.err")"; then
@@ -335,7 +335,7 @@ else
     fail "the accessors on lvalues do not compile"
 fi
 
-echo "== C and C++: the code blocks of README.md and docs/guide/src/*.md"
+echo "== [${SECONDS} s] C and C++: the code blocks of README.md and docs/guide/src/*.md"
 docs=(README.md topoccd-c/src/lib.rs)
 if compgen -G "docs/guide/src/*.md" >/dev/null; then docs+=(docs/guide/src/*.md); fi
 python3 - "$work/docs" "${docs[@]}" <<'EOF'

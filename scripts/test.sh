@@ -69,20 +69,20 @@ no_rust python -m pip install --quiet "rerun-sdk==0.36.3"
 # features, so the README's demo build and this one are the same CLI. The C tests and the
 # Python suite below use this binary (target/release/topoccd).
 FEATURES=(--workspace)
-echo "== Rust tests (release, the CLI with the feature rerun)"
+echo "== [${SECONDS} s] Rust tests (release, the CLI with the feature rerun)"
 TOPOCCD_RERUN_BIN="$PWD/$VENV/bin/rerun" TOPOCCD_RERUN_PYTHON="$PWD/$VENV/bin/python" \
     cargo test --release "${FEATURES[@]}" --lib --bins --tests --examples
 # The library's doctests are off in its manifest (the published crate's plain `cargo test`
 # cannot build the internals' ones); `--doc` runs them, with the internals that the
 # workspace's dev-dependency turns on (and the other members' doctests).
-echo "== the doctests (release)"
+echo "== [${SECONDS} s] the doctests (release)"
 cargo test --release "${FEATURES[@]}" --doc
 
 # The C API and the C++ wrapper: examples, tests under ASan, doc blocks. They compare with the
 # CLI built above.
 TOPOCCD_CLI="$PWD/target/release/topoccd" scripts/test-c.sh
 
-echo "== Python package: sdist, manylinux abi3 wheel, fresh venv without Rust, pytest"
+echo "== [${SECONDS} s] Python package: sdist, manylinux abi3 wheel, fresh venv without Rust, pytest"
 # The suite compares with the CLI (target/release/topoccd, built above with the feature
 # `rerun`) and reads the shared data; with CI=true it fails rather than skips where either is
 # absent.
