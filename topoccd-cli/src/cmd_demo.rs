@@ -147,7 +147,8 @@ fn verdict(t: &crate::common::tables::InputTables) -> Option<String> {
     };
     let triangles = thousands(t.triangles[1]);
     let figures = format!(
-        "grouping the triangles costs it {:.2} ms a step and the clusters save {:.2} ms on          hierarchies, traversal and tests ({:.2} ms against bvh's {:.2} ms){near}",
+        "grouping the triangles costs it {:.2} ms a step and the clusters save {:.2} ms on \
+         hierarchies, traversal and tests ({:.2} ms against bvh's {:.2} ms){near}",
         ms(grouping),
         ms(saved),
         ms(rest),
@@ -155,20 +156,24 @@ fn verdict(t: &crate::common::tables::InputTables) -> Option<String> {
     );
     Some(if speedup > 1.0 + TIE {
         format!(
-            "Why cluster wins here ({speedup:.2}x, {triangles} triangles): {figures}; it wins              while the clusters save more than their grouping costs, which holds when few of              them come near each other."
+            "Why cluster wins here ({speedup:.2}x, {triangles} triangles): {figures}; it wins \
+             because the clusters save more than their grouping costs."
         )
     } else if speedup < 1.0 - TIE {
         let cause = if saved <= 0.0 {
-            "the clusters save nothing here"
+            "the clusters save nothing here, so the grouping is pure cost"
         } else {
             "the saving is smaller than the grouping's cost"
         };
         format!(
-            "Why cluster loses here ({speedup:.2}x, {triangles} triangles): {figures}; {cause}.              It wins when the saving exceeds the grouping's cost: larger meshes whose clusters              mostly stay apart over a step."
+            "Why cluster loses here ({speedup:.2}x, {triangles} triangles): {figures}; \
+             {cause}. Cluster wins only where its clusters save more than their grouping costs."
         )
     } else {
         format!(
-            "Why cluster and bvh tie here ({speedup:.2}x, {triangles} triangles): {figures};              the saving about pays for the grouping. Cluster wins when the saving exceeds the              grouping's cost: larger meshes whose clusters mostly stay apart over a step."
+            "Why cluster and bvh tie here ({speedup:.2}x, {triangles} triangles): {figures}; \
+             the saving about pays for the grouping. Cluster wins only where its clusters save \
+             more than their grouping costs."
         )
     })
 }
