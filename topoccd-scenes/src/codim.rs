@@ -226,9 +226,10 @@ struct RainCounts {
     pairs: usize,
 }
 
-/// Rod `j`'s plane `y = y_j`: the rods span y in [-0.5, 0.5].
+/// Rod `j`'s plane `y = y_j`: the rods 1/11 apart, centred on y = 0 (at scale 1 they span
+/// y in [-0.5, 0.5]; fewer rods stay as close, so that the pendulums still reach them).
 fn rod_y(j: usize, rods: usize) -> f64 {
-    -0.5 + j as f64 / (rods - 1) as f64
+    (j as f64 - 0.5 * (rods - 1) as f64) / 11.0
 }
 
 fn rod_rain(frames: usize, n: RainCounts, rng: &mut ChaCha8Rng) -> Vec<Mesh> {
