@@ -107,6 +107,9 @@ pub fn run(args: &Args) -> Result<()> {
     let mut ccds = vec![Ccd::new(); methods.len()];
     let (tables, _) = bench_source(&name, &Source::Memory(steps), &methods, &options, &mut ccds)?;
     print_text(&tables);
+    if let Some(line) = verdict(&tables) {
+        println!("{line}");
+    }
     println!();
     println!("{}", found.sentence());
     if !tables.agree {
@@ -114,6 +117,65 @@ pub fn run(args: &Args) -> Result<()> {
     }
     println!("All three methods report the same pairs with the same times on every step.");
     Ok(())
+}
+
+/// Speedups within this factor of 1 are a tie: timings of a few milliseconds vary by more.
+const TIE: f64 = 0.05;
+
+/// One line on when and why the cluster method wins or loses against the bvh baseline here,
+/// from the measured figures: what grouping the triangles into clusters cost a step, what the
+/// clusters saved on hierarchies, traversal and tests, and how many leaf clusters came near
+/// another one (those get a hierarchy built). `None` unless both methods ran.
+fn verdict(t: &crate::common::tables::InputTables) -> Option<String> {
+    let row = |name: &str| t.methods.iter().find(|m| m.method == name);
+    let (bvh, cluster) = (row("bvh")?, row("cluster")?);
+    let speedup = t.speedup_cluster_over_bvh?;
+    let ms = |s: f64| s * 1e3;
+    let grouping: f64 = (cluster.seconds.iter())
+        .filter(|(p, _)| matches!(*p, "clustering" | "merging"))
+        .map(|(_, s)| s)
+        .sum();
+    // What the clusters' hierarchies, traversal and tests cost, against bvh's whole query.
+    let rest = cluster.total - grouping;
+    let saved = bvh.total - rest;
+    let near = match &t.clusters {
+        Some(c) if c.leaf > 0.0 => format!(
+            "; {:.0} of its {:.0} leaf clusters a step came near another and got a hierarchy",
+            c.lazy_bvhs, c.leaf
+        ),
+        _ => String::new(),
+    };
+    let triangles = thousands(t.triangles[1]);
+    let figures = format!(
+        "grouping the triangles costs it {:.2} ms a step and the clusters save {:.2} ms on \
+         hierarchies, traversal and tests ({:.2} ms against bvh's {:.2} ms){near}",
+        ms(grouping),
+        ms(saved),
+        ms(rest),
+        ms(bvh.total)
+    );
+    Some(if speedup > 1.0 + TIE {
+        format!(
+            "Why cluster wins here ({speedup:.2}x, {triangles} triangles): {figures}; it wins \
+             because the clusters save more than their grouping costs."
+        )
+    } else if speedup < 1.0 - TIE {
+        let cause = if saved <= 0.0 {
+            "the clusters save nothing here, so the grouping is pure cost"
+        } else {
+            "the saving is smaller than the grouping's cost"
+        };
+        format!(
+            "Why cluster loses here ({speedup:.2}x, {triangles} triangles): {figures}; \
+             {cause}. Cluster wins only where its clusters save more than their grouping costs."
+        )
+    } else {
+        format!(
+            "Why cluster and bvh tie here ({speedup:.2}x, {triangles} triangles): {figures}; \
+             the saving about pays for the grouping. Cluster wins only where its clusters save \
+             more than their grouping costs."
+        )
+    })
 }
 
 /// What the steps' meshes are, in plain words: triangle counts, how many steps change the

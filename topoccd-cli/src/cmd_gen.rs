@@ -1,5 +1,5 @@
 //! `topoccd gen SCENE OUT_DIR`: writes a generated frame sequence of one of the paper scenes,
-//! or of a scene with free edges and points (`hair`, `funnel-particles`).
+//! or of a scene with free edges and points (`hair`, `funnel-particles`, `rod-rain`).
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -23,14 +23,16 @@ enum Scene {
 pub struct Args {
     /// The scene: nidus, nidus-cut, airbag, lion, bunny-dragon or crash; or, with free edges
     /// and points (written as PLY `edge` elements and vertices in no face): hair (a twisting
-    /// bundle of hair strands) or funnel-particles (particles poured into a funnel).
+    /// bundle of hair strands), funnel-particles (particles poured into a funnel) or rod-rain
+    /// (particles rained onto a grid of rods, pendulum rods swinging through it: contacts of
+    /// all four kinds, vertex-edge and vertex-vertex among them).
     #[arg(value_parser = parse_scene)]
     scene: Scene,
     /// Folder to write the frames to (0000.ply, 0001.ply, ... and .parents files); created if
     /// missing, refused if it exists and is not empty.
     out_dir: PathBuf,
-    /// Triangle count relative to the paper's, in (0, 4]: 0.1 writes a tenth (for hair and
-    /// funnel-particles, the count of strands or particles).
+    /// Triangle count relative to the paper's, in (0, 4]: 0.1 writes a tenth (for hair,
+    /// funnel-particles and rod-rain, the count of strands, particles and rods).
     #[arg(long, default_value_t = 1.0)]
     scale: f64,
     /// Number of frames (steps plus one), at least 2.
@@ -118,8 +120,7 @@ pub fn run(args: &Args) -> Result<()> {
 }
 
 /// `topoccd gen` of a scene with free edges and points: its frames (`--scale` scales the count
-/// of strands or particles),
-/// and a summary line with each step's contacts of every kind.
+/// of strands, particles and rods), and a summary line with each step's contacts of every kind.
 fn run_codim(scene: CodimScene, args: &Args) -> Result<()> {
     let frames = codim_frames_scaled(scene, args.frames, args.seed, args.scale);
     let mut ccd = Ccd::new();

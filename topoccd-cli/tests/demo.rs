@@ -50,4 +50,51 @@ fn the_demo_says_what_it_found_in_plain_words() {
     for jargon in [" LC ", " IC ", "ratio", "lazy BVHs"] {
         assert!(!text.contains(jargon), "{jargon:?} left:\n{text}");
     }
+    // One line says why cluster wins or loses, from the tables' own figures: the verdict
+    // follows the printed speedup, and the grouping's cost is the cluster row's clustering
+    // and merging milliseconds.
+    let speedup: f64 = text
+        .split("Speedup of cluster over bvh: ")
+        .nth(1)
+        .and_then(|s| s.split('x').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no speedup:\n{text}"));
+    let why = text
+        .lines()
+        .find(|l| l.starts_with("Why cluster"))
+        .unwrap_or_else(|| panic!("no 'Why cluster ...' line:\n{text}"));
+    // The printed speedup is rounded: near a threshold either side's verdict may follow it.
+    let verdict = |s: f64| {
+        if s > 1.05 {
+            "Why cluster wins here"
+        } else if s < 0.95 {
+            "Why cluster loses here"
+        } else {
+            "Why cluster and bvh tie here"
+        }
+    };
+    assert!(
+        why.starts_with(verdict(speedup - 0.005)) || why.starts_with(verdict(speedup + 0.005)),
+        "{speedup}: {why}"
+    );
+    assert!(why.contains(&format!("({speedup:.2}x")), "{why}");
+    let row: Vec<f64> = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("cluster "))
+        .unwrap_or_else(|| panic!("no cluster row:\n{text}"))
+        .split_whitespace()
+        .skip(1)
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    // clustering ms, merging ms, build, traverse, narrow, total, ...
+    let grouping: f64 = why
+        .split("costs it ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no grouping cost: {why}"));
+    assert!(
+        (grouping - (row[0] + row[1])).abs() <= 0.011,
+        "{why} against the row {row:?}"
+    );
 }

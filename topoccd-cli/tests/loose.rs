@@ -90,6 +90,13 @@ fn gen_contacts(summary: &Value) -> Vec<usize> {
         .collect()
 }
 
+/// The contacts of each step per kind, `[vf, ee, ve, vv]`, for the scenes that report kinds.
+fn gen_kinds(summary: &Value) -> Option<Vec<Vec<u64>>> {
+    (summary["contacts"].as_array()?.iter())
+        .map(|c| Some(c.as_array()?.iter().map(|k| k.as_u64().unwrap()).collect()))
+        .collect()
+}
+
 /// `run --json` per step: its JSON lines (without the summary).
 fn run_lines(dir: &Path, threads: &str, extra: &[&str]) -> Vec<Value> {
     let mut args = vec![
@@ -127,6 +134,16 @@ fn run_on_gen_frames_finds_the_contacts_gen_reports() {
             let lines = run_lines(&dir.0, threads, &["--keep-crack-contacts"]);
             let found: Vec<usize> = lines.iter().map(total).collect();
             assert_eq!(found, expected, "{scene}, {threads} thread(s)");
+            if let Some(kinds) = gen_kinds(&summary) {
+                let found: Vec<Vec<u64>> = (lines.iter())
+                    .map(|l| {
+                        ["vf", "ee", "ve", "vv"]
+                            .map(|k| l[k].as_u64().unwrap())
+                            .to_vec()
+                    })
+                    .collect();
+                assert_eq!(found, kinds, "{scene}, {threads} thread(s), per kind");
+            }
         }
     }
 }
@@ -183,7 +200,7 @@ fn primitives(v: &Value) -> (usize, usize) {
 
 #[test]
 fn every_command_reads_the_same_primitives() {
-    for scene in ["funnel-particles", "hair"] {
+    for scene in ["funnel-particles", "hair", "rod-rain"] {
         let dir = TempPath::new(&format!("{scene}-p"));
         gen(scene, &dir.0, "0.2");
         let (f0, f1) = (dir.0.join("0000.ply"), dir.0.join("0001.ply"));

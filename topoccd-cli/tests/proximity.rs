@@ -57,12 +57,17 @@ fn cli_pairs(frame: &std::path::Path, dhat: f64, extra: &[&str]) -> Vec<String> 
 
 #[test]
 fn the_pairs_are_the_oracles_with_free_edges_and_points() {
-    for (scene, dhat) in [("hair", 0.05), ("funnel-particles", 0.05)] {
+    // rod-rain's frame 1 of 3 (t = 1/2) has its particles among the rods.
+    for (scene, dhat, frames) in [
+        ("hair", 0.05, "2"),
+        ("funnel-particles", 0.05, "2"),
+        ("rod-rain", 0.1, "3"),
+    ] {
         let dir = TempDir::new("proximity", scene);
         let seq = dir.0.join("seq");
         let g = run(
             None,
-            &["gen", scene, seq.to_str().unwrap(), "--frames", "2"],
+            &["gen", scene, seq.to_str().unwrap(), "--frames", frames],
             &[],
         );
         assert!(g.output.status.success(), "{}", g.stderr);
@@ -74,6 +79,15 @@ fn the_pairs_are_the_oracles_with_free_edges_and_points() {
         // above. (The particles are free points: no edge element.)
         if scene == "hair" {
             assert_ne!(oracle(&frame, dhat, false), expected, "{scene}");
+        }
+        // rod-rain has point-edge and point-point pairs.
+        if scene == "rod-rain" {
+            for kind in ["ve,", "vv,"] {
+                assert!(
+                    expected.iter().any(|l| l.starts_with(kind)),
+                    "{scene}: {kind}"
+                );
+            }
         }
     }
 }

@@ -7,7 +7,12 @@
 //!   pairs of free edges), over a still floor of two triangles that their tips sweep through;
 //! - [`CodimScene::FunnelParticles`]: particles (free points) poured into a funnel (a cone of
 //!   triangles): they fall under gravity from random places above it, through its wall
-//!   (vertex-face pairs) and past each other.
+//!   (vertex-face pairs) and past each other;
+//! - [`CodimScene::RodRain`]: particles rained onto a grid of waving rods, with pendulum rods
+//!   swinging through the grid and a floor below: particles fall through rods (vertex-edge
+//!   contacts), overtake the particle below them on the same vertical line (vertex-vertex
+//!   contacts) and pass the floor (vertex-face), and the pendulums cross the grid's rods
+//!   (edge-edge).
 //!
 //! ```
 //! use topoccd_scenes::codim::{codim_frames, CodimScene};
@@ -33,17 +38,24 @@ pub enum CodimScene {
     HairBundle,
     /// Particles poured into a funnel.
     FunnelParticles,
+    /// Particles rained onto a grid of rods, with pendulum rods swinging through it.
+    RodRain,
 }
 
 impl CodimScene {
     /// All scenes.
-    pub const ALL: [CodimScene; 2] = [CodimScene::HairBundle, CodimScene::FunnelParticles];
+    pub const ALL: [CodimScene; 3] = [
+        CodimScene::HairBundle,
+        CodimScene::FunnelParticles,
+        CodimScene::RodRain,
+    ];
 
-    /// The scene's name: `hair` or `funnel-particles`.
+    /// The scene's name: `hair`, `funnel-particles` or `rod-rain`.
     pub fn name(self) -> &'static str {
         match self {
             CodimScene::HairBundle => "hair",
             CodimScene::FunnelParticles => "funnel-particles",
+            CodimScene::RodRain => "rod-rain",
         }
     }
 
@@ -60,8 +72,10 @@ pub fn codim_frames(scene: CodimScene, frames: usize, seed: u64) -> Vec<Mesh> {
 }
 
 /// [`codim_frames`] with the count of moving primitives scaled by `scale` (finite, > 0; 1 is
-/// [`codim_frames`]'s scene): `round(24 scale)` hair strands, `round(400 scale)` particles, at
-/// least 2 of either. The floor and the funnel stay as they are.
+/// [`codim_frames`]'s scene): `round(24 scale)` hair strands, `round(400 scale)` particles;
+/// for [`CodimScene::RodRain`] `round(12 scale)` rods, `round(6 scale)` pendulums,
+/// `round(160 scale)` falling particles and `round(40 scale)` pairs of particles on one
+/// vertical line; at least 2 of each. The floor and the funnel stay as they are.
 ///
 /// ```
 /// use topoccd_scenes::codim::{codim_frames, codim_frames_scaled, CodimScene};
@@ -77,6 +91,15 @@ pub fn codim_frames_scaled(scene: CodimScene, frames: usize, seed: u64, scale: f
     match scene {
         CodimScene::HairBundle => hair_bundle(frames, count(STRANDS), &mut rng),
         CodimScene::FunnelParticles => funnel_particles(frames, count(PARTICLES), &mut rng),
+        CodimScene::RodRain => {
+            let counts = RainCounts {
+                rods: count(RAIN_RODS),
+                pendulums: count(RAIN_PENDULUMS),
+                drops: count(RAIN_DROPS),
+                pairs: count(RAIN_PAIRS),
+            };
+            rod_rain(frames, counts, &mut rng)
+        }
     }
 }
 
@@ -176,6 +199,147 @@ fn funnel_particles(frames: usize, particles: usize, rng: &mut ChaCha8Rng) -> Ve
                 positions,
                 triangles: triangles.clone(),
                 edges: Vec::new(),
+                ..Mesh::default()
+            }
+        })
+        .collect()
+}
+
+/// Rods in the grid (at scale 1).
+const RAIN_RODS: usize = 12;
+/// Pendulum rods (at scale 1).
+const RAIN_PENDULUMS: usize = 6;
+/// Falling particles (at scale 1).
+const RAIN_DROPS: usize = 160;
+/// Pairs of particles on one vertical line (at scale 1).
+const RAIN_PAIRS: usize = 40;
+/// Vertices of a grid rod.
+const ROD_VERTICES: usize = 9;
+/// The fall of a particle after its delay `s`: `G s^2`.
+const G: f64 = 2.0;
+
+/// The counts of [`rod_rain`]'s moving primitives.
+struct RainCounts {
+    rods: usize,
+    pendulums: usize,
+    drops: usize,
+    pairs: usize,
+}
+
+/// Rod `j`'s plane `y = y_j`: the rods 1/11 apart, centred on y = 0 (at scale 1 they span
+/// y in [-0.5, 0.5]; fewer rods stay as close, so that the pendulums still reach them).
+fn rod_y(j: usize, rods: usize) -> f64 {
+    (j as f64 - 0.5 * (rods - 1) as f64) / 11.0
+}
+
+fn rod_rain(frames: usize, n: RainCounts, rng: &mut ChaCha8Rng) -> Vec<Mesh> {
+    // Every moving primitive keeps to a plane or a line, so that its contacts are generic
+    // crossings there, not chance alignments in space: grid rod j stays in the plane y = y_j
+    // (it waves in z); a falling particle on rod j's plane drifts in x and falls in z, so it
+    // crosses the rod's polyline in that plane (vertex-edge); the two particles of a pair share
+    // one vertical line, the upper one falls first and overtakes the lower one (vertex-vertex);
+    // a pendulum swings in the plane x = x_k between two rods and its body sweeps past the
+    // points where the rods cross that plane (edge-edge). The floor at z = -0.6 takes the
+    // particles that fall far enough (vertex-face).
+    let floor = [
+        [-0.8, -0.8, -0.6],
+        [0.8, -0.8, -0.6],
+        [0.8, 0.8, -0.6],
+        [-0.8, 0.8, -0.6],
+    ];
+    let waves: Vec<(f64, f64)> = (0..n.rods)
+        .map(|_| (rng.random_range(0.0..TAU), rng.random_range(0.02..0.06)))
+        .collect();
+    // Pendulum k: its plane x = x_k, between rods j and j + 1, its amplitude and phase.
+    let pendulums: Vec<(f64, f64, f64, f64)> = (0..n.pendulums)
+        .map(|_| {
+            let j = rng.random_range(0..n.rods - 1);
+            let y = 0.5 * (rod_y(j, n.rods) + rod_y(j + 1, n.rods));
+            let x = rng.random_range(-0.5..0.5);
+            (x, y, rng.random_range(0.4..0.7), rng.random_range(0.0..TAU))
+        })
+        .collect();
+    // A falling particle: its rod plane, start, drift in x, delay.
+    let drops: Vec<(f64, [f64; 2], f64, f64)> = (0..n.drops)
+        .map(|_| {
+            let y = rod_y(rng.random_range(0..n.rods), n.rods);
+            let start = [rng.random_range(-0.5..0.5), rng.random_range(0.2..0.9)];
+            (
+                y,
+                start,
+                rng.random_range(-0.2..0.2),
+                rng.random_range(0.0..0.2),
+            )
+        })
+        .collect();
+    // A pair: its line (x, y; on a rod's plane every other pair), the lower particle's height,
+    // the upper one's height above it, the upper one's delay and the lower one's extra delay.
+    // The upper one overtakes the lower one (G (t - d)^2 - G (t - d - e)^2 = gap) at
+    // t - d = (gap / G + e^2) / (2 e), in (0.16, 0.55) for these ranges.
+    let pairs: Vec<([f64; 2], f64, f64, f64, f64)> = (0..n.pairs)
+        .map(|p| {
+            let x = rng.random_range(-0.5..0.5);
+            let y = if p % 2 == 0 {
+                rod_y(rng.random_range(0..n.rods), n.rods)
+            } else {
+                rng.random_range(-0.5..0.5)
+            };
+            (
+                [x, y],
+                rng.random_range(0.15..0.6),
+                rng.random_range(0.1..0.3),
+                rng.random_range(0.0..0.2),
+                rng.random_range(0.25..0.35),
+            )
+        })
+        .collect();
+    let mut edges = Vec::new();
+    let mut v = floor.len() as u32;
+    for _ in 0..n.rods {
+        for _ in 0..ROD_VERTICES - 1 {
+            edges.push([v, v + 1]);
+            v += 1;
+        }
+        v += 1;
+    }
+    for _ in 0..n.pendulums {
+        edges.push([v, v + 1]);
+        edges.push([v + 1, v + 2]);
+        v += 3;
+    }
+    let fall = |t: f64, delay: f64| G * (t - delay).max(0.0).powi(2);
+    (0..frames)
+        .map(|f| {
+            let t = f as f64 / (frames - 1) as f64;
+            let mut positions = floor.to_vec();
+            for (j, &(phase, amplitude)) in waves.iter().enumerate() {
+                let y = rod_y(j, n.rods);
+                for k in 0..ROD_VERTICES {
+                    let u = k as f64 / (ROD_VERTICES - 1) as f64;
+                    let z = amplitude * (std::f64::consts::PI * u).sin() * (5.0 * t + phase).sin();
+                    positions.push([-0.6 + 1.2 * u, y, z]);
+                }
+            }
+            for &(x, y, amplitude, phase) in &pendulums {
+                // Pivot at z = 0.3, two segments 0.25 long, swinging in y.
+                let angle = amplitude * (7.0 * t + phase).sin();
+                for k in 0..3 {
+                    let r = 0.25 * k as f64;
+                    positions.push([x, y + r * angle.sin(), 0.3 - r * angle.cos()]);
+                }
+            }
+            for &(y, [x, z], drift, delay) in &drops {
+                let s = (t - delay).max(0.0);
+                positions.push([x + drift * s, y, z - fall(t, delay)]);
+            }
+            for &([x, y], low, gap, delay, extra) in &pairs {
+                positions.push([x, y, low + gap - fall(t, delay)]);
+                positions.push([x, y, low - fall(t, delay + extra)]);
+            }
+            Mesh {
+                positions,
+                triangles: vec![[0, 1, 2], [0, 2, 3]],
+                edges: edges.clone(),
                 ..Mesh::default()
             }
         })

@@ -24,4 +24,5 @@ doctests! {
     GuideLoopRust => "../../docs/guide/src/loop-rust.md",
     GuideMethods => "../../docs/guide/src/methods.md",
     GuidePairs => "../../docs/guide/src/pairs.md",
+    GuideProximity => "../../docs/guide/src/proximity.md",
 }
