@@ -46,7 +46,11 @@ fn fail<T>(v: &[T], additional: usize, what: &'static str, _e: TryReserveError) 
 /// Makes room for `additional` more elements in `v` (at least doubling its capacity when it
 /// must grow, as `push` does).
 #[inline]
-pub(crate) fn grow<T>(v: &mut Vec<T>, additional: usize, what: &'static str) -> Result<(), AllocError> {
+pub(crate) fn grow<T>(
+    v: &mut Vec<T>,
+    additional: usize,
+    what: &'static str,
+) -> Result<(), AllocError> {
     if v.capacity() - v.len() >= additional {
         return Ok(());
     }
