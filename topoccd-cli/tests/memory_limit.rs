@@ -27,7 +27,7 @@ fn integer_cast_funnel(dir: &TempDir) -> Option<[PathBuf; 2]> {
         return None;
     }
     let cast = |n: u32| {
-        let mesh = read_mesh(frames.join(format!("{n}.ply"))).expect("the frame reads");
+        let mesh = read_mesh(&frames.join(format!("{n}.ply"))).expect("the frame reads");
         let mut obj = String::new();
         for p in &mesh.positions {
             let [x, y, z] = p.map(|c| c as i32);
@@ -77,7 +77,7 @@ fn uncapped_commands_fail_cleanly_under_an_address_space_limit() {
     };
     let p = |s: &str| PathBuf::from(s);
     let off = [p("--max-contacts"), p("off")];
-    let mut args = vec![p("proximity"), f0.clone()];
+    let mut args = vec![p("proximity"), f0.clone(), p("--dhat"), p("1e-3")];
     args.extend(off.clone());
     let refs: Vec<&Path> = args.iter().map(PathBuf::as_path).collect();
     println!("proximity: {}", fails_out_of_memory(&refs));

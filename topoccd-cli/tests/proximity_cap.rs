@@ -76,6 +76,8 @@ fn proximity_on_the_integer_cast_funnel_is_truncated_and_bounded() {
     let out = Command::new(env!("CARGO_BIN_EXE_topoccd"))
         .arg("proximity")
         .arg(&frame)
+        // The library's default threshold (the command asks for one).
+        .args(["--dhat", "1e-3"])
         .arg("--json")
         .env_remove("TOPOCCD_MAX_MEMORY")
         .output()
