@@ -60,9 +60,27 @@ pub(crate) fn grow<T>(
 #[cold]
 #[inline(never)]
 fn grow_cold<T>(v: &mut Vec<T>, additional: usize, what: &'static str) -> Result<(), AllocError> {
-    // `try_reserve` already grows to at least twice the capacity.
+    // `try_reserve` grows to at least twice the capacity: the bytes it asks for.
+    let len = v.len().saturating_add(additional);
+    let bytes = len.max(v.capacity().saturating_mul(2)).saturating_mul(std::mem::size_of::<T>());
+    let _headroom = headroom(bytes).map_err(|e| fail(v, additional, what, e))?;
     v.try_reserve(additional)
         .map_err(|e| fail(v, additional, what, e))
+}
+
+/// Growths of at least this many bytes first check for headroom ([`headroom`]).
+const HEADROOM_FROM: usize = 1 << 24;
+
+/// Before a large growth of `bytes`: as many bytes again, reserved and released at once
+/// (address space only, never touched). A growth that would leave less than its own size
+/// free fails here, while the rest of the query (and the host) still has room for its small
+/// allocations; the last big buffer does not take the memory that they then fail to get.
+fn headroom(bytes: usize) -> Result<Vec<u8>, TryReserveError> {
+    let mut probe = Vec::new();
+    if bytes >= HEADROOM_FROM {
+        probe.try_reserve_exact(bytes)?;
+    }
+    Ok(probe)
 }
 
 /// Makes room for exactly `additional` more elements in `v` (a buffer whose final size is
@@ -72,6 +90,8 @@ pub(crate) fn grow_exact<T>(
     additional: usize,
     what: &'static str,
 ) -> Result<(), AllocError> {
+    let bytes = v.len().saturating_add(additional).saturating_mul(std::mem::size_of::<T>());
+    let _headroom = headroom(bytes).map_err(|e| fail(v, additional, what, e))?;
     v.try_reserve_exact(additional)
         .map_err(|e| fail(v, additional, what, e))
 }
