@@ -1,7 +1,8 @@
 //! Issue 51, item 7: the commands with their caps lifted, in a subprocess under a 1 GiB
-//! address-space limit (`ulimit -v`), on collapsed input (the integer-cast cloth-funnel step;
-//! for `check`, which has no cap, triangles whose vertices all sit at one point): each exits
-//! with an error that names the allocation, never an abort.
+//! address-space limit (`ulimit -v`), on collapsed input (the integer-cast cloth-funnel step):
+//! each exits with an error that names the allocation, never an abort. (`check`, which has no
+//! cap, has the same fallible pair lists, but exhausting 1 GiB takes 10^8 exact tests of
+//! collapsed triangles, over ten minutes: not run here.)
 
 mod common;
 
@@ -94,14 +95,4 @@ fn uncapped_commands_fail_cleanly_under_an_address_space_limit() {
         let refs: Vec<&Path> = args.iter().map(PathBuf::as_path).collect();
         println!("step {mode:?}: {}", fails_out_of_memory(&refs));
     }
-    // `check` has no cap: 16,000 triangles at one point, 128 million touching pairs.
-    let mut obj = String::from("v 0 0 0\n").repeat(48_000);
-    for t in 0..16_000u32 {
-        obj += &format!("f {} {} {}\n", 3 * t + 1, 3 * t + 2, 3 * t + 3);
-    }
-    let point = dir.file("point.obj", obj);
-    println!(
-        "check: {}",
-        fails_out_of_memory(&[Path::new("check"), &point])
-    );
 }

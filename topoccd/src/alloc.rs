@@ -62,7 +62,9 @@ pub(crate) fn grow<T>(
 fn grow_cold<T>(v: &mut Vec<T>, additional: usize, what: &'static str) -> Result<(), AllocError> {
     // `try_reserve` grows to at least twice the capacity: the bytes it asks for.
     let len = v.len().saturating_add(additional);
-    let bytes = len.max(v.capacity().saturating_mul(2)).saturating_mul(std::mem::size_of::<T>());
+    let bytes = len
+        .max(v.capacity().saturating_mul(2))
+        .saturating_mul(std::mem::size_of::<T>());
     let _headroom = headroom(bytes).map_err(|e| fail(v, additional, what, e))?;
     v.try_reserve(additional)
         .map_err(|e| fail(v, additional, what, e))
@@ -90,7 +92,10 @@ pub(crate) fn grow_exact<T>(
     additional: usize,
     what: &'static str,
 ) -> Result<(), AllocError> {
-    let bytes = v.len().saturating_add(additional).saturating_mul(std::mem::size_of::<T>());
+    let bytes = v
+        .len()
+        .saturating_add(additional)
+        .saturating_mul(std::mem::size_of::<T>());
     let _headroom = headroom(bytes).map_err(|e| fail(v, additional, what, e))?;
     v.try_reserve_exact(additional)
         .map_err(|e| fail(v, additional, what, e))
