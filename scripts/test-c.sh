@@ -281,6 +281,11 @@ run_test "$work/asan/api_cpp_no_eigen"
 "$CC" "${cflags[@]}" -I"$include" topoccd-c/tests/freed.c "$lib" "${system_libs[@]}" \
     -o "$work/plain/freed"
 run_test "$work/plain/freed"
+# The caps lifted under a 1 GiB address-space limit: an out-of-memory status, no abort
+# (no sanitizers: their shadow memory does not fit the limit).
+"$CC" "${cflags[@]}" -I"$include" topoccd-c/tests/memory.c "$lib" "${system_libs[@]}" \
+    -o "$work/plain/memory"
+MALLOC_ARENA_MAX=2 run_test "$work/plain/memory"
 cat >"$work/column_major.cpp" <<'EOF'
 #include <topoccd.hpp>
 int main() {

@@ -59,6 +59,11 @@ enum topoccd_status
   // A line search with `check_start` found triangles that intersect at t=0; the message
   // names the first pair.
   TOPOCCD_STATUS_START_INTERSECTS = 12,
+  // The system refused memory that the call needed (a query whose cap was lifted on a
+  // configuration with very many pairs): the message names the buffer and the bytes asked.
+  // Nothing was kept; the object stays usable. Set `max_contacts` (its default bounds the
+  // report).
+  TOPOCCD_STATUS_OUT_OF_MEMORY = 13,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -931,7 +936,10 @@ typedef struct topoccd_proximity_options {
   // The minimum distance offset, finite, >= 0: pairs closer than `dhat + dmin` are
   // reported. Default 0.
   double dmin;
-  // Most pairs the report keeps; 0 for no cap (`truncated` says when it cut). Default 0.
+  // Most pairs the report keeps; 0 for no cap (`truncated` says when it cut). Default
+  // 1,000,000 (the Rust and Python default, as for `topoccd_query_options`), so that a
+  // collapsed configuration's n² pairs stay bounded. While a query stays under the cap, the
+  // pairs kept across a solver's iterations are reused.
   uint64_t max_contacts;
   // Seconds the query may run; 0 for no limit. Default 0.
   double timeout;

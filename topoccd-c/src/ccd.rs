@@ -163,7 +163,13 @@ impl State {
                 None => run(),
             }
         };
-        result.map_err(|e| Failure::new(topoccd_status::InvalidOptions, e.to_string()))
+        result.map_err(|e| {
+            let status = match e {
+                topoccd::OptionsError::OutOfMemory { .. } => topoccd_status::OutOfMemory,
+                _ => topoccd_status::InvalidOptions,
+            };
+            Failure::new(status, e.to_string())
+        })
     }
 }
 

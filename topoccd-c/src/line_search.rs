@@ -172,7 +172,18 @@ unsafe fn earliest(
     let checked = read(options)?;
     let step = step::borrow(&*step)?;
     if checked.rust.check_start {
-        let pairs = topoccd::check::step_intersections(&step, Frame::Start);
+        let unbounded = topoccd::check::CheckLimits {
+            max_contacts: None,
+            ..Default::default()
+        };
+        let pairs = topoccd::check::step_intersections_within(&step, Frame::Start, &unbounded)
+            .map_err(|e| {
+                let status = match e {
+                    topoccd::check::CheckError::OutOfMemory { .. } => topoccd_status::OutOfMemory,
+                    _ => topoccd_status::Internal,
+                };
+                Failure::new(status, e.to_string())
+            })?;
         if let Some(&first) = pairs.first() {
             let error = LineSearchError::StartIntersects {
                 triangles: first,

@@ -51,7 +51,10 @@ pub struct topoccd_proximity_options {
     /// The minimum distance offset, finite, >= 0: pairs closer than `dhat + dmin` are
     /// reported. Default 0.
     pub dmin: f64,
-    /// Most pairs the report keeps; 0 for no cap (`truncated` says when it cut). Default 0.
+    /// Most pairs the report keeps; 0 for no cap (`truncated` says when it cut). Default
+    /// 1,000,000 (the Rust and Python default, as for `topoccd_query_options`), so that a
+    /// collapsed configuration's n² pairs stay bounded. While a query stays under the cap, the
+    /// pairs kept across a solver's iterations are reused.
     pub max_contacts: u64,
     /// Seconds the query may run; 0 for no limit. Default 0.
     pub timeout: f64,
@@ -66,7 +69,7 @@ pub extern "C" fn topoccd_proximity_options_default() -> topoccd_proximity_optio
     topoccd_proximity_options {
         dhat: d.dhat,
         dmin: d.dmin,
-        max_contacts: 0,
+        max_contacts: d.max_contacts.map_or(0, |n| n as u64),
         timeout: 0.0,
         threads: 0,
     }
@@ -240,6 +243,7 @@ pub(crate) unsafe fn configuration<'a>(
 pub(crate) fn failure(e: ProximityError) -> Failure {
     let status = match e {
         ProximityError::Dhat(_) | ProximityError::Dmin(_) => topoccd_status::InvalidOptions,
+        ProximityError::OutOfMemory { .. } => topoccd_status::OutOfMemory,
         _ => topoccd_status::InvalidStep,
     };
     Failure::new(status, e.to_string())

@@ -51,6 +51,11 @@ pub enum topoccd_status {
     /// A line search with `check_start` found triangles that intersect at t=0; the message
     /// names the first pair.
     StartIntersects = 12,
+    /// The system refused memory that the call needed (a query whose cap was lifted on a
+    /// configuration with very many pairs): the message names the buffer and the bytes asked.
+    /// Nothing was kept; the object stays usable. Set `max_contacts` (its default bounds the
+    /// report).
+    OutOfMemory = 13,
 }
 
 /// The name of a status code (a `topoccd_status`) as text, e.g.
@@ -73,6 +78,7 @@ pub extern "C" fn topoccd_status_name(status: u32) -> *const c_char {
         10 => c"TOPOCCD_STATUS_INTERNAL",
         11 => c"TOPOCCD_STATUS_TIMEOUT",
         12 => c"TOPOCCD_STATUS_START_INTERSECTS",
+        13 => c"TOPOCCD_STATUS_OUT_OF_MEMORY",
         _ => c"TOPOCCD_STATUS_UNKNOWN",
     };
     name.as_ptr()

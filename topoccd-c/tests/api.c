@@ -870,7 +870,8 @@ static void test_proximity(void) {
     config.triangles = tris; config.triangle_count = 1;
     config.edges = edges; config.edge_count = 1;
     topoccd_proximity_options options = topoccd_proximity_options_default();
-    CHECK(options.dhat == 1e-3 && options.dmin == 0 && options.max_contacts == 0, "defaults");
+    /* The proximity cap's default is the query's (1,000,000), no longer 0 (unbounded). */
+    CHECK(options.dhat == 1e-3 && options.dmin == 0 && options.max_contacts == 1000000, "defaults");
     topoccd_ccd *ccd = topoccd_ccd_new();
     const topoccd_proximity_report *r = NULL;
     CHECK_STATUS(topoccd_proximity(ccd, &config, &options, &r), TOPOCCD_STATUS_OK, "proximity");

@@ -8,7 +8,7 @@ use pyo3::prelude::*;
 use topoccd::io::{input_warnings, InputWarning};
 use topoccd::{Ccd as LibCcd, Report as LibReport, Step, StepError, StopReason};
 
-use crate::errors::{input_error, options_error, warn_input};
+use crate::errors::{input_error, memory_error, options_error, warn_input};
 use crate::input::{indices, positions, rows};
 use crate::options::Keywords;
 use crate::report::{Report, StepFacts};
@@ -102,7 +102,10 @@ fn run(
         Some(pool) => pool.install(go),
         None => go(),
     }
-    .map_err(|e| Failure::Options(e.to_string()))?;
+    .map_err(|e| match e {
+        topoccd::OptionsError::OutOfMemory { .. } => Failure::Memory(e.to_string()),
+        _ => Failure::Options(e.to_string()),
+    })?;
     Ok((report, x0_address, x1_address))
 }
 
@@ -191,6 +194,8 @@ fn watch<'scope, T: Send + 'scope>(
 enum Failure {
     Step(StepError),
     Options(String),
+    /// An allocation the system refused (a `MemoryError`).
+    Memory(String),
 }
 
 impl Failure {
@@ -202,8 +207,10 @@ impl Failure {
                      parents: parents=[[child, parent], ...], or an empty (0, 2) array for new \
                      vertices that do not move)"
             )),
+            Failure::Step(e @ StepError::OutOfMemory { .. }) => memory_error(e.to_string()),
             Failure::Step(e) => input_error(e.to_string()),
             Failure::Options(m) => options_error(m),
+            Failure::Memory(m) => memory_error(m),
         }
     }
 }

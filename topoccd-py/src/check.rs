@@ -96,6 +96,7 @@ pub fn intersecting_triangles<'py>(
     })?;
     let pairs = outcome.map_err(|e| match e {
         CheckError::Step(e) => input_error(e.to_string()),
+        CheckError::OutOfMemory { .. } => crate::errors::memory_error(e.to_string()),
         CheckError::Stopped(StopReason::Deadline) => {
             pyo3::exceptions::PyTimeoutError::new_err(format!(
                 "the static check did not finish within timeout={} s (it stopped after {:.3} s): \

@@ -65,6 +65,12 @@ pub fn input_error(message: impl Into<String>) -> PyErr {
     InputError::new_err(message.into())
 }
 
+/// A `MemoryError` with this message: an allocation the system refused (the library gave up
+/// and freed what it held).
+pub fn memory_error(message: impl Into<String>) -> PyErr {
+    pyo3::exceptions::PyMemoryError::new_err(message.into())
+}
+
 /// An [`OptionsError`] with this message.
 pub fn options_error(message: impl Into<String>) -> PyErr {
     OptionsError::new_err(message.into())

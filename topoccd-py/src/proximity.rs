@@ -133,6 +133,7 @@ impl Proximity {
 fn library_error(e: ProximityError) -> PyErr {
     match e {
         ProximityError::Dhat(_) | ProximityError::Dmin(_) => options_error(e.to_string()),
+        ProximityError::OutOfMemory { .. } => crate::errors::memory_error(e.to_string()),
         _ => input_error(e.to_string()),
     }
 }

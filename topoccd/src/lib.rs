@@ -63,6 +63,8 @@ pub mod distance;
 pub mod ipc;
 mod proximity;
 
+mod alloc;
+
 pub mod check;
 pub mod io;
 pub mod line_search;

@@ -86,7 +86,17 @@ impl LineSearchOptions {
     /// With [`check_start`](Self::check_start), refuses a step whose t=0 triangles intersect.
     fn check(&self, step: &Step<'_>) -> Result<(), LineSearchError> {
         if self.check_start {
-            let pairs = check::step_intersections(step, Frame::Start);
+            let unbounded = check::CheckLimits {
+                max_contacts: None,
+                ..check::CheckLimits::default()
+            };
+            let pairs = match check::step_intersections_within(step, Frame::Start, &unbounded) {
+                Ok(pairs) => pairs,
+                Err(check::CheckError::OutOfMemory { what, bytes }) => {
+                    return Err(OptionsError::OutOfMemory { what, bytes }.into())
+                }
+                Err(_) => unreachable!("no cap, no deadline, no cancel token"),
+            };
             if let Some(&first) = pairs.first() {
                 return Err(LineSearchError::StartIntersects {
                     triangles: first,

@@ -157,13 +157,30 @@ pub(crate) trait PairRunner {
 /// Whether the query stopped, for the broad phase's long sequential loops (the cluster
 /// method's leaf growth): a check cheap enough to run every iteration.
 #[derive(Clone)]
-pub(crate) struct Stopper(pub std::sync::Arc<dyn Fn() -> bool + Send + Sync>);
+pub(crate) struct Stopper(
+    pub std::sync::Arc<dyn Fn() -> bool + Send + Sync>,
+    /// The query's limits, where an allocation failure is recorded ([`Stopper::fail`]).
+    pub Option<std::sync::Arc<crate::contact::limits::Limits>>,
+);
 
 impl Stopper {
     /// Whether the query stopped.
     #[inline]
     pub fn stopped(&self) -> bool {
         (self.0)()
+    }
+
+    /// Records an allocation failure: the query winds down and returns it. Without limits to
+    /// record it in, the failure aborts, as an infallible allocation does.
+    #[cold]
+    pub fn fail(&self, e: crate::alloc::AllocError) {
+        match &self.1 {
+            Some(limits) => limits.fail(e),
+            None => std::alloc::handle_alloc_error(
+                std::alloc::Layout::from_size_align(e.bytes.max(1), 1)
+                    .unwrap_or(std::alloc::Layout::new::<u8>()),
+            ),
+        }
     }
 }
 

@@ -56,4 +56,21 @@ pub enum CheckError {
     /// The deadline passed, or the check was cancelled.
     #[error("the static check stopped ({0}) before its end: allow more time (a later deadline, a larger timeout)")]
     Stopped(StopReason),
+    /// An allocation failed (the system refused the memory): the check gave up.
+    #[error("out of memory: could not allocate {bytes} bytes for the {what}: set max_contacts (a cap bounds the pairs)")]
+    OutOfMemory {
+        /// The buffer that could not grow.
+        what: &'static str,
+        /// The bytes asked for.
+        bytes: usize,
+    },
+}
+
+impl From<crate::alloc::AllocError> for CheckError {
+    fn from(e: crate::alloc::AllocError) -> Self {
+        Self::OutOfMemory {
+            what: e.what,
+            bytes: e.bytes,
+        }
+    }
 }

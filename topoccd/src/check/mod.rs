@@ -34,6 +34,7 @@ pub use limits::{CheckError, CheckLimits};
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use crate::alloc::try_collect;
 use crate::contact::limits::Limits;
 use crate::mesh::{Frame, Positions, Step, StepError, Triangles};
 use crate::query::StopReason;
@@ -90,6 +91,7 @@ pub fn frame_intersections<'a>(
     };
     frame_intersections_within(positions, triangles, parents, &unbounded).map_err(|e| match e {
         CheckError::Step(e) => e,
+        CheckError::OutOfMemory { what, bytes } => StepError::OutOfMemory { what, bytes },
         _ => unreachable!("no cap, no deadline, no cancel token"),
     })
 }
@@ -149,13 +151,22 @@ pub fn frame_intersections_within<'a>(
 /// assert!(step_intersections(&step, Frame::Start).is_empty());
 /// # Ok::<(), topoccd::StepError>(())
 /// ```
+///
+/// An allocation failure aborts, as a `Vec`'s does: [`step_intersections_within`] returns it
+/// as [`CheckError::OutOfMemory`] instead.
 pub fn step_intersections(step: &Step<'_>, frame: Frame) -> Vec<[u32; 2]> {
     let unbounded = CheckLimits {
         max_contacts: None,
         ..CheckLimits::default()
     };
-    step_intersections_within(step, frame, &unbounded)
-        .unwrap_or_else(|_| unreachable!("no cap, no deadline, no cancel token"))
+    match step_intersections_within(step, frame, &unbounded) {
+        Ok(pairs) => pairs,
+        Err(CheckError::OutOfMemory { bytes, .. }) => {
+            let layout = std::alloc::Layout::from_size_align(bytes, 8);
+            std::alloc::handle_alloc_error(layout.unwrap_or(std::alloc::Layout::new::<u64>()))
+        }
+        Err(_) => unreachable!("no cap, no deadline, no cancel token"),
+    }
 }
 
 /// [`step_intersections`] within `limits` (see [`CheckLimits`]): past the cap, the deadline
@@ -190,9 +201,10 @@ pub fn step_intersections_within(
     let tris = step.triangles();
     let one = joined_vertices(step.vertex_count(), step.parents());
     let corners = |t: usize| tris[t].map(|v| x[v as usize]);
-    let boxes: Vec<tree::Aabb> = (0..tris.len())
-        .map(|t| tree::Aabb::of(&corners(t)))
-        .collect();
+    let boxes: Vec<tree::Aabb> = try_collect(
+        (0..tris.len()).map(|t| tree::Aabb::of(&corners(t))),
+        "triangle boxes",
+    )?;
     let tree = tree::Tree::build(&boxes);
     let visit = |a: u32, b: u32| {
         let (ta, tb) = (tris[a as usize], tris[b as usize]);
@@ -205,7 +217,7 @@ pub fn step_intersections_within(
         }
         hit.then(|| [a.min(b), a.max(b)])
     };
-    let mut pairs = tree.self_pairs_until(&boxes, &visit, &|| stop.poll(false));
+    let mut pairs = tree.self_pairs_until(&boxes, &visit, &|| stop.poll(false))?;
     if stop.stopped().is_some() {
         return Err(stopped(&stop, limits));
     }

@@ -2,6 +2,11 @@
 //! self-traversal: every pair of leaves' triangles whose closed boxes overlap. The boxes are
 //! the triangles' exact `f64` bounds, so touching triangles have touching boxes.
 
+use crate::alloc::{try_append, try_push, AllocError};
+
+/// What the pairs' buffers are called in an allocation failure.
+const PAIRS: &str = "intersecting triangle pairs";
+
 /// An axis-aligned box.
 #[derive(Clone, Copy, Debug)]
 pub struct Aabb {
@@ -140,20 +145,21 @@ impl Tree {
         &self,
         boxes: &[Aabb],
         visit: &(impl Fn(u32, u32) -> Option<T> + Sync),
-    ) -> Vec<T> {
+    ) -> Result<Vec<T>, AllocError> {
         self.self_pairs_until(boxes, visit, &|| false)
     }
 
     /// [`Tree::self_pairs`] that gives up once `halt` returns `true` (asked as each node or
-    /// pair of nodes is entered): what it returns then is only part of the pairs.
+    /// pair of nodes is entered): what it returns then is only part of the pairs. An error
+    /// if the pairs' buffers cannot grow.
     pub fn self_pairs_until<T: Send>(
         &self,
         boxes: &[Aabb],
         visit: &(impl Fn(u32, u32) -> Option<T> + Sync),
         halt: &(impl Fn() -> bool + Sync),
-    ) -> Vec<T> {
+    ) -> Result<Vec<T>, AllocError> {
         if self.nodes.is_empty() {
-            return Vec::new();
+            return Ok(Vec::new());
         }
         self.within(0, (boxes, halt), visit, 0)
     }
@@ -165,9 +171,9 @@ impl Tree {
         (boxes, halt): (&[Aabb], &(impl Fn() -> bool + Sync)),
         visit: &(impl Fn(u32, u32) -> Option<T> + Sync),
         depth: u32,
-    ) -> Vec<T> {
+    ) -> Result<Vec<T>, AllocError> {
         if halt() {
-            return Vec::new();
+            return Ok(Vec::new());
         }
         let node = self.nodes[n];
         if node.count > 0 {
@@ -176,14 +182,16 @@ impl Tree {
             for (k, &a) in items.iter().enumerate() {
                 for &b in &items[k + 1..] {
                     if boxes[a as usize].overlaps(&boxes[b as usize]) {
-                        out.extend(visit(a, b));
+                        if let Some(p) = visit(a, b) {
+                            try_push(&mut out, p, PAIRS)?;
+                        }
                     }
                 }
             }
-            return out;
+            return Ok(out);
         }
         let (l, r) = (node.start as usize, node.start as usize + 1);
-        let (mut out, (inner, across)) = if depth < 8 {
+        let (out, (inner, across)) = if depth < 8 {
             rayon::join(
                 || self.within(l, (boxes, halt), visit, depth + 1),
                 || {
@@ -201,9 +209,10 @@ impl Tree {
                 (right, self.across(l, r, (boxes, halt), visit, depth + 1)),
             )
         };
-        out.extend(inner);
-        out.extend(across);
-        out
+        let (mut out, mut inner, mut across) = (out?, inner?, across?);
+        try_append(&mut out, &mut inner, PAIRS)?;
+        try_append(&mut out, &mut across, PAIRS)?;
+        Ok(out)
     }
 
     /// Pairs between nodes `a` and `b`.
@@ -214,10 +223,10 @@ impl Tree {
         (boxes, halt): (&[Aabb], &(impl Fn() -> bool + Sync)),
         visit: &(impl Fn(u32, u32) -> Option<T> + Sync),
         depth: u32,
-    ) -> Vec<T> {
+    ) -> Result<Vec<T>, AllocError> {
         let (na, nb) = (self.nodes[a], self.nodes[b]);
         if !na.bounds.overlaps(&nb.bounds) || halt() {
-            return Vec::new();
+            return Ok(Vec::new());
         }
         match (na.count > 0, nb.count > 0) {
             (true, true) => {
@@ -225,11 +234,13 @@ impl Tree {
                 for &x in self.leaf(&na) {
                     for &y in self.leaf(&nb) {
                         if boxes[x as usize].overlaps(&boxes[y as usize]) {
-                            out.extend(visit(x, y));
+                            if let Some(p) = visit(x, y) {
+                                try_push(&mut out, p, PAIRS)?;
+                            }
                         }
                     }
                 }
-                out
+                Ok(out)
             }
             // Descend the inner node (the left one when both are inner).
             (false, _) => self.descend(a, b, true, (boxes, halt), visit, depth),
@@ -247,7 +258,7 @@ impl Tree {
         (boxes, halt): (&[Aabb], &(impl Fn() -> bool + Sync)),
         visit: &(impl Fn(u32, u32) -> Option<T> + Sync),
         depth: u32,
-    ) -> Vec<T> {
+    ) -> Result<Vec<T>, AllocError> {
         let c = self.nodes[inner].start as usize;
         let go = |child: usize| {
             if inner_first {
@@ -256,13 +267,14 @@ impl Tree {
                 self.across(other, child, (boxes, halt), visit, depth + 1)
             }
         };
-        let (mut first, second) = if depth < 8 {
+        let (first, second) = if depth < 8 {
             rayon::join(|| go(c), || go(c + 1))
         } else {
             (go(c), go(c + 1))
         };
-        first.extend(second);
-        first
+        let (mut first, mut second) = (first?, second?);
+        try_append(&mut first, &mut second, PAIRS)?;
+        Ok(first)
     }
 }
 
@@ -289,7 +301,9 @@ mod tests {
                 })
                 .collect();
             let tree = Tree::build(&boxes);
-            let mut got = tree.self_pairs(&boxes, &|a, b| Some((a.min(b), a.max(b))));
+            let mut got = tree
+                .self_pairs(&boxes, &|a, b| Some((a.min(b), a.max(b))))
+                .unwrap();
             got.sort_unstable();
             let mut want = Vec::new();
             for a in 0..n {

@@ -9,6 +9,7 @@ use super::limits::{Limits, StopReason};
 use super::report::{Contact, EeContact, VfContact};
 use super::{Mode, QueryOptions};
 use super::{triangle_volume, Candidates};
+use crate::alloc::{self, AllocError};
 use crate::kdop::DopKind;
 use crate::mesh::features::SweptBox;
 use crate::mesh::{Step, Topology};
@@ -229,15 +230,16 @@ impl Found {
         self.room -= ee_kept;
     }
 
-    /// Appends `other`'s contacts after this one's, in order.
-    pub fn append(&mut self, other: &mut Found) {
+    /// Appends `other`'s contacts after this one's, in order (`other`'s are dropped if this
+    /// buffer cannot grow).
+    pub fn append(&mut self, other: &mut Found) -> Result<(), AllocError> {
         self.mark();
         other.mark();
         let [vf0, ee0] = [self.vf.len(), self.ee.len()];
-        self.marks
-            .extend(other.marks.iter().map(|&[v, e]| [vf0 + v, ee0 + e]));
-        self.vf.append(&mut other.vf);
-        self.ee.append(&mut other.ee);
+        let marks = other.marks.iter().map(|&[v, e]| [vf0 + v, ee0 + e]);
+        alloc::try_extend(&mut self.marks, marks, "batch marks")?;
+        alloc::try_append(&mut self.vf, &mut other.vf, "vertex-face contacts")?;
+        alloc::try_append(&mut self.ee, &mut other.ee, "edge-edge contacts")?;
         other.marks.clear();
         self.streamed_count += other.streamed_count;
         self.streamed_unresolved += other.streamed_unresolved;
@@ -252,6 +254,7 @@ impl Found {
                 self.streamed = Some(c);
             }
         }
+        Ok(())
     }
 
     /// Forgets `task`'s contacts, but for the earliest of them (kept in `streamed`, as a
@@ -452,7 +455,9 @@ impl Keeper {
                 task.retain_until(tol);
             }
         }
-        found.append(task);
+        if !limits.check(found.append(task)) {
+            return ControlFlow::Break(());
+        }
         found.bound(ctx);
         let counting = ctx.options.mode == Mode::All || found.settled;
         if limits.capped() && counting && found.len() > limits.max_contacts {
@@ -682,7 +687,11 @@ fn solve_in_fours<Q, C>(
     let mut take = |c: C, limit: &mut f64, room: &mut usize| {
         *limit = lowered(*limit, &c);
         if keep(*limit, &c) {
-            out.push(c);
+            if !limits.check(alloc::try_push(out, c, "contacts")) {
+                // The query winds down ([`Limits::fail`]); nothing more is kept here.
+                *room = 0;
+                return;
+            }
             *room -= 1;
         }
     };
@@ -877,6 +886,10 @@ impl Context<'_, '_> {
             }
             let limit = self.limit(*best);
             let start = found.vf.len();
+            // Room for the chunk's every pair, so that `par_extend` need not grow the buffer.
+            if !(self.limits).check(alloc::grow(&mut found.vf, chunk.len(), "vertex-face contacts")) {
+                break;
+            }
             found.vf.par_extend(
                 chunk
                     .par_iter()
@@ -891,6 +904,9 @@ impl Context<'_, '_> {
             }
             let limit = self.limit(*best);
             let start = found.ee.len();
+            if !(self.limits).check(alloc::grow(&mut found.ee, chunk.len(), "edge-edge contacts")) {
+                break;
+            }
             found.ee.par_extend(
                 chunk
                     .par_iter()
@@ -933,21 +949,27 @@ const SETTLE_PAIRS: usize = 256;
 /// and positions are sorted, then the elements gathered in that order (contacts are over a
 /// hundred bytes each: moving them once beats moving them at every level of a sort; a
 /// collapsed step's millions of contacts sorted in place took most of a second).
-fn sort_by_key<T, K>(v: &mut Vec<T>, key: impl Fn(&T) -> K + Sync)
+fn sort_by_key<T, K>(
+    v: &mut Vec<T>,
+    key: impl Fn(&T) -> K + Sync,
+    what: &'static str,
+) -> Result<(), AllocError>
 where
     T: Copy + Send + Sync,
     K: Ord + Send + Sync,
 {
     if v.len() < 1 << 14 {
         v.sort_unstable_by_key(key);
-        return;
+        return Ok(());
     }
-    let mut keys: Vec<(K, u32)> = (v.par_iter().enumerate())
-        .map(|(i, c)| (key(c), i as u32))
-        .collect();
+    // Both buffers reserved first, fallibly: the indexed `par_extend`s then fill them in place.
+    let mut keys: Vec<(K, u32)> = alloc::with_capacity(v.len(), "sort keys")?;
+    keys.par_extend((v.par_iter().enumerate()).map(|(i, c)| (key(c), i as u32)));
     keys.par_sort_unstable_by(|a, b| a.0.cmp(&b.0));
-    let sorted: Vec<T> = keys.par_iter().map(|&(_, i)| v[i as usize]).collect();
+    let mut sorted: Vec<T> = alloc::with_capacity(v.len(), what)?;
+    sorted.par_extend(keys.par_iter().map(|&(_, i)| v[i as usize]));
     *v = sorted;
+    Ok(())
 }
 
 /// Lowers `best` to the smallest of `tois`.
@@ -960,8 +982,9 @@ pub(crate) fn lower(best: &mut Option<f64>, tois: impl Iterator<Item = f64>) {
 }
 
 /// Sorts what was found, keeps in [`Mode::Earliest`] only the contacts within the tolerance of
-/// the earliest, and returns the earliest contact.
-pub(crate) fn finish(found: &mut Found, options: &QueryOptions) -> Option<Contact> {
+/// the earliest, and returns the earliest contact (an error if the sort's buffers cannot be
+/// allocated).
+pub(crate) fn finish(found: &mut Found, options: &QueryOptions) -> Result<Option<Contact>, AllocError> {
     let earliest = found
         .vf
         .iter()
@@ -978,9 +1001,9 @@ pub(crate) fn finish(found: &mut Found, options: &QueryOptions) -> Option<Contac
         found.vf.retain(|c| c.toi <= cut);
         found.ee.retain(|c| c.toi <= cut);
     }
-    sort_by_key(&mut found.vf, |c| (c.vertex, c.face));
-    sort_by_key(&mut found.ee, |c| (c.a, c.b));
-    earliest
+    sort_by_key(&mut found.vf, |c| (c.vertex, c.face), "vertex-face contacts")?;
+    sort_by_key(&mut found.ee, |c| (c.a, c.b), "edge-edge contacts")?;
+    Ok(earliest)
 }
 
 /// Whether the report lists every pair within the tolerance of the earliest time (in

@@ -136,6 +136,8 @@ pub(crate) struct Limits {
     state: AtomicU8,
     /// Calls of [`Limits::poll`] since the clock was last read (approximate across threads).
     polls: AtomicU64,
+    /// The first allocation that failed ([`Limits::fail`]): the query returns it as its error.
+    failure: std::sync::OnceLock<crate::alloc::AllocError>,
 }
 
 impl Default for Limits {
@@ -157,6 +159,7 @@ impl Limits {
             cancel,
             state: AtomicU8::new(0),
             polls: AtomicU64::new(0),
+            failure: std::sync::OnceLock::new(),
         }
     }
 
@@ -172,6 +175,8 @@ impl Limits {
             0 => None,
             1 => Some(StopReason::MaxContacts),
             2 => Some(StopReason::Deadline),
+            // 3: cancelled; 4: an allocation failed, which winds the query down as a
+            // cancellation does (it then returns the failure, [`Limits::failure`]).
             _ => Some(StopReason::Cancelled),
         }
     }
@@ -186,6 +191,31 @@ impl Limits {
         let _ = self
             .state
             .compare_exchange(0, code, Ordering::Relaxed, Ordering::Relaxed);
+    }
+
+    /// Records that an allocation failed: every loop winds down (as after a cancellation)
+    /// and the query returns the first failure recorded as its error.
+    #[cold]
+    pub fn fail(&self, failure: crate::alloc::AllocError) {
+        let _ = self.failure.set(failure);
+        self.state.store(4, Ordering::Relaxed);
+    }
+
+    /// The allocation that failed, if one did.
+    pub fn failure(&self) -> Option<crate::alloc::AllocError> {
+        self.failure.get().copied()
+    }
+
+    /// Records `result`'s failure, if any ([`Limits::fail`]); whether it succeeded.
+    #[inline]
+    pub fn check(&self, result: Result<(), crate::alloc::AllocError>) -> bool {
+        match result {
+            Ok(()) => true,
+            Err(e) => {
+                self.fail(e);
+                false
+            }
+        }
     }
 
     /// Whether the query must stop: a stop already recorded, the cancel token, or (every

@@ -237,6 +237,25 @@ pub enum OptionsError {
     /// [`Mode::Earliest`], whose pairs are known only at the end.
     #[error("mode Earliest cannot stream its contacts (its pairs are known only at the end); use Ccd::query")]
     Streaming,
+    /// An allocation failed (the system refused the memory): the query gave up and freed
+    /// what it held. Lower [`QueryOptions::max_contacts`] (its default bounds the report),
+    /// or stream the contacts ([`Ccd::for_each_contact`](crate::Ccd::for_each_contact)).
+    #[error("out of memory: could not allocate {bytes} bytes for the {what}: set max_contacts (a cap bounds the report) or stream the contacts")]
+    OutOfMemory {
+        /// The buffer that could not grow.
+        what: &'static str,
+        /// The bytes asked for.
+        bytes: usize,
+    },
+}
+
+impl From<crate::alloc::AllocError> for OptionsError {
+    fn from(e: crate::alloc::AllocError) -> Self {
+        Self::OutOfMemory {
+            what: e.what,
+            bytes: e.bytes,
+        }
+    }
 }
 
 impl QueryOptions {

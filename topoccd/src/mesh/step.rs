@@ -133,6 +133,14 @@ pub enum StepError {
         /// Number of vertices.
         vertices: usize,
     },
+    /// An allocation failed (the system refused the memory).
+    #[error("out of memory: could not allocate {bytes} bytes for the {what}")]
+    OutOfMemory {
+        /// The buffer that could not grow.
+        what: &'static str,
+        /// The bytes asked for.
+        bytes: usize,
+    },
 }
 
 /// Vertex positions, borrowed when the caller's layout is `[f64; 3]` triples or a flat `x y z`

@@ -58,7 +58,10 @@ pub(crate) fn brute(prims: &Primitives, tris: &[[u32; 3]], test: &Test<'_>, stop
     all.par_extend(pv);
     let mut found = Found::default();
     for mut f in all {
-        found.append(&mut f);
+        // A failure is kept in `found.failure`, which the query returns.
+        if found.append(&mut f).is_err() {
+            break;
+        }
     }
     found
 }

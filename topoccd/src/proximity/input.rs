@@ -38,6 +38,25 @@ pub enum ProximityError {
     /// `dmin` not finite and `>= 0`.
     #[error("dmin must be finite and >= 0, got {0}")]
     Dmin(f64),
+    /// An allocation failed (the system refused the memory): the query gave up and freed
+    /// what it held. Keep [`ProximityOptions::max_contacts`](crate::ProximityOptions) set
+    /// (its default bounds the report).
+    #[error("out of memory: could not allocate {bytes} bytes for the {what}: set max_contacts (a cap bounds the report)")]
+    OutOfMemory {
+        /// The buffer that could not grow.
+        what: &'static str,
+        /// The bytes asked for.
+        bytes: usize,
+    },
+}
+
+impl From<crate::alloc::AllocError> for ProximityError {
+    fn from(e: crate::alloc::AllocError) -> Self {
+        Self::OutOfMemory {
+            what: e.what,
+            bytes: e.bytes,
+        }
+    }
 }
 
 /// One configuration of a mesh for a proximity query: positions, triangles and free edges

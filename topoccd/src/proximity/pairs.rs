@@ -1,6 +1,7 @@
 //! The feature pairs of one leaf pair and the distance test that keeps or drops each: shared
 //! by the hierarchy's traversal and the brute-force oracle.
 
+use crate::alloc::{try_append, try_push, AllocError};
 use crate::distance::{
     edge_edge_distance, extent, point_edge_distance, point_point_distance, point_triangle_distance,
     rounding_bound, sin2,
@@ -27,6 +28,18 @@ pub(crate) struct Found {
     pub tests: u64,
     /// With [`Test::r_list`]: the pairs closer than it (see `cache`).
     pub cands: Cands,
+    /// The first allocation that failed: nothing more is kept (the query returns it).
+    pub failure: Option<AllocError>,
+}
+
+/// Pushes `x` onto `v`, or records the allocation failure in `failure` (once).
+#[inline]
+fn put<T>(v: &mut Vec<T>, x: T, failure: &mut Option<AllocError>, what: &'static str) {
+    if failure.is_none() {
+        if let Err(e) = try_push(v, x, what) {
+            *failure = Some(e);
+        }
+    }
 }
 
 /// Feature pairs past the boxes, kept to be evaluated again at nearby positions (see
@@ -40,26 +53,41 @@ pub(crate) struct Cands {
 }
 
 impl Cands {
-    pub fn append(&mut self, other: &mut Cands) {
-        self.vf.append(&mut other.vf);
-        self.ee.append(&mut other.ee);
-        self.ve.append(&mut other.ve);
-        self.vv.append(&mut other.vv);
+    pub fn append(&mut self, other: &mut Cands) -> Result<(), AllocError> {
+        try_append(&mut self.vf, &mut other.vf, LISTED)?;
+        try_append(&mut self.ee, &mut other.ee, LISTED)?;
+        try_append(&mut self.ve, &mut other.ve, LISTED)?;
+        try_append(&mut self.vv, &mut other.vv, LISTED)
     }
 }
+
+/// What the buffers are called in an allocation failure.
+const LISTED: &str = "listed proximity pairs";
+const PAIRS: &str = "proximity pairs";
 
 impl Found {
     pub fn len(&self) -> usize {
         self.vf.len() + self.ee.len() + self.ve.len() + self.vv.len()
     }
 
-    pub fn append(&mut self, other: &mut Found) {
-        self.vf.append(&mut other.vf);
-        self.ee.append(&mut other.ee);
-        self.ve.append(&mut other.ve);
-        self.vv.append(&mut other.vv);
-        self.tests += other.tests;
-        self.cands.append(&mut other.cands);
+    /// Appends `other`'s pairs; an error (`other`'s own, or this buffer's that cannot grow)
+    /// is also recorded in [`Found::failure`].
+    pub fn append(&mut self, other: &mut Found) -> Result<(), AllocError> {
+        let result = (|| {
+            if let Some(e) = other.failure.or(self.failure) {
+                return Err(e);
+            }
+            try_append(&mut self.vf, &mut other.vf, PAIRS)?;
+            try_append(&mut self.ee, &mut other.ee, PAIRS)?;
+            try_append(&mut self.ve, &mut other.ve, PAIRS)?;
+            try_append(&mut self.vv, &mut other.vv, PAIRS)?;
+            self.tests += other.tests;
+            self.cands.append(&mut other.cands)
+        })();
+        if let Err(e) = result {
+            self.failure.get_or_insert(e);
+        }
+        result
     }
 }
 
@@ -162,15 +190,16 @@ impl Test<'_> {
         out.tests += 1;
         let (d2, kind) = point_triangle_distance(p, c[0], c[1], c[2]);
         if self.listed(d2) {
-            out.cands.vf.push((v, face));
+            put(&mut out.cands.vf, (v, face), &mut out.failure, LISTED);
         }
         if self.report(gap, d2, ext, || 1.0) {
-            out.vf.push(VfProximity {
+            let pair = VfProximity {
                 vertex: v,
                 face,
                 distance: d2.sqrt(),
                 kind,
-            });
+            };
+            put(&mut out.vf, pair, &mut out.failure, PAIRS);
         }
     }
 
@@ -198,15 +227,16 @@ impl Test<'_> {
         out.tests += 1;
         let (d2, kind) = edge_edge_distance(a0, a1, b0, b1);
         if self.listed(d2) {
-            out.cands.ee.push((a, b));
+            put(&mut out.cands.ee, (a, b), &mut out.failure, LISTED);
         }
         if self.report(gap, d2, ext, || sin2(a1 - a0, b1 - b0)) {
-            out.ee.push(EeProximity {
+            let pair = EeProximity {
                 a,
                 b,
                 distance: d2.sqrt(),
                 kind,
-            });
+            };
+            put(&mut out.ee, pair, &mut out.failure, PAIRS);
         }
     }
 
@@ -228,15 +258,16 @@ impl Test<'_> {
         out.tests += 1;
         let (d2, kind) = point_edge_distance(p, e0, e1);
         if self.listed(d2) {
-            out.cands.ve.push((v, e));
+            put(&mut out.cands.ve, (v, e), &mut out.failure, LISTED);
         }
         if self.report(gap, d2, ext, || 1.0) {
-            out.ve.push(VeProximity {
+            let pair = VeProximity {
                 vertex: v,
                 edge: e,
                 distance: d2.sqrt(),
                 kind,
-            });
+            };
+            put(&mut out.ve, pair, &mut out.failure, PAIRS);
         }
     }
 
@@ -253,14 +284,15 @@ impl Test<'_> {
         out.tests += 1;
         let d2 = point_point_distance(p, q);
         if self.listed(d2) {
-            out.cands.vv.push((a, b));
+            put(&mut out.cands.vv, (a, b), &mut out.failure, LISTED);
         }
         if self.report(gap, d2, ext, || 1.0) {
-            out.vv.push(VvProximity {
+            let pair = VvProximity {
                 a,
                 b,
                 distance: d2.sqrt(),
-            });
+            };
+            put(&mut out.vv, pair, &mut out.failure, PAIRS);
         }
     }
 

@@ -5,6 +5,7 @@ use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
+use crate::alloc::AllocError;
 use crate::bvh::{BvhWorkspace, ParOptions, TestAll};
 use crate::query::{CancelToken, StopReason};
 use crate::Ccd;
@@ -106,12 +107,13 @@ impl Ccd {
         options.validate()?;
         let token = self.cancel_token();
         let state = &mut self.proximity;
-        if rayon::current_thread_index().is_some() {
-            Ok(state.run(config, options, &token))
+        let report = if rayon::current_thread_index().is_some() {
+            state.run(config, options, &token)
         } else {
             // One job on the pool rather than a hand-off per parallel part.
-            Ok(rayon::scope(|_| state.run(config, options, &token)))
-        }
+            rayon::scope(|_| state.run(config, options, &token))
+        };
+        Ok(report?)
     }
 }
 
@@ -164,7 +166,7 @@ impl State {
         config: &Configuration<'_>,
         options: &ProximityOptions,
         token: &CancelToken,
-    ) -> ProximityReport {
+    ) -> Result<ProximityReport, AllocError> {
         let start = Instant::now();
         let stop = Stop {
             deadline: options.deadline,
@@ -229,8 +231,7 @@ impl State {
                     let mut found = Found::default();
                     let skip = |_: &Found| stop.check();
                     let consume = |mut f: Found| {
-                        found.append(&mut f);
-                        if found.len() >= max {
+                        if found.append(&mut f).is_err() || found.len() >= max {
                             capped = true;
                             ControlFlow::Break(())
                         } else {
@@ -248,6 +249,11 @@ impl State {
                         &skip,
                     );
                     let cands = std::mem::take(&mut found.cands);
+                    if let Some(failure) = found.failure {
+                        // What was found is freed; the listing is not complete.
+                        self.cache.drop_listing();
+                        return Err(failure);
+                    }
                     if test.r_list > 0.0 && stop.reason().is_none() && !capped {
                         self.cache.keep(x, r, allowance, cands);
                     } else if plain {
@@ -262,6 +268,9 @@ impl State {
                 found
             }
         };
+        if let Some(failure) = found.failure {
+            return Err(failure);
+        }
         let t = Instant::now();
         stats.distance_tests = found.tests;
         let mut report = ProximityReport {
@@ -281,6 +290,6 @@ impl State {
         report.stats.traverse_seconds =
             t.elapsed().as_secs_f64() + (t - start).as_secs_f64() - report.stats.build_seconds;
         report.stats.total_seconds = start.elapsed().as_secs_f64();
-        report
+        Ok(report)
     }
 }

@@ -294,6 +294,10 @@ impl Ccd {
             mut narrow,
             cluster,
         } = broad;
+        if let Some(failure) = limits.failure() {
+            // An allocation failed: the query wound down; what it holds is freed on return.
+            return Err(failure.into());
+        }
         let t = Instant::now();
         let by_time = matches!(
             limits.stopped(),
@@ -306,7 +310,7 @@ impl Ccd {
         } else if stream.is_some() {
             found.streamed
         } else {
-            let earliest = narrow_phase::finish(&mut found, options);
+            let earliest = narrow_phase::finish(&mut found, options)?;
             complete = narrow_phase::earliest_complete(&found, earliest, options);
             earliest
         };

@@ -140,7 +140,8 @@ impl BroadPhase for ClusterPhase {
         let options = passes.ctx.options;
         let paper = options.growth == ClusterGrowth::Paper;
         let stop = Arc::clone(passes.limits);
-        self.set_stop(Some(Stopper(Arc::new(move || stop.poll(false)))));
+        let limits = Some(Arc::clone(passes.limits));
+        self.set_stop(Some(Stopper(Arc::new(move || stop.poll(false)), limits)));
         let mut runner = Runner { passes, out };
         let (mut stats, figures) =
             self.candidates(passes.input, options.kdop, paper, ws, &mut runner);

@@ -202,6 +202,21 @@ pub(crate) fn prepare<const H: usize>(
                     .all(|&l| certified(c.leaves[l as usize].certificate))
         }));
 
+    // The pair lists grow fallibly (a collapsed step has one pair per pair of clusters): a
+    // failure is recorded on the query's stop, and nothing more is listed.
+    let failed = std::cell::Cell::new(false);
+    let push = |v: &mut Vec<(u32, u32)>, p: (u32, u32)| {
+        if failed.get() {
+            return;
+        }
+        if let Err(e) = crate::alloc::try_push(v, p, "cluster pairs") {
+            failed.set(true);
+            match input.stop {
+                Some(s) => s.fail(e),
+                None => crate::broad::Stopper(std::sync::Arc::new(|| true), None).fail(e),
+            }
+        }
+    };
     // Whether the query stopped, asked every 2^16 pairs listed.
     let mut listed = 0u64;
     let mut halted = false;
@@ -210,14 +225,14 @@ pub(crate) fn prepare<const H: usize>(
         if !halted && listed.is_multiple_of(1 << 16) {
             halted = input.stop.is_some_and(|s| s.stopped());
         }
-        !halted
+        !halted && !failed.get()
     };
     // Steps 1 and 2: leaf pairs of distinct intermediate clusters.
     scratch.ic_pairs.clear();
     let ic_pairs = &mut scratch.ic_pairs;
     counts.bv_tests += tree.top.self_pairs(ws, |i, j| {
         if go_on() {
-            ic_pairs.push((i.min(j), i.max(j)));
+            push(ic_pairs, (i.min(j), i.max(j)));
         }
     });
     scratch.items.clear();
@@ -233,20 +248,20 @@ pub(crate) fn prepare<const H: usize>(
         );
         counts.bv_tests += match (si == NONE, sj == NONE) {
             (true, true) => {
-                items.push((li[0], lj[0]));
+                push(items, (li[0], lj[0]));
                 0
             }
             (true, false) => {
                 let v = &tree.leaf[li[0] as usize].volume;
-                tree.sub(j).volume_leaves(v, ws, |b| items.push((li[0], b)))
+                tree.sub(j).volume_leaves(v, ws, |b| push(items, (li[0], b)))
             }
             (false, true) => {
                 let v = &tree.leaf[lj[0] as usize].volume;
-                tree.sub(i).volume_leaves(v, ws, |a| items.push((a, lj[0])))
+                tree.sub(i).volume_leaves(v, ws, |a| push(items, (a, lj[0])))
             }
             (false, false) => tree
                 .sub(i)
-                .tree_pairs(tree.sub(j), ws, |a, b| items.push((a, b))),
+                .tree_pairs(tree.sub(j), ws, |a, b| push(items, (a, b))),
         };
     }
     // Step 4: leaf pairs inside an intermediate cluster without certificate.
@@ -254,7 +269,7 @@ pub(crate) fn prepare<const H: usize>(
         if !ok && tree.sub_of_ic[i] != NONE {
             counts.bv_tests += tree
                 .sub(i as u32)
-                .self_pairs(ws, |a, b| items.push((a, b)));
+                .self_pairs(ws, |a, b| push(items, (a, b)));
         }
     }
     counts.leaf_pairs = items.len() as u64;
@@ -264,7 +279,24 @@ pub(crate) fn prepare<const H: usize>(
             continue;
         }
         counts.uncertified_leaves += 1;
-        items.push((l as u32, l as u32));
+        push(items, (l as u32, l as u32));
+    }
+    // Room for a unit of work per item (big items split into a few more).
+    let n = items.len();
+    let grown = crate::alloc::grow(&mut scratch.work, n, "cluster work")
+        .and_then(|()| crate::alloc::grow(&mut scratch.work_cost, n, "cluster work"));
+    if let Err(e) = grown {
+        if !failed.get() {
+            failed.set(true);
+            match input.stop {
+                Some(s) => s.fail(e),
+                None => crate::broad::Stopper(std::sync::Arc::new(|| true), None).fail(e),
+            }
+        }
+    }
+    if failed.get() {
+        // The query winds down: no work.
+        items.clear();
     }
 
     // The lazy hierarchies: every leaf cluster of more than `DIRECT` triangles in an item.
