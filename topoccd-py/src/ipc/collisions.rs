@@ -1,19 +1,18 @@
 //! The library's collision set (`topoccd::ipc::NormalCollisions`) seen as ipctk names it:
-//! edge ids into the mesh's own `edges`, each stencil's vertices, weights and mollifier
-//! thresholds, for `topoccd.ipc`'s collision objects and for friction.
+//! edge ids into the mesh's own `edges`, weights and mollifier thresholds, for
+//! `topoccd.ipc`'s collision objects; and the map from the library's edge ids to the
+//! mesh's, for the tangential collisions' ids.
 
 use std::collections::HashMap;
 
 use topoccd::ProximityReport;
 
-/// One collision's stencil: kind (0 vv, 1 ev, 2 ee, 3 fv), its two ids as ipctk names them,
-/// its vertices (`v`, then the primitive's), weight and, for edge-edge, the mollifier's
-/// threshold.
+/// One collision: kind (0 vv, 1 ev, 2 ee, 3 fv), its two ids as ipctk names them, weight
+/// and, for edge-edge, the mollifier's threshold.
 #[derive(Clone, Copy, Debug)]
 pub struct Collision {
     pub kind: u8,
     pub ids: [u32; 2],
-    pub verts: [u32; 4],
     pub weight: f64,
     pub eps_x: f64,
 }
@@ -31,6 +30,9 @@ pub struct Collisions {
     pub counts: [usize; 4],
     pub dmin: f64,
     pub num_vertices: usize,
+    /// The mesh's edge id of each of the library's edges (`core.edges`), `u32::MAX` for
+    /// one the mesh does not list.
+    pub edge_map: Vec<u32>,
 }
 
 /// Error of a conversion: a collision names an edge the mesh does not list.
@@ -80,48 +82,45 @@ pub fn from_core(
         items.push(Collision {
             kind: 0,
             ids: [a, b],
-            verts: [a, b, 0, 0],
             weight: c.weight,
             eps_x: 0.0,
         });
     }
     for c in &core.ev {
         let e = find(c.edge)?;
-        let [e0, e1] = mesh.edges[e as usize];
         items.push(Collision {
             kind: 1,
             ids: [e, c.vertex],
-            verts: [c.vertex, e0, e1, 0],
             weight: c.weight,
             eps_x: 0.0,
         });
     }
     for c in &core.ee {
         let (ia, ib) = (find(c.a)?, find(c.b)?);
-        let ([a0, a1], [b0, b1]) = (mesh.edges[ia as usize], mesh.edges[ib as usize]);
         items.push(Collision {
             kind: 2,
             ids: [ia, ib],
-            verts: [a0, a1, b0, b1],
             weight: c.weight,
             eps_x: c.eps_x,
         });
     }
     for c in &core.fv {
-        let [t0, t1, t2] = c.triangle;
         items.push(Collision {
             kind: 3,
             ids: [c.face, c.vertex],
-            verts: [c.vertex, t0, t1, t2],
             weight: c.weight,
             eps_x: 0.0,
         });
     }
     let counts = [core.vv.len(), core.ev.len(), core.ee.len(), core.fv.len()];
+    let edge_map = (core.edges.iter())
+        .map(|&e| find(e).unwrap_or(u32::MAX))
+        .collect();
     Ok(Collisions {
         items,
         counts,
         dmin: core.dmin,
         num_vertices: mesh.rest.len() / 3,
+        edge_map,
     })
 }
