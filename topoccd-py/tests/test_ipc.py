@@ -326,18 +326,22 @@ SWAPPED = {"EA0_EB1": "EA1_EB0", "EA1_EB0": "EA0_EB1", "EA_EB0": "EA0_EB", "EA0_
            "EA_EB1": "EA1_EB", "EA1_EB": "EA_EB1"}
 
 
-def merged_ee(C):
-    """ipctk's edge-edge collisions merged by their features: ipctk merges by edge ids in
-    the order its broad phase met them and the type's number, so the same features named in
-    the other order (a positive collision and an improved-max-approximation correction)
-    stay two entries whose barriers cancel. topoccd merges them; merge ipctk's likewise."""
-    groups = {}
+def merge_ipctk_ee(C):
+    """Merges ipctk's edge-edge collisions by their features, in place. ipctk merges them by
+    edge ids in the order its broad phase met them and the type's number, so the same
+    features named in the other order (a collision and its improved-max-approximation
+    correction) stay two entries whose barriers cancel but whose PSD projections, made one
+    collision at a time, do not. topoccd merges them; ipctk then evaluates the merged set."""
+    keep = {}
     for c in C.ee_collisions:
         a, b, t = c.edge0_id, c.edge1_id, c.dtype.name
         if a > b:
             a, b, t = b, a, SWAPPED.get(t, t)
-        groups[(a, b, t)] = groups.get((a, b, t), 0.0) + c.weight
-    return [(ids[:2], w) for ids, w in groups.items() if w != 0]
+        if (a, b, t) in keep:
+            keep[(a, b, t)].weight += c.weight
+        else:
+            keep[(a, b, t)] = c
+    C.ee_collisions = [c for c in keep.values() if c.weight != 0]
 
 
 def weighted(C):
@@ -346,13 +350,10 @@ def weighted(C):
     for kind, items, key in (
         ("vv", C.vv_collisions, lambda c: tuple(sorted((c.vertex0_id, c.vertex1_id)))),
         ("ev", C.ev_collisions, lambda c: (c.edge_id, c.vertex_id)),
+        ("ee", C.ee_collisions, lambda c: tuple(sorted((c.edge0_id, c.edge1_id)))),
         ("fv", C.fv_collisions, lambda c: (c.face_id, c.vertex_id)),
     ):
         out += [(kind, key(c), c.weight) for c in items]
-    if C.ee_collisions and hasattr(C.ee_collisions[0], "dtype"):  # ipctk's
-        out += [("ee", ids, w) for ids, w in merged_ee(C)]
-    else:
-        out += [("ee", tuple(sorted((c.edge0_id, c.edge1_id))), c.weight) for c in C.ee_collisions]
     return sorted(out)
 
 
@@ -365,6 +366,8 @@ def both(ipctk, rest, y, E, F, dhat, area, set_type, mu_s=0.5, mu_k=0.5, eps_v=1
         C.use_area_weighting = area
         C.collision_set_type = getattr(mod.NormalCollisions.CollisionSetType, set_type)
         C.build(mesh, y, dhat)
+        if mod is ipctk:
+            merge_ipctk_ee(C)
         B = mod.BarrierPotential(dhat, 10.0)
         T = mod.TangentialCollisions()
         T.build(mesh, y, C, B, mu_s, mu_k)

@@ -20,6 +20,10 @@ What differs:
   CCD (``narrow_phase_ccd=`` is ignored too): see :func:`topoccd.collision_free_stepsize`.
 - Triangles may change between calls: build the next :class:`CollisionMesh` (it is cheap) and
   keep the same :class:`NormalCollisions` and potentials; nothing else is rebuilt.
+- ``IMPROVED_MAX_APPROX``: an edge-edge collision and a correction of the same features are
+  merged, whichever order they name the edges in. ipctk merges them only when its broad
+  phase met the edges in the same order; otherwise it keeps both, whose barriers cancel but
+  whose PSD-projected Hessians (projected one collision at a time) do not.
 - 3D only; no ``displacement_map``; the ``OGC`` collision set, shape derivatives, adhesion,
   anisotropic friction and a custom ``blend_mu`` are not offered (``NotImplementedError``). The area weights are the barycentric ones computed from the rest
   positions: setting ``vertex_areas`` / ``edge_areas`` does not change them.

@@ -40,17 +40,38 @@ impl CollisionOptions {
 
 mod improved;
 
-/// An edge-edge collision's key, as ipctk compares them: the two edge ids in either order
-/// and the type.
+/// An edge-edge collision's key: the lower edge id, the higher, and the type with the lower
+/// edge as edge a and each edge in the mesh's orientation (`IpcMesh::edges`), so that two
+/// collisions of the same features merge whatever order they name them in.
 type EeKey = (u32, u32, EdgeEdgeType);
 
-/// An edge-edge collision being merged: its edges' vertices in the orientation of the first
-/// one added (which the type refers to), the weight so far and the mollifier threshold.
+/// An edge-edge collision being merged: its edges' vertices and type as the first one added
+/// named them, the weight so far and the mollifier threshold.
 struct EeEntry {
     a: [u32; 2],
     b: [u32; 2],
+    kind: EdgeEdgeType,
     weight: f64,
     eps_x: f64,
+}
+
+/// `ty` with edge a's endpoints exchanged: swap the edges, exchange b's, swap back.
+fn flip_a(ty: EdgeEdgeType) -> EdgeEdgeType {
+    flip_b(ty.swapped()).swapped()
+}
+
+/// `ty` with edge b's endpoints exchanged.
+fn flip_b(ty: EdgeEdgeType) -> EdgeEdgeType {
+    use EdgeEdgeType::*;
+    match ty {
+        Ea0Eb0 => Ea0Eb1,
+        Ea0Eb1 => Ea0Eb0,
+        Ea1Eb0 => Ea1Eb1,
+        Ea1Eb1 => Ea1Eb0,
+        EaEb0 => EaEb1,
+        EaEb1 => EaEb0,
+        other => other,
+    }
 }
 
 /// The weights being merged, by kind and features.
@@ -72,14 +93,36 @@ impl Builder {
     }
 
     /// Adds to the edge-edge collision of edges `ea` (vertices `a`) and `eb` (`b`) of type
-    /// `ty`; an existing one with the same edges (either order) and type takes the weight.
+    /// `ty` (of `a` and `b` in this order); an existing one of the same features takes the
+    /// weight, whichever order and orientation it names them in.
     #[allow(clippy::too_many_arguments)]
-    fn add_ee(&mut self, ea: u32, eb: u32, a: [u32; 2], b: [u32; 2], ty: EdgeEdgeType, eps_x: f64, w: f64) {
+    fn add_ee(
+        &mut self,
+        mesh: &IpcMesh,
+        ea: u32,
+        eb: u32,
+        a: [u32; 2],
+        b: [u32; 2],
+        ty: EdgeEdgeType,
+        eps_x: f64,
+        w: f64,
+    ) {
+        let mut key = ty;
+        if a != mesh.edges[ea as usize] {
+            key = flip_a(key);
+        }
+        if b != mesh.edges[eb as usize] {
+            key = flip_b(key);
+        }
+        if ea > eb {
+            key = key.swapped();
+        }
         self.ee
-            .entry((ea.min(eb), ea.max(eb), ty))
+            .entry((ea.min(eb), ea.max(eb), key))
             .or_insert(EeEntry {
                 a,
                 b,
+                kind: ty,
                 weight: 0.0,
                 eps_x,
             })
@@ -193,7 +236,7 @@ impl NormalCollisions {
             };
             use EdgeEdgeType::*;
             if cross < eps_x {
-                b.add_ee(ea, eb, p.a, p.b, ty, eps_x, w);
+                b.add_ee(&mesh, ea, eb, p.a, p.b, ty, eps_x, w);
                 continue;
             }
             match ty {
@@ -205,7 +248,7 @@ impl NormalCollisions {
                 EaEb1 => b.add_ev(ea, b1, w),
                 Ea0Eb => b.add_ev(eb, a0, w),
                 Ea1Eb => b.add_ev(eb, a1, w),
-                EaEb => b.add_ee(ea, eb, p.a, p.b, ty, eps_x, w),
+                EaEb => b.add_ee(&mesh, ea, eb, p.a, p.b, ty, eps_x, w),
             }
         }
         // Vertex against face.
@@ -361,12 +404,12 @@ fn finish(b: Builder, mesh: IpcMesh, options: &CollisionOptions) -> NormalCollis
     let mut ee: Vec<EeCollision> =
         b.ee.into_iter()
             .filter(|(_, e)| e.weight != 0.0)
-            .map(|((_, _, kind), e)| EeCollision {
+            .map(|(_, e)| EeCollision {
                 edge_ids: [mesh.edge(e.a[0], e.a[1]), mesh.edge(e.b[0], e.b[1])],
                 a: e.a,
                 b: e.b,
                 eps_x: e.eps_x,
-                kind,
+                kind: e.kind,
                 weight: e.weight,
             })
             .collect();

@@ -175,7 +175,7 @@ pub(super) fn add_corrections(
                 (PointEdgeType::Interior, true) => EaEb0,
                 (PointEdgeType::Interior, false) => EaEb1,
             };
-            b.add_ee(ea, eb, a, bb, ee_ty, eps_x, w);
+            b.add_ee(mesh, ea, eb, a, bb, ee_ty, eps_x, w);
         }
         if unmollified != 1 {
             b.add_point_edge(ea, a, p, ty, (unmollified as f64 - 1.0) * w);
