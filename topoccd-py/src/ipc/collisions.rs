@@ -17,9 +17,8 @@ pub struct Collision {
     pub eps_x: f64,
 }
 
-/// The mesh as the build reads it.
+/// The mesh's edges, as the candidates name them.
 pub struct MeshView<'a> {
-    pub rest: &'a [f64],
     pub edges: &'a [[u32; 2]],
 }
 
@@ -61,45 +60,52 @@ pub fn candidate_ids(mesh: &MeshView<'_>, report: &ProximityReport) -> [Vec<[u32
     [vv, ev, ee, fv]
 }
 
-/// The library's collisions with the mesh's own edge ids (ipctk's ids index the mesh's
-/// `edges`) and each edge's vertices in the mesh's order.
-pub fn from_core(
-    mesh: &MeshView<'_>,
-    core: &topoccd::ipc::NormalCollisions,
-) -> Result<Collisions, MissingEdge> {
-    let edge_of: HashMap<(u32, u32), u32> = (mesh.edges.iter().enumerate())
+/// The mesh's edge id of each of the library's edges (`u32::MAX` for one the mesh does not
+/// list).
+pub fn edge_map(mesh_edges: &[[u32; 2]], core_edges: &[[u32; 2]]) -> Vec<u32> {
+    let edge_of: HashMap<(u32, u32), u32> = (mesh_edges.iter().enumerate())
         .map(|(i, e)| ((e[0].min(e[1]), e[0].max(e[1])), i as u32))
         .collect();
-    let find = |e: [u32; 2]| {
-        edge_of
-            .get(&(e[0].min(e[1]), e[0].max(e[1])))
-            .copied()
-            .ok_or(MissingEdge(e))
+    (core_edges.iter())
+        .map(|e| {
+            let key = (e[0].min(e[1]), e[0].max(e[1]));
+            edge_of.get(&key).copied().unwrap_or(u32::MAX)
+        })
+        .collect()
+}
+
+/// The library's collisions with the mesh's own edge ids (ipctk's ids index the mesh's
+/// `edges`), through `edge_map` (of [`edge_map`]).
+pub fn from_core(
+    core: &topoccd::ipc::NormalCollisions,
+    edge_map: Vec<u32>,
+    num_vertices: usize,
+) -> Result<Collisions, MissingEdge> {
+    let find = |id: u32| match edge_map[id as usize] {
+        u32::MAX => Err(MissingEdge(core.edges[id as usize])),
+        e => Ok(e),
     };
     let mut items = Vec::with_capacity(core.len());
     for c in &core.vv {
-        let [a, b] = c.vertices;
         items.push(Collision {
             kind: 0,
-            ids: [a, b],
+            ids: c.vertices,
             weight: c.weight,
             eps_x: 0.0,
         });
     }
     for c in &core.ev {
-        let e = find(c.edge)?;
         items.push(Collision {
             kind: 1,
-            ids: [e, c.vertex],
+            ids: [find(c.edge_id)?, c.vertex],
             weight: c.weight,
             eps_x: 0.0,
         });
     }
     for c in &core.ee {
-        let (ia, ib) = (find(c.a)?, find(c.b)?);
         items.push(Collision {
             kind: 2,
-            ids: [ia, ib],
+            ids: [find(c.edge_ids[0])?, find(c.edge_ids[1])?],
             weight: c.weight,
             eps_x: c.eps_x,
         });
@@ -113,14 +119,11 @@ pub fn from_core(
         });
     }
     let counts = [core.vv.len(), core.ev.len(), core.ee.len(), core.fv.len()];
-    let edge_map = (core.edges.iter())
-        .map(|&e| find(e).unwrap_or(u32::MAX))
-        .collect();
     Ok(Collisions {
         items,
         counts,
         dmin: core.dmin,
-        num_vertices: mesh.rest.len() / 3,
+        num_vertices,
         edge_map,
     })
 }

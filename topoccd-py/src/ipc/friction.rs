@@ -59,11 +59,9 @@ impl IpcTangentialCollisions {
                 mu_k: mu_k[0],
             },
             (a, b) if a == n && b == n => FrictionCoefficients::PerVertex { mu_s, mu_k },
-            (a, b) => {
-                return Err(input_error(format!(
-                    "mu_s and mu_k must be scalars or have one entry per vertex ({n}), got {a} and {b}"
-                )))
-            }
+            (a, b) => return Err(input_error(format!(
+                "mu_s and mu_k must be scalars or have one entry per vertex ({n}), got {a} and {b}"
+            ))),
         };
         let (normal, barrier, x3) = (&collisions.core, potential.core, x.as_chunks::<3>().0);
         let core = py
@@ -148,7 +146,8 @@ impl IpcTangentialCollisions {
     /// The friction potential at the velocities `u`.
     fn energy(&self, py: Python<'_>, u: PyReadonlyArray2<'_, f64>, eps_v: f64) -> PyResult<f64> {
         let (u, d) = (self.input(&u)?, potential(eps_v)?);
-        py.detach(|| d.energy(&self.core, u)).map_err(friction_error)
+        py.detach(|| d.energy(&self.core, u))
+            .map_err(friction_error)
     }
 
     /// Its gradient, `3 n` entries.

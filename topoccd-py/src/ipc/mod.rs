@@ -55,9 +55,6 @@ fn rows<const N: usize>(
 /// A Hessian's CSR arrays `(data, indices, indptr)` as numpy arrays.
 pub(crate) type CsrArrays = (Py<PyArray1<f64>>, Py<PyArray1<i32>>, Py<PyArray1<i32>>);
 
-/// The raw pairs of a build by kind.
-type PairIds = [Vec<[u32; 2]>; 4];
-
 /// The library's sparse matrix as numpy CSR arrays (int32 indices, as scipy's).
 pub(crate) fn csr_arrays(py: Python<'_>, m: &SparseMatrix) -> CsrArrays {
     let (indptr, indices, data) = m.csr();
@@ -75,8 +72,12 @@ pub struct IpcCollisions {
     pub(crate) core: topoccd::ipc::NormalCollisions,
     /// The same collisions with the mesh's edge ids, for the ids, weights and friction.
     pub(crate) set: Collisions,
-    /// The raw pairs of the last build, by kind, as ipctk's candidates name them.
-    candidates: PairIds,
+    /// The proximity pairs of the last build and the mesh's edges, for the candidates.
+    report: ProximityReport,
+    edges: Vec<[u32; 2]>,
+    /// The library's edges of the last build and their mesh ids: reused while the edges
+    /// stay the same.
+    edge_cache: (Vec<[u32; 2]>, Vec<u32>),
 }
 
 #[pymethods]
@@ -86,7 +87,9 @@ impl IpcCollisions {
         Self {
             core: topoccd::ipc::NormalCollisions::default(),
             set: Collisions::default(),
-            candidates: Default::default(),
+            report: ProximityReport::default(),
+            edges: Vec::new(),
+            edge_cache: Default::default(),
         }
     }
 
@@ -138,10 +141,6 @@ impl IpcCollisions {
             )
         })?;
         let inner = &mut this.inner;
-        let mesh = MeshView {
-            rest,
-            edges: &edges,
-        };
         let rest3 = rest.as_chunks::<3>().0;
         let copts = CollisionOptions {
             dhat,
@@ -154,25 +153,39 @@ impl IpcCollisions {
             },
             ..Default::default()
         };
-        let (core, set, cands) = py
-            .detach(|| -> Result<(topoccd::ipc::NormalCollisions, Collisions, PairIds), String> {
-                let report: ProximityReport =
-                    inner.proximity(&config, &options).map_err(|e| e.to_string())?;
-                let core = topoccd::ipc::NormalCollisions::from_proximity(&config, &report, rest3, &copts)
-                    .map_err(|e| e.to_string())?;
-                let set = collisions::from_core(&mesh, &core).map_err(|e| {
-                    format!(
-                        "edges lacks the edge ({}, {}) of a pair: pass every edge of the faces and the free edges",
-                        e.0[0], e.0[1]
+        let cache = std::mem::take(&mut self.edge_cache);
+        let same_edges = self.edges == edges;
+        let (core, set, report) = py
+            .detach(
+                || -> Result<(topoccd::ipc::NormalCollisions, Collisions, ProximityReport), String> {
+                    let report: ProximityReport =
+                        inner.proximity(&config, &options).map_err(|e| e.to_string())?;
+                    let core = topoccd::ipc::NormalCollisions::from_proximity(
+                        &config, &report, rest3, &copts,
                     )
-                })?;
-                let cands = collisions::candidate_ids(&mesh, &report);
-                Ok((core, set, cands))
-            })
+                    .map_err(|e| e.to_string())?;
+                    let map = if same_edges && cache.0 == core.edges {
+                        cache.1
+                    } else {
+                        collisions::edge_map(&edges, &core.edges)
+                    };
+                    let set = collisions::from_core(&core, map, n).map_err(|e| {
+                        format!(
+                            "edges lacks the edge ({}, {}) of a pair: pass every edge of the faces and the free edges",
+                            e.0[0], e.0[1]
+                        )
+                    })?;
+                    Ok((core, set, report))
+                },
+            )
             .map_err(input_error)?;
+        self.edge_cache = (core.edges.clone(), set.edge_map.clone());
         self.core = core;
         self.set = set;
-        self.candidates = cands;
+        self.report = report;
+        if !same_edges {
+            self.edges = edges;
+        }
         Ok(())
     }
 
@@ -191,7 +204,9 @@ impl IpcCollisions {
 
     /// The raw pairs of the last build of one kind, as candidates.
     fn candidates(&self, py: Python<'_>, kind: &str) -> PyResult<Py<numpy::PyArray2<i64>>> {
-        let c = &self.candidates[kind_code(kind)?];
+        let mesh = MeshView { edges: &self.edges };
+        let all = collisions::candidate_ids(&mesh, &self.report);
+        let c = &all[kind_code(kind)?];
         array2(
             py,
             c.len(),
@@ -284,7 +299,9 @@ fn positive(name: &str, v: f64) -> PyResult<f64> {
     if v.is_finite() && v > 0.0 {
         Ok(v)
     } else {
-        Err(options_error(format!("{name} must be finite and > 0, got {v}")))
+        Err(options_error(format!(
+            "{name} must be finite and > 0, got {v}"
+        )))
     }
 }
 
@@ -299,7 +316,8 @@ pub struct IpcBarrierPotential {
 impl IpcBarrierPotential {
     #[new]
     fn new(dhat: f64, stiffness: f64, use_physical_barrier: bool) -> PyResult<Self> {
-        let mut core = BarrierPotential::new(positive("dhat", dhat)?, positive("stiffness", stiffness)?);
+        let mut core =
+            BarrierPotential::new(positive("dhat", dhat)?, positive("stiffness", stiffness)?);
         core.use_physical_barrier = use_physical_barrier;
         Ok(Self { core })
     }

@@ -100,8 +100,20 @@ pub(super) fn add_corrections(
     let active = |d2: f64| d2 < r * r;
     let aw = options.use_area_weighting;
     // A vertex's or an edge's weight: `share` of its rest area, or 1 without area weighting.
-    let va = |v: u32, share: f64| if aw { share * mesh.vertex_area[v as usize] } else { 1.0 };
-    let ea_weight = |e: u32| if aw { 0.25 * mesh.edge_area[e as usize] } else { 1.0 };
+    let va = |v: u32, share: f64| {
+        if aw {
+            share * mesh.vertex_area[v as usize]
+        } else {
+            1.0
+        }
+    };
+    let ea_weight = |e: u32| {
+        if aw {
+            0.25 * mesh.edge_area[e as usize]
+        } else {
+            1.0
+        }
+    };
     let pe_sq = |v: u32, e: [u32; 2]| {
         let (p, e0, e1) = (x[v as usize], x[e[0] as usize], x[e[1] as usize]);
         point_edge_sq(p, e0, e1, point_edge_type(p, e0, e1))
