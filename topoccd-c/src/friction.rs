@@ -12,7 +12,8 @@ use crate::handle::{self, Kind};
 use crate::ipc::{
     self, positions, topoccd_barrier_potential, topoccd_collisions, CollisionsObject,
 };
-use crate::sparse::{self, topoccd_sparse};
+use crate::outputs;
+use crate::sparse::topoccd_sparse;
 use crate::status::{guard, topoccd_status, Failure};
 
 /// One tangential collision (ipctk's `TangentialCollision`), from the lagged positions.
@@ -98,9 +99,7 @@ pub unsafe extern "C" fn topoccd_tangential_collisions_build(
     tangential: *mut *mut topoccd_tangential_collisions,
     error: *mut *mut topoccd_error,
 ) -> topoccd_status {
-    if !tangential.is_null() {
-        *tangential = std::ptr::null_mut();
-    }
+    outputs::clear(tangential);
     let result = guard(|| {
         let b = ipc::potential(barrier)?;
         let c = handle::get::<CollisionsObject, _>(collisions, "collisions")?;
@@ -228,11 +227,7 @@ pub unsafe extern "C" fn topoccd_friction_energy(
 ) -> topoccd_status {
     let result = guard(|| {
         let (p, t, v) = inputs(eps_v, tangential, v, vertex_count)?;
-        if energy.is_null() {
-            return Err(Failure::null("energy"));
-        }
-        *energy = p.energy(&t.set, v).map_err(friction_failure)?;
-        Ok(())
+        outputs::energy(energy, || p.energy(&t.set, v).map_err(friction_failure))
     });
     deliver(result, error)
 }
@@ -254,9 +249,9 @@ pub unsafe extern "C" fn topoccd_friction_gradient(
 ) -> topoccd_status {
     let result = guard(|| {
         let (p, t, v) = inputs(eps_v, tangential, v, vertex_count)?;
-        let out = sparse::output(gradient, gradient_len, 3 * vertex_count, "gradient")?;
-        out.copy_from_slice(&p.gradient(&t.set, v).map_err(friction_failure)?);
-        Ok(())
+        outputs::gradient(gradient, gradient_len, vertex_count, || {
+            p.gradient(&t.set, v).map_err(friction_failure)
+        })
     });
     deliver(result, error)
 }
@@ -278,18 +273,12 @@ pub unsafe extern "C" fn topoccd_friction_hessian(
     hessian: *mut *mut topoccd_sparse,
     error: *mut *mut topoccd_error,
 ) -> topoccd_status {
-    if !hessian.is_null() {
-        *hessian = std::ptr::null_mut();
-    }
+    outputs::clear(hessian);
     let result = guard(|| {
         let (p, t, v) = inputs(eps_v, tangential, v, vertex_count)?;
-        let method = ipc::projection(projection)?;
-        if hessian.is_null() {
-            return Err(Failure::null("hessian"));
-        }
-        let m = p.hessian(&t.set, v, method).map_err(friction_failure)?;
-        *hessian = sparse::into_raw(m);
-        Ok(())
+        outputs::hessian(hessian, projection, |m| {
+            p.hessian(&t.set, v, m).map_err(friction_failure)
+        })
     });
     deliver(result, error)
 }

@@ -14,8 +14,9 @@ use topoccd::ipc::{
 use crate::ccd::{topoccd_ccd, with_state};
 use crate::error::{deliver, topoccd_error};
 use crate::handle::{self, Kind};
+use crate::outputs;
 use crate::proximity::{configuration, failure, topoccd_configuration};
-use crate::sparse::{self, topoccd_sparse};
+use crate::sparse::topoccd_sparse;
 use crate::status::{chain, guard, topoccd_status, Failure};
 use crate::step::rows;
 
@@ -317,9 +318,7 @@ pub unsafe extern "C" fn topoccd_collisions_build(
     options: *const topoccd_collision_options,
     collisions: *mut *mut topoccd_collisions,
 ) -> topoccd_status {
-    if !collisions.is_null() {
-        *collisions = std::ptr::null_mut();
-    }
+    outputs::clear(collisions);
     with_state(ccd, |state| {
         if config.is_null() {
             return Err(Failure::null("config"));
@@ -558,11 +557,7 @@ pub unsafe extern "C" fn topoccd_barrier_energy(
 ) -> topoccd_status {
     let result = guard(|| {
         let (p, c, x) = inputs(potential, collisions, x, vertex_count)?;
-        if energy.is_null() {
-            return Err(Failure::null("energy"));
-        }
-        *energy = p.energy(&c.set, x);
-        Ok(())
+        outputs::energy(energy, || Ok(p.energy(&c.set, x)))
     });
     deliver(result, error)
 }
@@ -585,9 +580,9 @@ pub unsafe extern "C" fn topoccd_barrier_gradient(
 ) -> topoccd_status {
     let result = guard(|| {
         let (p, c, x) = inputs(potential, collisions, x, vertex_count)?;
-        let out = sparse::output(gradient, gradient_len, 3 * vertex_count, "gradient")?;
-        out.copy_from_slice(&p.gradient(&c.set, x));
-        Ok(())
+        outputs::gradient(gradient, gradient_len, vertex_count, || {
+            Ok(p.gradient(&c.set, x))
+        })
     });
     deliver(result, error)
 }
@@ -611,17 +606,10 @@ pub unsafe extern "C" fn topoccd_barrier_hessian(
     hessian: *mut *mut topoccd_sparse,
     error: *mut *mut topoccd_error,
 ) -> topoccd_status {
-    if !hessian.is_null() {
-        *hessian = std::ptr::null_mut();
-    }
+    outputs::clear(hessian);
     let result = guard(|| {
         let (p, c, x) = inputs(potential, collisions, x, vertex_count)?;
-        let method = self::projection(projection)?;
-        if hessian.is_null() {
-            return Err(Failure::null("hessian"));
-        }
-        *hessian = sparse::into_raw(p.hessian(&c.set, x, method));
-        Ok(())
+        outputs::hessian(hessian, projection, |m| Ok(p.hessian(&c.set, x, m)))
     });
     deliver(result, error)
 }

@@ -75,6 +75,7 @@ mod io;
 mod ipc;
 mod line_search;
 mod options;
+mod outputs;
 mod pair;
 mod proximity;
 mod report;

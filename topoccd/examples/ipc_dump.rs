@@ -7,10 +7,17 @@
 //! edges, k x 2) and `DIR/params.json` (`dhat`, `dmin`, `kappa`, `area_weighting`); writes
 //! `DIR/out.json` (the collisions, energy, minimum distance, timings), `DIR/grad.f64` and
 //! the Hessians `DIR/hess_{none,clamp,abs}.{indptr,indices}.u64` / `.data.f64`.
+//!
+//! With `DIR/vel.f64` (n x 3) and `mu`, `eps_v` and `friction_kappa` in `params.json`, also
+//! friction: the tangential collisions at `x` with the normal forces of the barrier of
+//! stiffness `friction_kappa`, and the friction potential of the velocities `vel`: its
+//! energy (in `out.json`), `DIR/friction_grad.f64` and the Hessians
+//! `DIR/friction_hess_{none,clamp}.*` in the barrier's layout.
 
 use std::path::Path;
 use std::time::Instant;
 
+use topoccd::ipc::friction::{FrictionCoefficients, FrictionPotential, TangentialCollisions};
 use topoccd::ipc::{BarrierPotential, CollisionOptions, NormalCollisions, PsdProjection};
 use topoccd::{Ccd, Configuration};
 
@@ -32,6 +39,17 @@ fn read_u32(p: &Path) -> Vec<u32> {
 
 fn write<T: Copy>(p: &Path, v: &[T], f: impl Fn(T) -> Vec<u8>) -> std::io::Result<()> {
     std::fs::write(p, v.iter().flat_map(|&t| f(t)).collect::<Vec<u8>>())
+}
+
+/// A CSR matrix as three raw files `{name}.indptr.u64`, `.indices.u64` and `.data.f64`.
+fn write_csr(dir: &Path, name: &str, h: &topoccd::ipc::SparseMatrix) -> std::io::Result<()> {
+    let (ip, ix, d) = h.csr();
+    let as_u64 = |v: usize| (v as u64).to_le_bytes().to_vec();
+    write(&dir.join(format!("{name}.indptr.u64")), ip, as_u64)?;
+    write(&dir.join(format!("{name}.indices.u64")), ix, as_u64)?;
+    write(&dir.join(format!("{name}.data.f64")), d, |v| {
+        v.to_le_bytes().to_vec()
+    })
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -91,19 +109,36 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ("abs", PsdProjection::Abs),
     ] {
         let h = b.hessian(&c, &x, m);
-        let (ip, ix, d) = h.csr();
-        write(&dir.join(format!("hess_{name}.indptr.u64")), ip, |v| {
-            (v as u64).to_le_bytes().to_vec()
-        })?;
-        write(&dir.join(format!("hess_{name}.indices.u64")), ix, |v| {
-            (v as u64).to_le_bytes().to_vec()
-        })?;
-        write(&dir.join(format!("hess_{name}.data.f64")), d, |v| {
-            v.to_le_bytes().to_vec()
-        })?;
+        write_csr(dir, &format!("hess_{name}"), &h)?;
         nnz.insert(name.into(), h.nnz().into());
     }
+    // Friction, when velocities are given.
+    let vel = rows3(read_f64(&dir.join("vel.f64")));
+    let mut friction = serde_json::Value::Null;
+    if !vel.is_empty() {
+        let barrier = BarrierPotential::new(options.dhat, get("friction_kappa"));
+        let mu = FrictionCoefficients::uniform(get("mu"));
+        let t = TangentialCollisions::build(&x, &c, &barrier, mu)?;
+        let d = FrictionPotential::new(get("eps_v"))?;
+        write(
+            &dir.join("friction_grad.f64"),
+            &d.gradient(&t, &vel)?,
+            |v| v.to_le_bytes().to_vec(),
+        )?;
+        for (name, m) in [
+            ("none", PsdProjection::None),
+            ("clamp", PsdProjection::Clamp),
+        ] {
+            write_csr(
+                dir,
+                &format!("friction_hess_{name}"),
+                &d.hessian(&t, &vel, m)?,
+            )?;
+        }
+        friction = serde_json::json!({ "energy": d.energy(&t, &vel)?, "collisions": t.len() });
+    }
     let out = serde_json::json!({
+        "friction": friction,
         "vv": c.vv.iter().map(|v| (v.vertices, v.weight)).collect::<Vec<_>>(),
         "ev": c.ev.iter().map(|v| (v.edge, v.vertex, v.weight)).collect::<Vec<_>>(),
         "ee": c.ee.iter().map(|v| (v.a, v.b, v.kind as u8, v.eps_x, v.weight)).collect::<Vec<_>>(),
