@@ -6,7 +6,7 @@
 
 use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, PoisonError};
 
 use super::{BroadInput, Candidates, PairRunner, TaskPairs};
 use crate::bvh::{BvhWorkspace, ParOptions};
@@ -28,6 +28,35 @@ pub(crate) struct Passes<'r, 'a, 's> {
     pub task_chunk: usize,
     /// Candidates a sequential broad phase buffers before solving them in parallel.
     pub chunk: usize,
+    /// The tasks' candidate buffers, kept across steps.
+    pub buffers: &'r TaskBuffers,
+}
+
+/// The candidate buffers of the traversal's tasks, kept across steps (in the [`Ccd`](crate::Ccd)):
+/// a task takes one as it starts and gives it back, emptied, as it finishes, so the steady
+/// state allocates none. It holds as many as tasks ran at once (one per thread), each of at
+/// most about [`TASK_CHUNK`] candidates.
+#[derive(Debug, Default)]
+pub(crate) struct TaskBuffers(Mutex<Vec<Candidates>>);
+
+impl Clone for TaskBuffers {
+    /// None (scratch memory).
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+impl TaskBuffers {
+    fn take(&self) -> Candidates {
+        let mut pool = self.0.lock().unwrap_or_else(PoisonError::into_inner);
+        pool.pop().unwrap_or_default()
+    }
+
+    fn give(&self, mut buf: Candidates) {
+        buf.clear();
+        let mut pool = self.0.lock().unwrap_or_else(PoisonError::into_inner);
+        pool.push(buf);
+    }
 }
 
 /// Where a broad phase's passes put what they find.
@@ -81,9 +110,15 @@ struct Task {
 impl Task {
     /// A task that keeps at most `budget` contacts ([`Found::with_budget`]); it does nothing
     /// if the query has stopped.
-    fn new(ctx: &Context<'_, '_>, (limit, budget): (f64, usize), index: usize, record: bool) -> Self {
+    fn new(
+        ctx: &Context<'_, '_>,
+        (limit, budget): (f64, usize),
+        index: usize,
+        record: bool,
+        buf: Candidates,
+    ) -> Self {
         Self {
-            buf: Candidates::default(),
+            buf,
             found: Found::with_budget(ctx, budget, limit),
             limit,
             vf_tests: 0,
@@ -227,7 +262,7 @@ pub(crate) fn traverse_pass(
     let make = |index| {
         let limit = f64::from_bits(limit.load(Ordering::Acquire));
         let budget = budget.load(Ordering::Acquire);
-        Task::new(ctx, (limit, budget), index, record)
+        Task::new(ctx, (limit, budget), index, record, passes.buffers.take())
     };
     let pair = |task: &mut Task, a: u32, b: u32| {
         if !task.takes(ctx, progress) {
@@ -240,7 +275,7 @@ pub(crate) fn traverse_pass(
     };
     let finish = |task: &mut Task| {
         task.flush(ctx, progress);
-        task.buf = Candidates::default();
+        passes.buffers.give(std::mem::take(&mut task.buf));
     };
     let (mut consumed, mut early) = (0, false);
     let consume = |mut task: Task| {

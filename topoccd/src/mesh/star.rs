@@ -64,6 +64,58 @@ pub(crate) struct Stars {
     /// Condition 1 of every star (it depends on the topology only), for [`Stars::certify_all`]
     /// over the topology it was derived for.
     links: Links,
+    /// The triangles' normals of the step, kept for the next.
+    normals: Normals,
+}
+
+/// The control normals of every triangle over one step ([`TriangleNormals`]), computed once
+/// for the three stars it lies in, and what [`Stars::certify_all`] keeps of them for the next
+/// step: a simulator's step starts where the last one ended, so a triangle's normal at its
+/// start is the last step's at its end, the same floating-point vector when its three
+/// vertices' positions are the same (compared exactly). The certificate is then computed
+/// exactly as afresh, with one cross product of four per triangle.
+#[derive(Debug, Default)]
+struct Normals {
+    /// Per triangle, this step's.
+    tri: Vec<TriangleNormals>,
+    /// The last step's positions at t=1.
+    x1: Vec<DVec3>,
+    /// Whether `tri` and `x1` are those of the last query's [`Stars::certify_all`], over the
+    /// same triangles: set then, and passed on by [`Stars::reset`] to `usable`.
+    fresh: bool,
+    usable: bool,
+    /// Triangles whose normal at the start the last [`Stars::certify_all`] took from the
+    /// step before (for the tests).
+    reused: usize,
+}
+
+/// The Bernstein control normals of `n(t) = (a - v) x (b - v)` over the step for a triangle
+/// `(v, a, b)` (the same vector for each rotation of it, so computed from its first vertex),
+/// and the product `P Q` of its two edge vectors' largest coordinates over the step (the
+/// rounding bound's scale, [`NORMAL_ERROR`]).
+#[derive(Clone, Copy, Debug, Default)]
+struct TriangleNormals {
+    start: DVec3,
+    middle: DVec3,
+    end: DVec3,
+    size: f64,
+}
+
+impl TriangleNormals {
+    /// The normals of `tri` on the step's positions; with `start`, the one at t=0 as given
+    /// (the last step's at its end, over the same positions: bitwise what this computes).
+    #[inline]
+    fn new(tri: &[u32; 3], (x0, x1): (&[DVec3], &[DVec3]), start: Option<DVec3>) -> Self {
+        let [c, a, b] = tri.map(|v| v as usize);
+        let (p0, p1) = (x0[a] - x0[c], x1[a] - x1[c]);
+        let (q0, q1) = (x0[b] - x0[c], x1[b] - x1[c]);
+        Self {
+            start: start.unwrap_or_else(|| p0.cross(q0)),
+            middle: (p0.cross(q1) + p1.cross(q0)) * 0.5,
+            end: p1.cross(q1),
+            size: max_abs(p0).max(max_abs(p1)) * max_abs(q0).max(max_abs(q1)),
+        }
+    }
 }
 
 /// Condition 1 of every star of one topology ([`link`]), kept while the topology is: the
@@ -95,6 +147,7 @@ impl Stars {
     /// triangles and vertex count are those of the last reset's), the links too.
     pub fn reset(&mut self, n: usize, same_topology: bool) {
         self.links.valid &= same_topology;
+        self.normals.usable = std::mem::take(&mut self.normals.fresh) && same_topology;
         self.state.truncate(n);
         for s in &mut self.state {
             *s.get_mut() = UNKNOWN;
@@ -112,20 +165,62 @@ impl Stars {
         if !(self.links.valid && self.links.passes.len() == n) {
             self.links.derive(topo, step.triangles());
         }
-        let (links, state) = (&self.links, &self.state);
         let positions = (step.pos0(), step.pos1());
+        let tris = step.triangles();
+        let par = n >= PAR_LEN;
+        // Every triangle's normals once, the one at the start kept from the last step where
+        // the triangle starts where it ended.
+        let normals = &mut self.normals;
+        if !normals.usable {
+            normals.x1.clear();
+        }
+        normals.tri.resize(tris.len(), TriangleNormals::default());
+        let kept_x1 = &normals.x1[..];
+        let usable = normals.usable && normals.tri.len() == tris.len();
+        let same = |v: u32| kept_x1.get(v as usize) == Some(&positions.0[v as usize]);
+        let fit = |(tri, kept): (&[u32; 3], &mut TriangleNormals)| -> usize {
+            let again = usable && tri.iter().all(|&v| same(v));
+            *kept = TriangleNormals::new(tri, positions, again.then_some(kept.end));
+            usize::from(again)
+        };
+        normals.reused = if par {
+            tris.par_iter()
+                .zip(normals.tri.par_iter_mut())
+                .with_min_len(PAR_LEN / 4)
+                .map(fit)
+                .sum()
+        } else {
+            tris.iter().zip(normals.tri.iter_mut()).map(fit).sum()
+        };
+        let (links, state, tri) = (&self.links, &self.state, &normals.tri[..]);
         let offsets = &topo.vertex_offsets;
         let certify = |v: usize| {
             let (lo, hi) = (offsets[v] as usize, offsets[v + 1] as usize);
+            let fan = &topo.vertex_triangles[lo..hi];
             let c = links.passes[v]
-                && star_geometry(v as u32, &links.start[lo..hi], &links.next[lo..hi], positions);
+                && star_geometry(
+                    v as u32,
+                    (&links.start[lo..hi], &links.next[lo..hi]),
+                    |i| tri[fan[i] as usize],
+                    positions.0,
+                );
             state[v].store(if c { CERTIFIED } else { REFUSED }, Ordering::Relaxed);
         };
-        if n >= PAR_LEN {
+        if par {
             (0..n).into_par_iter().with_min_len(PAR_LEN / 4).for_each(certify);
         } else {
             (0..n).for_each(certify);
         }
+        normals.x1.clear();
+        normals.x1.extend_from_slice(positions.1);
+        normals.fresh = true;
+    }
+
+    /// How many triangles' normals at the start the last [`Stars::certify_all`] took from the
+    /// step before.
+    #[cfg(test)]
+    fn reused(&self) -> usize {
+        self.normals.reused
     }
 
     /// The view of `step` (topology `topo`) that tells which stars are certified, certifying
@@ -197,9 +292,15 @@ fn star_certified(
 ) -> bool {
     let mut start = [0u32; MAX_VALENCE];
     let mut next = [0u8; MAX_VALENCE];
-    let k = topo.triangles_of(v).len();
+    let fan = topo.triangles_of(v);
+    let k = fan.len();
     link(v, topo, tris, &mut start, &mut next)
-        && star_geometry(v, &start[..k], &next[..k], positions)
+        && star_geometry(
+            v,
+            (&start[..k], &next[..k]),
+            |i| TriangleNormals::new(&tris[fan[i] as usize], positions, None),
+            positions.0,
+        )
 }
 
 /// Condition 1 of the certificate, which depends on the topology only: writes the link edges'
@@ -238,40 +339,42 @@ fn link(v: u32, topo: &Topology, tris: &[[u32; 3]], start: &mut [u32], next: &mu
 }
 
 /// Conditions 2 and 3 of the certificate for the star of `v` whose link passed condition 1
-/// ([`link`]), on the step's positions.
-fn star_geometry(v: u32, start: &[u32], next: &[u8], (x0, x1): (&[DVec3], &[DVec3])) -> bool {
+/// ([`link`], its edges' `start` and `next`), on the step's positions: `normals(i)` are those
+/// of the star's `i`-th triangle ([`TriangleNormals`]), `x0` the positions at t=0.
+fn star_geometry(
+    v: u32,
+    (start, next): (&[u32], &[u8]),
+    normals: impl Fn(usize) -> TriangleNormals,
+    x0: &[DVec3],
+) -> bool {
     let k = start.len();
     let next = |i: usize| next[i] as usize;
-    // The arms from v to the link vertices, at t=0 and t=1.
-    let (c0, c1) = (x0[v as usize], x1[v as usize]);
-    let mut arm0 = [DVec3::ZERO; MAX_VALENCE];
-    let mut arm1 = [DVec3::ZERO; MAX_VALENCE];
-    let mut size = [0.0; MAX_VALENCE];
+    // (Each triangle's normals asked for twice rather than copied: an index into the step's
+    // normals, or a fresh computation for a star asked about alone.)
     let mut direction = DVec3::ZERO;
     for i in 0..k {
-        let a = start[i] as usize;
-        arm0[i] = x0[a] - c0;
-        arm1[i] = x1[a] - c1;
-        size[i] = max_abs(arm0[i]).max(max_abs(arm1[i]));
-    }
-    for i in 0..k {
-        let j = next(i);
-        direction += arm0[i].cross(arm0[j]) + arm1[i].cross(arm1[j]);
+        let n = normals(i);
+        direction += n.start + n.end;
     }
     // 2. n(t)·V > 0 on [0, 1] for every triangle (v, a, b), n = (a - v) x (b - v): its control
     // coefficients exceed their rounding bound.
     let v1 = direction.abs().element_sum();
     let scale = NORMAL_ERROR * UNIT_ROUNDOFF * v1;
     for i in 0..k {
-        let j = next(i);
-        let (p0, p1, q0, q1) = (arm0[i], arm1[i], arm0[j], arm1[j]);
-        let error = scale * size[i] * size[j] + UNDERFLOW_ERROR;
-        let b0 = direction.dot(p0.cross(q0));
-        let b1 = direction.dot((p0.cross(q1) + p1.cross(q0)) * 0.5);
-        let b2 = direction.dot(p1.cross(q1));
+        let n = normals(i);
+        let error = scale * n.size + UNDERFLOW_ERROR;
+        let b0 = direction.dot(n.start);
+        let b1 = direction.dot(n.middle);
+        let b2 = direction.dot(n.end);
         if !(b0 > error && b1 > error && b2 > error) {
             return false;
         }
+    }
+    // The arms from v to the link vertices at t=0.
+    let c0 = x0[v as usize];
+    let mut arm0 = [DVec3::ZERO; MAX_VALENCE];
+    for i in 0..k {
+        arm0[i] = x0[start[i] as usize] - c0;
     }
     // 3. Winding number one at t=0: the angles' bounds, in units of pi / 6, add up to less
     // than 4 pi. (Several cycles would each wind at least once.) Each angle is at most pi / 2
@@ -443,5 +546,122 @@ mod tests {
             }
         }
         assert!(stars > 300 && checked > 10_000, "{stars} stars, {checked} pairs");
+    }
+
+    /// A grid of `n x n` vertices in the plane z = 0, two triangles per cell.
+    fn grid(n: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        let x = (0..n * n)
+            .map(|i| DVec3::new(f64::from(i % n), f64::from(i / n), 0.0))
+            .collect();
+        let mut tris = Vec::new();
+        for j in 0..n - 1 {
+            for i in 0..n - 1 {
+                let a = j * n + i;
+                tris.push([a, a + 1, a + n + 1]);
+                tris.push([a, a + n + 1, a + n]);
+            }
+        }
+        (x, tris)
+    }
+
+    /// Over seeded random deformations that chain (each step starts where the last ended), with
+    /// jumps, topology changes and folds: [`Stars::certify_all`] with the normals kept from the
+    /// step before certifies exactly the stars a fresh `Stars` does, and every certified star
+    /// has no pair of features sharing no vertex in contact (the elementary tests, brute force
+    /// over the star).
+    #[test]
+    fn kept_normals_certify_as_afresh_and_soundly_over_random_deformations() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let options = NarrowOptions::default();
+        let arrays = |x: &[DVec3]| x.iter().map(|p| p.to_array()).collect::<Vec<_>>();
+        let (mut reused, mut checked) = (0, 0);
+        for _ in 0..40 {
+            let (mut x, mut tris) = grid(7);
+            let mut stars = Stars::default();
+            let mut same = false;
+            let amplitude = rng.random_range(0.05..0.6);
+            for _ in 0..8 {
+                // A step of random size; sometimes a jump (the start moved), a topology change
+                // (one triangle flipped or removed) or a fold of one vertex.
+                let mut x0 = x.clone();
+                if rng.random_bool(0.15) {
+                    let v = rng.random_range(0..x0.len());
+                    x0[v] += DVec3::new(0.0, 0.0, 1e-9);
+                }
+                if rng.random_bool(0.2) {
+                    let t = rng.random_range(0..tris.len());
+                    if rng.random_bool(0.5) {
+                        tris[t].swap(1, 2);
+                    } else {
+                        tris.remove(t);
+                    }
+                    same = false;
+                }
+                let mut x1: Vec<DVec3> = x0
+                    .iter()
+                    .map(|p| {
+                        *p + amplitude
+                            * DVec3::new(
+                                rng.random_range(-0.2..0.2),
+                                rng.random_range(-0.2..0.2),
+                                rng.random_range(-1.0..1.0),
+                            )
+                    })
+                    .collect();
+                if rng.random_bool(0.2) {
+                    let v = rng.random_range(0..x1.len());
+                    x1[v].z -= 3.0 * x1[v].z.signum() + 1.0;
+                }
+                let step = Step::new(arrays(&x0), arrays(&x1), &tris).expect("a valid step");
+                let topo = Topology::new(&tris, x0.len());
+                stars.reset(x0.len(), same);
+                stars.certify_all(&step, &topo);
+                reused += stars.reused();
+                let mut fresh = Stars::default();
+                fresh.reset(x0.len(), false);
+                fresh.certify_all(&step, &topo);
+                let (kept, new) = (stars.view(&step, &topo), fresh.view(&step, &topo));
+                let points = |ids: [u32; 4]| -> [DVec3; 8] {
+                    std::array::from_fn(|i| {
+                        let x = if i < 4 { &x0 } else { &x1 };
+                        x[ids[i % 4] as usize]
+                    })
+                };
+                for v in 0..x0.len() as u32 {
+                    assert_eq!(new.certified(v), kept.certified(v), "vertex {v}");
+                    if !kept.certified(v) {
+                        continue;
+                    }
+                    let fan: Vec<[u32; 3]> =
+                        topo.triangles_of(v).iter().map(|&t| tris[t as usize]).collect();
+                    let mut edges: Vec<[u32; 2]> = fan
+                        .iter()
+                        .flat_map(|t| (0..3).map(move |i| [t[i].min(t[(i + 1) % 3]), t[i].max(t[(i + 1) % 3])]))
+                        .collect();
+                    edges.sort_unstable();
+                    edges.dedup();
+                    let mut vertices: Vec<u32> = fan.iter().flatten().copied().collect();
+                    vertices.sort_unstable();
+                    vertices.dedup();
+                    for tri in &fan {
+                        for &u in vertices.iter().filter(|u| !tri.contains(u)) {
+                            checked += 1;
+                            let q = VertexFace::from_points(points([u, tri[0], tri[1], tri[2]]));
+                            assert!(!vertex_face(&q, &options).is_contact(), "{q:?}");
+                        }
+                    }
+                    for (i, e) in edges.iter().enumerate() {
+                        for f in edges[i + 1..].iter().filter(|f| !e.iter().any(|u| f.contains(u))) {
+                            checked += 1;
+                            let q = EdgeEdge::from_points(points([e[0], e[1], f[0], f[1]]));
+                            assert!(!edge_edge(&q, &options).is_contact(), "{q:?}");
+                        }
+                    }
+                }
+                x = x1;
+                same = true;
+            }
+        }
+        assert!(reused > 10_000 && checked > 100_000, "{reused} reused, {checked} pairs");
     }
 }

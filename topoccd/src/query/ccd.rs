@@ -12,7 +12,7 @@ use super::{Method, OptionsError, QueryOptions};
 use crate::broad::brute::Brute;
 use crate::broad::bvh::BvhPhase;
 use crate::broad::cluster::phase::ClusterPhase;
-use crate::broad::tasks::{Out, Passes, Totals, TASK_CHUNK};
+use crate::broad::tasks::{Out, Passes, TaskBuffers, Totals, TASK_CHUNK};
 use crate::broad::codim::combined_edges;
 use crate::broad::{self, BroadInput, BroadPhase, BroadStats, Candidates, CHUNK};
 use crate::contact::report::split_points;
@@ -55,6 +55,8 @@ pub struct Ccd {
     cancel: CancelToken,
     /// With free edges or points: the driver's edges (`broad::codim::combined_edges`).
     codim_edges: Vec<[u32; 2]>,
+    /// The traversal tasks' candidate buffers, kept across steps.
+    task_buffers: TaskBuffers,
     /// The proximity query's primitives and hierarchy ([`Ccd::proximity`]).
     pub(crate) proximity: crate::proximity::State,
 }
@@ -248,6 +250,7 @@ impl Ccd {
             record: self.record,
             task_chunk: if self.limits.0 == 0 { TASK_CHUNK } else { self.limits.0 },
             chunk: if self.limits.1 == 0 { CHUNK } else { self.limits.1 },
+            buffers: &self.task_buffers,
         };
         let out = Out {
             found: &mut found,
