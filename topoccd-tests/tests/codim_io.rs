@@ -132,6 +132,9 @@ fn codimensional_scenes_agree_across_methods() {
             CodimScene::FunnelParticles => {
                 assert!(kinds[0] > 0, "particles hit the funnel: {kinds:?}")
             }
+            CodimScene::RodRain => {
+                assert!(kinds.iter().all(|&n| n > 0), "every kind: {kinds:?}")
+            }
         }
     }
 }
