@@ -31,6 +31,13 @@ other work, where wall time measures the load as much as the tools).
     per phase and in all, with the ratio ipctk / topoccd. ipctk's step size uses its LBVH
     broad phase and Tight-Inclusion CCD (tolerance 1e-6), as ipctk_step.py does; topoccd's
     `collision_free_stepsize` its defaults; both with conservative rescaling 0.8.
+(e) Issue 49's loop: the inner loop of (c) with the contact potentials, written once against
+    ipctk's Python API and run on ipctk and on topoccd.ipc (the module is the only
+    difference): per iteration NormalCollisions.build, the barrier's energy, gradient and
+    PSD-projected Hessian, the friction potential's (tangential collisions lagged at x0,
+    mu_s = 0.5, mu_k = 0.3, on x - x0), and compute_collision_free_stepsize with its defaults;
+    CPU time (time.process_time), one thread, the two alternating rep by rep; prints the
+    ratio ipctk / topoccd.ipc, the phases, and the energies of both (they must agree).
 (d) topoccd's inner loop in detail: per iteration, proximity as Python times it and as the
     library reports it (the difference: converting the input and the output), the step size,
     and the fixed cost of a call on a one-triangle mesh.
@@ -318,13 +325,91 @@ def inner_loop(name, x0, x1, tris, free_edges, dhat, mesh, reps, iters):
     return (ip + isz) / (op + osz)
 
 
+def potential_loop(mod, x0, x1, tris, free_edges, dhat, iters):
+    """(e) The inner loop written against ipctk's API, for `mod` = ipctk or topoccd.ipc:
+    CPU seconds per phase, the step sizes and the energies."""
+    faces = tris.astype(np.int32)
+    edges = mod.edges(faces) if len(tris) else np.zeros((0, 2), np.int32)
+    if len(free_edges):
+        edges = np.vstack([edges, free_edges.astype(np.int32)])
+    # Each library's own layout (ipctk's Eigen matrices are column-major; topoccd's rows), so
+    # neither pays a copy per call.
+    layout = np.asfortranarray if mod is ipctk else np.ascontiguousarray
+    x0f, x1f = layout(x0), layout(x1)
+    clock = time.process_time
+    t = {"build": 0.0, "barrier": 0.0, "friction": 0.0, "step": 0.0}
+    t0 = clock()
+    mesh = mod.CollisionMesh(x0f, layout(edges), layout(faces))
+    B = mod.BarrierPotential(dhat, 1.0)
+    C = mod.NormalCollisions()
+    C.build(mesh, x0f, dhat)
+    T = mod.TangentialCollisions()
+    T.build(mesh, x0f, C, B, 0.5, 0.3)
+    D = mod.FrictionPotential(1e-3 * dhat)
+    t["build"] += clock() - t0
+    psd = mod.PSDProjectionMethod.CLAMP
+    x = layout(x0f.copy())
+    alphas, energies = [], []
+    for _ in range(iters):
+        s = clock()
+        C.build(mesh, x, dhat)
+        t["build"] += clock() - s
+        s = clock()
+        e = B(C, mesh, x)
+        g = B.gradient(C, mesh, x)
+        H = B.hessian(C, mesh, x, project_hessian_to_psd=psd)
+        t["barrier"] += clock() - s
+        s = clock()
+        u = layout(x - x0f)
+        f = D(T, mesh, u)
+        fg = D.gradient(T, mesh, u)
+        fH = D.hessian(T, mesh, u, project_hessian_to_psd=psd)
+        t["friction"] += clock() - s
+        s = clock()
+        alpha = mod.compute_collision_free_stepsize(mesh, x, x1f)
+        t["step"] += clock() - s
+        energies.append((e, float(np.linalg.norm(g)), H.nnz, f, float(np.linalg.norm(fg)), fH.nnz, len(C)))
+        alphas.append(alpha)
+        x = layout(x + alpha * (x1f - x))
+    return t, alphas, energies
+
+
+def potentials_loop(name, x0, x1, tris, free_edges, dhat, reps, iters):
+    import topoccd.ipc as tipc
+
+    runs = {ipctk: [], tipc: []}
+    for _ in range(reps):
+        for mod in (ipctk, tipc):
+            runs[mod].append(potential_loop(mod, x0, x1, tris, free_edges, dhat, iters))
+    m = statistics.median
+    print(f"\n(e) inner loop with the potentials, {name}: {iters} iterations, one thread, CPU seconds, "
+          f"median of {reps}, alternating:")
+    print(f"  {'phase':<10} {'ipctk':>10} {'topoccd.ipc':>12} {'ratio':>8}")
+    totals = {}
+    for phase in ("build", "barrier", "friction", "step"):
+        a, b = m(r[0][phase] for r in runs[ipctk]), m(r[0][phase] for r in runs[tipc])
+        print(f"  {phase:<10} {a:10.4f} {b:12.4f} {a / b if b else float('inf'):8.1f}")
+    for mod in (ipctk, tipc):
+        totals[mod] = m(sum(r[0].values()) for r in runs[mod])
+    ratio = totals[ipctk] / totals[tipc]
+    print(f"  {'total':<10} {totals[ipctk]:10.4f} {totals[tipc]:12.4f} {ratio:8.1f}")
+    print(f"  step sizes ipctk       {[round(a, 6) for a in runs[ipctk][0][1]]}")
+    print(f"  step sizes topoccd.ipc {[round(a, 6) for a in runs[tipc][0][1]]}")
+    for it, (a, b) in enumerate(zip(runs[ipctk][0][2], runs[tipc][0][2])):
+        rel = lambda p, q: abs(p - q) / abs(q) if q else abs(p)  # noqa: E731
+        print(f"  iteration {it}: collisions {a[6]} / {b[6]}, barrier energy rel. diff {rel(b[0], a[0]):.1e}, "
+              f"|grad| {rel(b[1], a[1]):.1e}; friction energy {rel(b[3], a[3]):.1e}, |grad| {rel(b[4], a[4]):.1e}")
+    print(f"  ratio ipctk / topoccd.ipc: {ratio:.1f}x")
+    return ratio
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--data", help="the shared data folder (default $TOPOCCD_DATA or ../shared/data)")
     ap.add_argument("--scenes", default="cloth-funnel,cloth-ball,codim")
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--iters", type=int, default=5)
-    ap.add_argument("--skip", default="", help="parts to skip: a, b, c, d (comma separated)")
+    ap.add_argument("--skip", default="", help="parts to skip: a, b, c, d, e (comma separated)")
     ap.add_argument("--clock", choices=["wall", "cpu"], default="wall",
                     help="wall time, or the process's CPU time (on a loaded machine)")
     args = ap.parse_args()
@@ -350,6 +435,8 @@ def main():
             inner_loop(name, x0, x1, tris, free_edges, dhat, mesh, args.reps, args.iters)
         if "d" not in skip:
             detail(name, x0, x1, tris, free_edges, dhat, args.iters, args.reps)
+        if "e" not in skip:
+            potentials_loop(name, x0, x1, tris, free_edges, dhat, args.reps, args.iters)
     if not ok:
         print("\nconformance: differences beyond 1e-9 dhat of the threshold (see above)")
         sys.exit(1)

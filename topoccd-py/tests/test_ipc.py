@@ -303,6 +303,168 @@ def test_conformance_with_ipctk(area):
     assert fro_rel(a["DH"], b["DH"]) <= 1e-9 and fro_rel(a["DHp"], b["DHp"]) <= 1e-9
 
 
+def hair(seed=1, strands=12, per=40):
+    """Strands (free edges only) twisting around each other, some within dhat: edge-edge
+    pairs of every closest-feature type, polyline corners shared by two edges, nearly
+    parallel neighbours."""
+    rng = np.random.default_rng(seed)
+    x, E = [], []
+    for s in range(strands):
+        r, phase = 0.02 + 0.01 * rng.random(), 2 * np.pi * rng.random()
+        t = np.linspace(0, 1, per)
+        x.append(np.column_stack([
+            r * np.cos(phase + 6 * t) + 0.002 * rng.normal(size=per),
+            r * np.sin(phase + 6 * t) + 0.002 * rng.normal(size=per),
+            t,
+        ]))
+        E += [[s * per + i, s * per + i + 1] for i in range(per - 1)]
+    return np.vstack(x), np.array(E, np.int32), np.zeros((0, 3), np.int32)
+
+
+#: An edge-edge type's name with the two edges swapped.
+SWAPPED = {"EA0_EB1": "EA1_EB0", "EA1_EB0": "EA0_EB1", "EA_EB0": "EA0_EB", "EA0_EB": "EA_EB0",
+           "EA_EB1": "EA1_EB", "EA1_EB": "EA_EB1"}
+
+
+def merge_ipctk_ee(C):
+    """Merges ipctk's edge-edge collisions by their features, in place. ipctk merges them by
+    edge ids in the order its broad phase met them and the type's number, so the same
+    features named in the other order (a collision and its improved-max-approximation
+    correction) stay two entries whose barriers cancel but whose PSD projections, made one
+    collision at a time, do not. topoccd merges them; ipctk then evaluates the merged set."""
+    keep = {}
+    for c in C.ee_collisions:
+        a, b, t = c.edge0_id, c.edge1_id, c.dtype.name
+        if a > b:
+            a, b, t = b, a, SWAPPED.get(t, t)
+        if (a, b, t) in keep:
+            keep[(a, b, t)].weight += c.weight
+        else:
+            keep[(a, b, t)] = c
+    C.ee_collisions = [c for c in keep.values() if c.weight != 0]
+
+
+def weighted(C):
+    """Each collision as (kind, ids, weight), sorted: ids unordered for vv and ee."""
+    out = []
+    for kind, items, key in (
+        ("vv", C.vv_collisions, lambda c: tuple(sorted((c.vertex0_id, c.vertex1_id)))),
+        ("ev", C.ev_collisions, lambda c: (c.edge_id, c.vertex_id)),
+        ("ee", C.ee_collisions, lambda c: tuple(sorted((c.edge0_id, c.edge1_id)))),
+        ("fv", C.fv_collisions, lambda c: (c.face_id, c.vertex_id)),
+    ):
+        out += [(kind, key(c), c.weight) for c in items]
+    return sorted(out)
+
+
+def both(ipctk, rest, y, E, F, dhat, area, set_type, mu_s=0.5, mu_k=0.5, eps_v=1e-4, scale=1e-4):
+    """The barrier and friction figures of ipctk and topoccd.ipc on the same input."""
+    out = {}
+    for mod in (ipctk, tipc):
+        mesh = mod.CollisionMesh(rest, E, F)
+        C = mod.NormalCollisions()
+        C.use_area_weighting = area
+        C.collision_set_type = getattr(mod.NormalCollisions.CollisionSetType, set_type)
+        C.build(mesh, y, dhat)
+        if mod is ipctk:
+            merge_ipctk_ee(C)
+        B = mod.BarrierPotential(dhat, 10.0)
+        T = mod.TangentialCollisions()
+        T.build(mesh, y, C, B, mu_s, mu_k)
+        D = mod.FrictionPotential(eps_v)
+        U = np.random.default_rng(6).normal(scale=scale, size=y.shape)
+        psd = mod.PSDProjectionMethod.CLAMP
+        out[mod] = dict(
+            collisions=weighted(C), nT=len(T),
+            e=B(C, mesh, y), g=B.gradient(C, mesh, y), H=B.hessian(C, mesh, y),
+            Hp=B.hessian(C, mesh, y, project_hessian_to_psd=psd),
+            De=D(T, mesh, U), Dg=D.gradient(T, mesh, U), DH=D.hessian(T, mesh, U),
+            DHp=D.hessian(T, mesh, U, project_hessian_to_psd=psd),
+        )
+    return out[tipc], out[ipctk]
+
+
+def assert_same(a, b, tol=1e-9):
+    """The same collisions with the same weights, and every figure within tol (energies
+    1e-10 relative, as issue 49 asks)."""
+    assert [c[:2] for c in a["collisions"]] == [c[:2] for c in b["collisions"]]
+    wa, wb = np.array([c[2] for c in a["collisions"]]), np.array([c[2] for c in b["collisions"]])
+    assert np.allclose(wa, wb, rtol=1e-12, atol=1e-15 * max(1.0, np.abs(wb).max(initial=0)))
+    assert a["nT"] == b["nT"]
+    assert a["e"] == pytest.approx(b["e"], rel=1e-10)
+    assert rel(a["g"], b["g"]) <= tol
+    assert fro_rel(a["H"], b["H"]) <= tol and fro_rel(a["Hp"], b["Hp"]) <= tol
+    assert a["De"] == pytest.approx(b["De"], rel=1e-10)
+    assert rel(a["Dg"], b["Dg"]) <= tol
+    assert fro_rel(a["DH"], b["DH"]) <= tol and fro_rel(a["DHp"], b["DHp"]) <= tol
+
+
+@pytest.mark.parametrize("area", [False, True])
+def test_improved_max_approx_conformance_with_ipctk_on_cloth(area):
+    """IMPROVED_MAX_APPROX: the cloth pressed onto the floor (a vertex near a shared edge or
+    vertex is seen by several pairs), the same collisions, weights (negative corrections
+    included) and potentials as ipctk's."""
+    ipctk = pytest.importorskip("ipctk")
+    rest, y, F = cloth_state(4)
+    rest = rest + np.random.default_rng(5).normal(scale=1e-4, size=rest.shape)
+    F = F.astype(np.int32)
+    E = ipctk.edges(F)
+    a, b = both(ipctk, rest, y, E, F, 1e-2, area, "IMPROVED_MAX_APPROX")
+    assert any(w < 0 for *_, w in b["collisions"])  # corrections happened
+    plain, _ = both(ipctk, rest, y, E, F, 1e-2, area, "IPC")
+    assert a["collisions"] != plain["collisions"]
+    assert_same(a, b)
+
+
+@pytest.mark.parametrize("area", [False, True])
+def test_improved_max_approx_conformance_with_ipctk_on_hair(area):
+    """IMPROVED_MAX_APPROX on free edges: polyline corners near edges (edge-edge to
+    edge-vertex corrections), nearly parallel neighbours (negative mollified edge-edge
+    collisions)."""
+    ipctk = pytest.importorskip("ipctk")
+    x, E, F = hair()
+    dhat = 2e-3
+    rest = x + np.random.default_rng(3).normal(scale=1e-4, size=x.shape)
+    a, b = both(ipctk, rest, x, E, F, dhat, area, "IMPROVED_MAX_APPROX", scale=1e-5)
+    assert any(w < 0 for *_, w in b["collisions"])
+    assert_same(a, b)
+
+
+@pytest.mark.parametrize("mu", [(0.5, 0.3), (0.2, 0.6)])
+def test_friction_with_static_and_kinetic_mu_conforms_to_ipctk(mu):
+    """mu_s != mu_k (either larger): ipctk's smooth static-to-kinetic mu; slip speeds on
+    both sides of eps_v."""
+    ipctk = pytest.importorskip("ipctk")
+    rest, y, F = cloth_state(4)
+    F = F.astype(np.int32)
+    E = ipctk.edges(F)
+    for scale in (1e-5, 1e-4, 1e-3):
+        a, b = both(ipctk, rest, y, E, F, 1e-2, False, "IPC", mu_s=mu[0], mu_k=mu[1], scale=scale)
+        assert a["De"] > 0
+        assert_same(a, b)
+
+
+def test_friction_with_per_vertex_mu_conforms_to_ipctk():
+    """Per-vertex mu_s and mu_k, blended at each collision's closest point as ipctk's default
+    blend does."""
+    ipctk = pytest.importorskip("ipctk")
+    rest, y, F = cloth_state(4)
+    F = F.astype(np.int32)
+    E = ipctk.edges(F)
+    rng = np.random.default_rng(9)
+    mu_s, mu_k = rng.uniform(0.3, 0.8, len(y)), rng.uniform(0.1, 0.5, len(y))
+    a, b = both(ipctk, rest, y, E, F, 1e-2, True, "IPC", mu_s=mu_s, mu_k=mu_k, scale=1e-4)
+    assert_same(a, b)
+    mesh = tipc.CollisionMesh(rest, E, F)
+    C = tipc.NormalCollisions()
+    C.build(mesh, y, 1e-2)
+    T = tipc.TangentialCollisions()
+    with pytest.raises(topoccd.InputError):
+        T.build(mesh, y, C, tipc.BarrierPotential(1e-2, 1.0), mu_s[:-1], mu_k[:-1])
+    with pytest.raises(topoccd.OptionsError):
+        T.build(mesh, y, C, tipc.BarrierPotential(1e-2, 1.0), -0.5, 0.3)
+
+
 def test_a_newton_solver_written_for_ipctk_runs_on_topoccd_ipc():
     """The done-when test of issue 49: the same solver, once on ipctk and once on topoccd.ipc
     (only the module object differs), ten Newton iterations, trajectories within 1e-8."""

@@ -20,9 +20,12 @@ What differs:
   CCD (``narrow_phase_ccd=`` is ignored too): see :func:`topoccd.collision_free_stepsize`.
 - Triangles may change between calls: build the next :class:`CollisionMesh` (it is cheap) and
   keep the same :class:`NormalCollisions` and potentials; nothing else is rebuilt.
-- 3D only; no ``displacement_map``; the ``IMPROVED_MAX_APPROX`` and ``OGC`` collision sets,
-  shape derivatives, adhesion, anisotropic friction and ``mu_s != mu_k`` are not offered
-  (``NotImplementedError``). The area weights are the barycentric ones computed from the rest
+- ``IMPROVED_MAX_APPROX``: an edge-edge collision and a correction of the same features are
+  merged, whichever order they name the edges in. ipctk merges them only when its broad
+  phase met the edges in the same order; otherwise it keeps both, whose barriers cancel but
+  whose PSD-projected Hessians (projected one collision at a time) do not.
+- 3D only; no ``displacement_map``; the ``OGC`` collision set, shape derivatives, adhesion,
+  anisotropic friction and a custom ``blend_mu`` are not offered (``NotImplementedError``). The area weights are the barycentric ones computed from the rest
   positions: setting ``vertex_areas`` / ``edge_areas`` does not change them.
 - Any other ipctk name raises an ``AttributeError`` naming topoccd's own call, if any.
 
@@ -858,19 +861,40 @@ class TangentialCollision(_Stencil):
 class TangentialCollisions:
     """The tangential collisions of a :class:`NormalCollisions` at the lagged positions:
     ``build(mesh, vertices, collisions, normal_potential, mu)`` or ``build(..., mu_s, mu_k)``
-    (scalars)."""
+    (scalars or per-vertex arrays); static and kinetic friction as ipctk's smooth ``mu``."""
 
     def __init__(self):
         self._native = None
 
     def build(self, mesh: CollisionMesh, vertices, collisions: NormalCollisions,
-              normal_potential: BarrierPotential, mu_s: float, mu_k: Optional[float] = None, *blend) -> None:
-        if blend or np.ndim(mu_s) or np.ndim(mu_k):
-            raise NotImplementedError("topoccd.ipc.TangentialCollisions.build takes scalar mu (or mu_s, mu_k)")
+              normal_potential: BarrierPotential, mu_s, mu_k=None, blend_mu=None) -> None:
+        """``build(mesh, vertices, collisions, normal_potential, mu)``, ``(..., mu_s, mu_k)``
+        with scalars, or with ``(#V,)`` arrays of per-vertex coefficients (blended per
+        collision as ipctk's default ``blend_mu``, the average of the two sides)."""
+        if blend_mu is not None:
+            raise NotImplementedError(
+                "topoccd.ipc.TangentialCollisions.build blends per-vertex mu by ipctk's default "
+                "(the average); a custom blend_mu is not offered"
+            )
+        if not isinstance(collisions, NormalCollisions):
+            raise TypeError(f"collisions must be a topoccd.ipc.NormalCollisions, got {type(collisions).__name__}")
+        if not isinstance(normal_potential, BarrierPotential):
+            raise TypeError(
+                f"normal_potential must be a topoccd.ipc.BarrierPotential, got {type(normal_potential).__name__}")
         mu_k = mu_s if mu_k is None else mu_k
+        if np.ndim(mu_s) != np.ndim(mu_k):
+            raise _topoccd.InputError("mu_s and mu_k must both be scalars or both be per-vertex arrays")
         x = _positions(vertices, mesh, "vertices")
+
+        def coefficients(mu, name):
+            a = np.ascontiguousarray(np.atleast_1d(np.asarray(mu, dtype=np.float64)).reshape(-1))
+            if np.ndim(mu) and a.shape != (mesh.num_vertices,):
+                raise _topoccd.InputError(f"{name} must have shape ({mesh.num_vertices},), got {np.shape(mu)}")
+            return a
+
         self._native = _topoccd.IpcTangentialCollisions(
-            collisions._native, normal_potential._native, x, float(mu_s), float(mu_k))
+            collisions._native, normal_potential._native, x,
+            coefficients(mu_s, "mu_s"), coefficients(mu_k, "mu_k"))
         self._cache = None
 
     def _items(self):

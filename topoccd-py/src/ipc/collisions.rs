@@ -1,26 +1,24 @@
 //! The library's collision set (`topoccd::ipc::NormalCollisions`) seen as ipctk names it:
-//! edge ids into the mesh's own `edges`, each stencil's vertices, weights and mollifier
-//! thresholds, for `topoccd.ipc`'s collision objects and for friction.
+//! edge ids into the mesh's own `edges`, weights and mollifier thresholds, for
+//! `topoccd.ipc`'s collision objects; and the map from the library's edge ids to the
+//! mesh's, for the tangential collisions' ids.
 
 use std::collections::HashMap;
 
 use topoccd::ProximityReport;
 
-/// One collision's stencil: kind (0 vv, 1 ev, 2 ee, 3 fv), its two ids as ipctk names them,
-/// its vertices (`v`, then the primitive's), weight and, for edge-edge, the mollifier's
-/// threshold.
+/// One collision: kind (0 vv, 1 ev, 2 ee, 3 fv), its two ids as ipctk names them, weight
+/// and, for edge-edge, the mollifier's threshold.
 #[derive(Clone, Copy, Debug)]
 pub struct Collision {
     pub kind: u8,
     pub ids: [u32; 2],
-    pub verts: [u32; 4],
     pub weight: f64,
     pub eps_x: f64,
 }
 
-/// The mesh as the build reads it.
+/// The mesh's edges, as the candidates name them.
 pub struct MeshView<'a> {
-    pub rest: &'a [f64],
     pub edges: &'a [[u32; 2]],
 }
 
@@ -31,6 +29,9 @@ pub struct Collisions {
     pub counts: [usize; 4],
     pub dmin: f64,
     pub num_vertices: usize,
+    /// The mesh's edge id of each of the library's edges (`core.edges`), `u32::MAX` for
+    /// one the mesh does not list.
+    pub edge_map: Vec<u32>,
 }
 
 /// Error of a conversion: a collision names an edge the mesh does not list.
@@ -59,60 +60,60 @@ pub fn candidate_ids(mesh: &MeshView<'_>, report: &ProximityReport) -> [Vec<[u32
     [vv, ev, ee, fv]
 }
 
-/// The library's collisions with the mesh's own edge ids (ipctk's ids index the mesh's
-/// `edges`) and each edge's vertices in the mesh's order.
-pub fn from_core(
-    mesh: &MeshView<'_>,
-    core: &topoccd::ipc::NormalCollisions,
-) -> Result<Collisions, MissingEdge> {
-    let edge_of: HashMap<(u32, u32), u32> = (mesh.edges.iter().enumerate())
+/// The mesh's edge id of each of the library's edges (`u32::MAX` for one the mesh does not
+/// list).
+pub fn edge_map(mesh_edges: &[[u32; 2]], core_edges: &[[u32; 2]]) -> Vec<u32> {
+    let edge_of: HashMap<(u32, u32), u32> = (mesh_edges.iter().enumerate())
         .map(|(i, e)| ((e[0].min(e[1]), e[0].max(e[1])), i as u32))
         .collect();
-    let find = |e: [u32; 2]| {
-        edge_of
-            .get(&(e[0].min(e[1]), e[0].max(e[1])))
-            .copied()
-            .ok_or(MissingEdge(e))
+    (core_edges.iter())
+        .map(|e| {
+            let key = (e[0].min(e[1]), e[0].max(e[1]));
+            edge_of.get(&key).copied().unwrap_or(u32::MAX)
+        })
+        .collect()
+}
+
+/// The library's collisions with the mesh's own edge ids (ipctk's ids index the mesh's
+/// `edges`), through `edge_map` (of [`edge_map`]).
+pub fn from_core(
+    core: &topoccd::ipc::NormalCollisions,
+    edge_map: Vec<u32>,
+    num_vertices: usize,
+) -> Result<Collisions, MissingEdge> {
+    let find = |id: u32| match edge_map[id as usize] {
+        u32::MAX => Err(MissingEdge(core.edges[id as usize])),
+        e => Ok(e),
     };
     let mut items = Vec::with_capacity(core.len());
     for c in &core.vv {
-        let [a, b] = c.vertices;
         items.push(Collision {
             kind: 0,
-            ids: [a, b],
-            verts: [a, b, 0, 0],
+            ids: c.vertices,
             weight: c.weight,
             eps_x: 0.0,
         });
     }
     for c in &core.ev {
-        let e = find(c.edge)?;
-        let [e0, e1] = mesh.edges[e as usize];
         items.push(Collision {
             kind: 1,
-            ids: [e, c.vertex],
-            verts: [c.vertex, e0, e1, 0],
+            ids: [find(c.edge_id)?, c.vertex],
             weight: c.weight,
             eps_x: 0.0,
         });
     }
     for c in &core.ee {
-        let (ia, ib) = (find(c.a)?, find(c.b)?);
-        let ([a0, a1], [b0, b1]) = (mesh.edges[ia as usize], mesh.edges[ib as usize]);
         items.push(Collision {
             kind: 2,
-            ids: [ia, ib],
-            verts: [a0, a1, b0, b1],
+            ids: [find(c.edge_ids[0])?, find(c.edge_ids[1])?],
             weight: c.weight,
             eps_x: c.eps_x,
         });
     }
     for c in &core.fv {
-        let [t0, t1, t2] = c.triangle;
         items.push(Collision {
             kind: 3,
             ids: [c.face, c.vertex],
-            verts: [c.vertex, t0, t1, t2],
             weight: c.weight,
             eps_x: 0.0,
         });
@@ -122,6 +123,7 @@ pub fn from_core(
         items,
         counts,
         dmin: core.dmin,
-        num_vertices: mesh.rest.len() / 3,
+        num_vertices,
+        edge_map,
     })
 }

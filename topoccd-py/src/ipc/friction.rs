@@ -1,393 +1,206 @@
-//! Friction as ipctk 1.6.1 defines it: tangential collisions from the normal collisions at
-//! the lagged positions (closest-point coordinates, tangent basis, normal force magnitude of
-//! the barrier, weight, coefficients; nearly parallel edge pairs are skipped), and the smooth
-//! friction potential `sum w N mu f0(|P^T Gamma u|)` over them, with its gradient and Hessian.
+//! Friction for `topoccd.ipc`: the library's tangential collisions and friction potential
+//! (`topoccd::ipc::friction`), built from the library's normal collision set, with the
+//! mesh's own edge ids for ipctk's names. Static and kinetic coefficients, global or per
+//! vertex (ipctk's default blend).
 
-use numpy::{IntoPyArray, PyArray1, PyArray3, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyArray1, PyArray3, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
-
-use super::barrier::Assembler;
-use super::distance::{
-    edge_edge_type, ee_distance2, pe_distance2, point_edge_type, point_triangle_type, pt_distance2,
+use topoccd::ipc::friction::{
+    FrictionCoefficients, FrictionError, FrictionPotential, StencilKind, TangentialCollision,
+    TangentialCollisions,
 };
-use super::psd::{project, Psd};
-use super::{csr_tuple, flat, psd_of, IpcBarrierPotential, IpcCollisions};
+
+use super::{csr_arrays, flat, psd_of, CsrArrays, IpcBarrierPotential, IpcCollisions};
 use crate::errors::{input_error, options_error};
 use crate::report::{array1, array2};
 
-type P = [f64; 3];
-
-fn sub(a: P, b: P) -> P {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: P, b: P) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: P, b: P) -> P {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn unit(a: P) -> P {
-    let n = dot(a, a).sqrt();
-    [a[0] / n, a[1] / n, a[2] / n]
-}
-
-/// One tangential collision.
-#[derive(Clone, Copy, Debug)]
-struct Tangential {
-    ids: [u32; 2],
-    verts: [u32; 4],
-    weight: f64,
-    normal_force: f64,
-    mu_s: f64,
-    mu_k: f64,
-    closest: [f64; 2],
-    /// Columns of the tangent basis: `basis[c]` is column c.
-    basis: [P; 2],
-    /// The relative velocity's coefficient per stencil vertex.
-    coef: [f64; 4],
-    nverts: usize,
-}
-
-fn solve2(a: f64, b: f64, c: f64, r: [f64; 2]) -> [f64; 2] {
-    let det = a * c - b * b;
-    [(c * r[0] - b * r[1]) / det, (a * r[1] - b * r[0]) / det]
-}
-
-/// The smooth friction profile (ipctk's `smooth_friction_*`), mu constant.
-fn f0(y: f64, eps: f64) -> f64 {
-    if y.abs() >= eps {
-        y
-    } else {
-        y * y * (1.0 - y / (3.0 * eps)) / eps + eps / 3.0
-    }
-}
-fn f1_over_x(y: f64, eps: f64) -> f64 {
-    if y.abs() >= eps {
-        1.0 / y
-    } else {
-        (2.0 - y / eps) / eps
-    }
-}
-fn f2_x_minus_f1_over_x3(y: f64, eps: f64) -> f64 {
-    if y.abs() >= eps {
-        -1.0 / (y * y * y)
-    } else {
-        -1.0 / (y * eps * eps)
+/// A friction error as the Python exception it is: bad coefficients or `eps_v` are options,
+/// the rest input.
+fn friction_error(e: FrictionError) -> PyErr {
+    match e {
+        FrictionError::BadCoefficient { .. } | FrictionError::BadEpsV { .. } => {
+            options_error(e.to_string())
+        }
+        _ => input_error(e.to_string()),
     }
 }
 
 /// Tangential collisions (the native half of `topoccd.ipc.TangentialCollisions`).
 #[pyclass(module = "topoccd", name = "IpcTangentialCollisions")]
 pub struct IpcTangentialCollisions {
-    items: Vec<Tangential>,
-    counts: [usize; 4],
+    core: TangentialCollisions,
+    /// Each collision's two ids as ipctk names them (edge ids into the mesh's `edges`), in
+    /// the set's order.
+    ids: Vec<[u32; 2]>,
     num_vertices: usize,
-}
-
-fn point(x: &[f64], v: u32) -> P {
-    let i = 3 * v as usize;
-    [x[i], x[i + 1], x[i + 2]]
 }
 
 #[pymethods]
 impl IpcTangentialCollisions {
+    /// Builds the tangential collisions of `collisions` at the lagged positions `x`, with
+    /// the normal forces of `potential` and the coefficients `mu_s`, `mu_k`: one value each
+    /// (global) or one per vertex.
     #[new]
     fn new(
+        py: Python<'_>,
         collisions: PyRef<'_, IpcCollisions>,
         potential: PyRef<'_, IpcBarrierPotential>,
         x: PyReadonlyArray2<'_, f64>,
-        mu_s: f64,
-        mu_k: f64,
+        mu_s: PyReadonlyArray1<'_, f64>,
+        mu_k: PyReadonlyArray1<'_, f64>,
     ) -> PyResult<Self> {
-        if mu_s != mu_k {
-            return Err(pyo3::exceptions::PyNotImplementedError::new_err(
-                "topoccd.ipc's friction takes mu_s == mu_k for now (the smooth static-to-kinetic mu awaits topoccd::ipc)",
-            ));
-        }
-        if !(mu_s.is_finite() && mu_s >= 0.0) {
-            return Err(options_error(format!(
-                "mu must be finite and >= 0, got {mu_s}"
-            )));
-        }
         let x = flat(&x, "vertices")?;
         collisions.check(x)?;
-        let set = &collisions.set;
-        let b = potential.b;
-        let mut items = Vec::with_capacity(set.items.len());
-        let mut counts = [0usize; 4];
-        for c in &set.items {
-            let v = |k: usize| point(x, c.verts[k]);
-            let (d2, closest, basis, coef, nverts) = match c.kind {
-                0 => {
-                    let (p0, p1) = (v(0), v(1));
-                    let d = sub(p1, p0);
-                    let (cx, cy) = (cross([1.0, 0.0, 0.0], d), cross([0.0, 1.0, 0.0], d));
-                    let t = if dot(cx, cx) > dot(cy, cy) { cx } else { cy };
-                    (
-                        dot(d, d),
-                        [0.0; 2],
-                        [unit(t), unit(cross(d, t))],
-                        [1.0, -1.0, 0.0, 0.0],
-                        2,
-                    )
+        let (mu_s, mu_k) = (mu_s.as_slice()?, mu_k.as_slice()?);
+        let n = x.len() / 3;
+        let mu = match (mu_s.len(), mu_k.len()) {
+            (1, 1) => FrictionCoefficients::Global {
+                mu_s: mu_s[0],
+                mu_k: mu_k[0],
+            },
+            (a, b) if a == n && b == n => FrictionCoefficients::PerVertex { mu_s, mu_k },
+            (a, b) => return Err(input_error(format!(
+                "mu_s and mu_k must be scalars or have one entry per vertex ({n}), got {a} and {b}"
+            ))),
+        };
+        let (normal, barrier, x3) = (&collisions.core, potential.core, x.as_chunks::<3>().0);
+        let core = py
+            .detach(|| TangentialCollisions::build(x3, normal, &barrier, mu))
+            .map_err(friction_error)?;
+        let map = &collisions.set.edge_map;
+        let edge = |e: usize| map.get(e).copied().unwrap_or(u32::MAX);
+        let ids = (core.iter())
+            .map(|c| {
+                let [p, q] = c.primitives;
+                match c.kind {
+                    StencilKind::VertexVertex => [p as u32, q as u32],
+                    StencilKind::EdgeVertex => [edge(p), q as u32],
+                    StencilKind::EdgeEdge => [edge(p), edge(q)],
+                    StencilKind::FaceVertex => [p as u32, q as u32],
                 }
-                1 => {
-                    let (p, e0, e1) = (v(0), v(1), v(2));
-                    let e = sub(e1, e0);
-                    let alpha = dot(sub(p, e0), e) / dot(e, e);
-                    let d2 = pe_distance2(p, e0, e1, point_edge_type(p, e0, e1));
-                    (
-                        d2,
-                        [alpha, 0.0],
-                        [unit(e), unit(cross(e, sub(p, e0)))],
-                        [1.0, alpha - 1.0, -alpha, 0.0],
-                        3,
-                    )
-                }
-                2 => {
-                    let (a0, a1, b0, b1) = (v(0), v(1), v(2), v(3));
-                    let (ea, eb) = (sub(a1, a0), sub(b1, b0));
-                    let n = cross(ea, eb);
-                    if dot(n, n) < c.eps_x {
-                        continue; // nearly parallel: no friction, as ipctk
-                    }
-                    let w = sub(a0, b0);
-                    let [s, t] = solve2(
-                        dot(ea, ea),
-                        -dot(ea, eb),
-                        dot(eb, eb),
-                        [-dot(w, ea), dot(w, eb)],
-                    );
-                    let d2 = ee_distance2(a0, a1, b0, b1, edge_edge_type(a0, a1, b0, b1));
-                    (
-                        d2,
-                        [s, t],
-                        [unit(ea), unit(cross(n, ea))],
-                        [1.0 - s, s, t - 1.0, -t],
-                        4,
-                    )
-                }
-                _ => {
-                    let (p, t0, t1, t2) = (v(0), v(1), v(2), v(3));
-                    let (e0, e1) = (sub(t1, t0), sub(t2, t0));
-                    let r = sub(p, t0);
-                    let [b1, b2] = solve2(
-                        dot(e0, e0),
-                        dot(e0, e1),
-                        dot(e1, e1),
-                        [dot(e0, r), dot(e1, r)],
-                    );
-                    let n = cross(e0, e1);
-                    let d2 = pt_distance2(p, t0, t1, t2, point_triangle_type(p, t0, t1, t2));
-                    (
-                        d2,
-                        [b1, b2],
-                        [unit(e0), unit(cross(n, e0))],
-                        [1.0, b1 + b2 - 1.0, -b1, -b2],
-                        4,
-                    )
-                }
-            };
-            counts[c.kind as usize] += 1;
-            items.push(Tangential {
-                ids: c.ids,
-                verts: c.verts,
-                weight: c.weight,
-                normal_force: b.force_magnitude(d2, set.dmin),
-                mu_s,
-                mu_k,
-                closest,
-                basis,
-                coef,
-                nverts,
-            });
-        }
+            })
+            .collect();
         Ok(Self {
-            items,
-            counts,
-            num_vertices: x.len() / 3,
+            core,
+            ids,
+            num_vertices: n,
         })
     }
 
     fn __len__(&self) -> usize {
-        self.items.len()
+        self.core.len()
     }
 
+    /// The collisions of one kind (`"vv"`, `"ev"`, `"ee"`, `"fv"`): `(n, 2)` ids.
     fn ids(&self, py: Python<'_>, kind: &str) -> PyResult<Py<numpy::PyArray2<i64>>> {
         let k = super::kind_code(kind)?;
-        let start: usize = self.counts[..k].iter().sum();
-        let sel = &self.items[start..start + self.counts[k]];
+        let counts = self.counts();
+        let start: usize = counts[..k].iter().sum();
+        let sel = &self.ids[start..start + counts[k]];
         array2(
             py,
             sel.len(),
             2,
             sel.iter()
-                .flat_map(|c| [c.ids[0] as i64, c.ids[1] as i64])
+                .flat_map(|c| [c[0] as i64, c[1] as i64])
                 .collect(),
         )
     }
 
     #[getter]
     fn normal_force_magnitude(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
-        array1(py, self.items.iter().map(|c| c.normal_force).collect())
+        self.each(py, |c| c.normal_force_magnitude)
     }
     #[getter]
     fn mu_s(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
-        array1(py, self.items.iter().map(|c| c.mu_s).collect())
+        self.each(py, |c| c.mu_s)
     }
     #[getter]
     fn mu_k(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
-        array1(py, self.items.iter().map(|c| c.mu_k).collect())
+        self.each(py, |c| c.mu_k)
     }
     #[getter]
     fn weights(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
-        array1(py, self.items.iter().map(|c| c.weight).collect())
+        self.each(py, |c| c.weight)
     }
+    /// `(n, 2)`: each collision's closest-point coordinates, padded with zeros.
     #[getter]
     fn closest_points(&self, py: Python<'_>) -> PyResult<Py<numpy::PyArray2<f64>>> {
-        array2(
-            py,
-            self.items.len(),
-            2,
-            self.items.iter().flat_map(|c| c.closest).collect(),
-        )
+        let flat = self.core.iter().flat_map(|c| c.closest_point).collect();
+        array2(py, self.core.len(), 2, flat)
     }
+    /// `(n, 3, 2)`: each collision's tangent basis, its columns the two tangents.
     #[getter]
     fn tangent_bases(&self, py: Python<'_>) -> PyResult<Py<PyArray3<f64>>> {
-        let flat: Vec<f64> = (self.items.iter())
-            .flat_map(|c| (0..3).flat_map(move |r| [c.basis[0][r], c.basis[1][r]]))
+        let flat: Vec<f64> = (self.core.iter())
+            .flat_map(|c| {
+                let [t0, t1] = c.tangent_basis;
+                (0..3).flat_map(move |r| [t0[r], t1[r]])
+            })
             .collect();
-        let a = numpy::ndarray::Array3::from_shape_vec((self.items.len(), 3, 2), flat)
+        let a = numpy::ndarray::Array3::from_shape_vec((self.core.len(), 3, 2), flat)
             .map_err(|e| input_error(e.to_string()))?;
         Ok(a.into_pyarray(py).unbind())
     }
 
+    /// The friction potential at the velocities `u`.
     fn energy(&self, py: Python<'_>, u: PyReadonlyArray2<'_, f64>, eps_v: f64) -> PyResult<f64> {
-        let u = self.input(&u)?;
-        Ok(py.detach(|| {
-            self.items
-                .iter()
-                .map(|c| {
-                    let t = tangential(c, u);
-                    c.weight * c.normal_force * c.mu_k * f0(norm2(t), eps_v)
-                })
-                .sum()
-        }))
+        let (u, d) = (self.input(&u)?, potential(eps_v)?);
+        py.detach(|| d.energy(&self.core, u))
+            .map_err(friction_error)
     }
 
+    /// Its gradient, `3 n` entries.
     fn gradient(
         &self,
         py: Python<'_>,
         u: PyReadonlyArray2<'_, f64>,
         eps_v: f64,
     ) -> PyResult<Py<PyArray1<f64>>> {
-        let u = self.input(&u)?;
-        let g = py.detach(|| {
-            let mut g = vec![0.0; u.len()];
-            for c in &self.items {
-                let t = tangential(c, u);
-                let s = c.weight * c.normal_force * c.mu_k * f1_over_x(norm2(t), eps_v);
-                let gt = [s * t[0], s * t[1]];
-                for k in 0..c.nverts {
-                    for r in 0..3 {
-                        g[3 * c.verts[k] as usize + r] +=
-                            c.coef[k] * (c.basis[0][r] * gt[0] + c.basis[1][r] * gt[1]);
-                    }
-                }
-            }
-            g
-        });
+        let (u, d) = (self.input(&u)?, potential(eps_v)?);
+        let g = py
+            .detach(|| d.gradient(&self.core, u))
+            .map_err(friction_error)?;
         Ok(array1(py, g))
     }
 
+    /// Its Hessian's CSR arrays, each collision's 2 x 2 block projected by `psd` (0 none,
+    /// 1 clamp, 2 abs).
     fn hessian(
         &self,
         py: Python<'_>,
         u: PyReadonlyArray2<'_, f64>,
         eps_v: f64,
         psd: u8,
-    ) -> PyResult<super::CsrArrays> {
-        let u = self.input(&u)?;
-        let psd = psd_of(psd)?;
-        let m = py.detach(|| {
-            let mut asm = Assembler::new(u.len());
-            let mut h = [0.0; 144];
-            let mut dofs = [0usize; 12];
-            for c in &self.items {
-                let t = tangential(c, u);
-                let y = norm2(t);
-                let scale = c.weight * c.normal_force;
-                let mu = c.mu_k;
-                let projecting = psd != Psd::None;
-                let inner: [f64; 4] = if y >= eps_v {
-                    if projecting && scale <= 0.0 {
-                        [0.0; 4]
-                    } else {
-                        let k = scale * mu * f1_over_x(y, eps_v) / (y * y);
-                        let p = [-t[1], t[0]];
-                        [
-                            k * p[0] * p[0],
-                            k * p[0] * p[1],
-                            k * p[1] * p[0],
-                            k * p[1] * p[1],
-                        ]
-                    }
-                } else if y == 0.0 {
-                    if projecting && scale <= 0.0 {
-                        [0.0; 4]
-                    } else {
-                        let k = scale * mu * f1_over_x(y, eps_v);
-                        [k, 0.0, 0.0, k]
-                    }
-                } else {
-                    let f2 = mu * f2_x_minus_f1_over_x3(y, eps_v);
-                    let f1 = mu * f1_over_x(y, eps_v);
-                    let mut a = [
-                        scale * (f2 * t[0] * t[0] + f1),
-                        scale * f2 * t[0] * t[1],
-                        scale * f2 * t[1] * t[0],
-                        scale * (f2 * t[1] * t[1] + f1),
-                    ];
-                    project(&mut a, 2, psd);
-                    a
-                };
-                // P inner P^T (3 x 3), then the blocks c_k c_l (P inner P^T).
-                let mut q = [[0.0; 3]; 3];
-                for (r, row) in q.iter_mut().enumerate() {
-                    let pr = [c.basis[0][r], c.basis[1][r]];
-                    for (s, q_rs) in row.iter_mut().enumerate() {
-                        let ps = [c.basis[0][s], c.basis[1][s]];
-                        *q_rs = pr[0] * (inner[0] * ps[0] + inner[1] * ps[1])
-                            + pr[1] * (inner[2] * ps[0] + inner[3] * ps[1]);
-                    }
-                }
-                let m = 3 * c.nverts;
-                for k in 0..c.nverts {
-                    for l in 0..c.nverts {
-                        for r in 0..3 {
-                            for s in 0..3 {
-                                h[(3 * k + r) * m + 3 * l + s] = c.coef[k] * c.coef[l] * q[r][s];
-                            }
-                        }
-                    }
-                    for r in 0..3 {
-                        dofs[3 * k + r] = 3 * c.verts[k] as usize + r;
-                    }
-                }
-                asm.add(&dofs[..m], &h[..m * m]);
-            }
-            asm.finish()
-        });
-        Ok(csr_tuple(py, m))
+    ) -> PyResult<CsrArrays> {
+        let (u, d, psd) = (self.input(&u)?, potential(eps_v)?, psd_of(psd)?);
+        let h = py
+            .detach(|| d.hessian(&self.core, u, psd))
+            .map_err(friction_error)?;
+        Ok(csr_arrays(py, &h))
     }
 }
 
+fn potential(eps_v: f64) -> PyResult<FrictionPotential> {
+    FrictionPotential::new(eps_v).map_err(friction_error)
+}
+
 impl IpcTangentialCollisions {
-    fn input<'a>(&self, u: &'a PyReadonlyArray2<'_, f64>) -> PyResult<&'a [f64]> {
+    fn counts(&self) -> [usize; 4] {
+        let c = &self.core;
+        [
+            c.vv_collisions.len(),
+            c.ev_collisions.len(),
+            c.ee_collisions.len(),
+            c.fv_collisions.len(),
+        ]
+    }
+
+    fn each(&self, py: Python<'_>, f: impl Fn(&TangentialCollision) -> f64) -> Py<PyArray1<f64>> {
+        array1(py, self.core.iter().map(f).collect())
+    }
+
+    fn input<'a>(&self, u: &'a PyReadonlyArray2<'_, f64>) -> PyResult<&'a [[f64; 3]]> {
         let u = flat(u, "X")?;
         if u.len() / 3 < self.num_vertices {
             return Err(input_error(format!(
@@ -396,22 +209,6 @@ impl IpcTangentialCollisions {
                 self.num_vertices
             )));
         }
-        Ok(u)
+        Ok(u.as_chunks::<3>().0)
     }
-}
-
-/// `P^T Gamma u`: the tangential relative velocity (2-vector).
-fn tangential(c: &Tangential, u: &[f64]) -> [f64; 2] {
-    let mut rel = [0.0; 3];
-    for k in 0..c.nverts {
-        let i = 3 * c.verts[k] as usize;
-        for r in 0..3 {
-            rel[r] += c.coef[k] * u[i + r];
-        }
-    }
-    [dot(c.basis[0], rel), dot(c.basis[1], rel)]
-}
-
-fn norm2(t: [f64; 2]) -> f64 {
-    (t[0] * t[0] + t[1] * t[1]).sqrt()
 }

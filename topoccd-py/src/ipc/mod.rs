@@ -1,33 +1,26 @@
 //! The contact potentials for `topoccd.ipc` (`python/topoccd/ipc.py`): the collision set
 //! built from `Ccd.proximity`'s pairs, the barrier potential and friction, numpy in and out,
-//! the GIL released around the work.
+//! the GIL released around the work. Everything is computed by the library
+//! (`topoccd::ipc`); this module converts arrays and names.
 //!
-//! The collision set and the barrier potential are the library's (`topoccd::ipc`); friction
-//! is computed here until the bindings move to `topoccd::ipc::friction`.
-//!
-//! - `distance`: closest-feature types and squared distances (for friction's forces).
 //! - `collisions`: the library's set with the mesh's edge ids.
-//! - `barrier`: the barrier's parameters, force magnitude, CSR assembly, stiffness helpers.
 //! - `friction`: tangential collisions and the friction potential.
-//! - `psd`: projection of friction's 2 x 2 blocks to PSD.
 
-mod barrier;
 mod collisions;
-mod distance;
 mod friction;
-mod psd;
 
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
+use topoccd::ipc::{
+    Barrier, BarrierPotential, CollisionOptions, CollisionSetType, PsdProjection, SparseMatrix,
+};
 use topoccd::{Configuration, ProximityOptions, ProximityReport};
 
 use crate::ccd::Ccd;
 use crate::errors::{input_error, options_error};
 use crate::report::{array1, array2};
 
-use self::barrier::Barrier;
 use self::collisions::{Collisions, MeshView};
-use self::psd::Psd;
 
 pub(crate) fn flat<'a>(a: &'a PyReadonlyArray2<'_, f64>, name: &str) -> PyResult<&'a [f64]> {
     a.as_slice()
@@ -62,14 +55,13 @@ fn rows<const N: usize>(
 /// A Hessian's CSR arrays `(data, indices, indptr)` as numpy arrays.
 pub(crate) type CsrArrays = (Py<PyArray1<f64>>, Py<PyArray1<i32>>, Py<PyArray1<i32>>);
 
-/// The raw pairs of a build by kind.
-type PairIds = [Vec<[u32; 2]>; 4];
-
-pub(crate) fn csr_tuple(py: Python<'_>, m: barrier::Csr) -> CsrArrays {
+/// The library's sparse matrix as numpy CSR arrays (int32 indices, as scipy's).
+pub(crate) fn csr_arrays(py: Python<'_>, m: &SparseMatrix) -> CsrArrays {
+    let (indptr, indices, data) = m.csr();
     (
-        array1(py, m.data),
-        array1(py, m.indices),
-        array1(py, m.indptr),
+        array1(py, data.to_vec()),
+        array1(py, indices.iter().map(|&i| i as i32).collect()),
+        array1(py, indptr.iter().map(|&i| i as i32).collect()),
     )
 }
 
@@ -80,8 +72,12 @@ pub struct IpcCollisions {
     pub(crate) core: topoccd::ipc::NormalCollisions,
     /// The same collisions with the mesh's edge ids, for the ids, weights and friction.
     pub(crate) set: Collisions,
-    /// The raw pairs of the last build, by kind, as ipctk's candidates name them.
-    candidates: PairIds,
+    /// The proximity pairs of the last build and the mesh's edges, for the candidates.
+    report: ProximityReport,
+    edges: Vec<[u32; 2]>,
+    /// The library's edges of the last build and their mesh ids: reused while the edges
+    /// stay the same.
+    edge_cache: (Vec<[u32; 2]>, Vec<u32>),
 }
 
 #[pymethods]
@@ -91,7 +87,9 @@ impl IpcCollisions {
         Self {
             core: topoccd::ipc::NormalCollisions::default(),
             set: Collisions::default(),
-            candidates: Default::default(),
+            report: ProximityReport::default(),
+            edges: Vec::new(),
+            edge_cache: Default::default(),
         }
     }
 
@@ -123,11 +121,6 @@ impl IpcCollisions {
                 "dmin must be finite and >= 0, got {dmin}"
             )));
         }
-        if improved_max_approx {
-            return Err(pyo3::exceptions::PyNotImplementedError::new_err(
-                "topoccd.ipc builds the IPC collision set type only for now (IMPROVED_MAX_APPROX awaits topoccd::ipc)",
-            ));
-        }
         let (rest, x) = (flat(&rest, "rest_positions")?, flat(&x, "vertices")?);
         let n = x.len() / 3;
         let edges = rows::<2>(&edges, "edges", n)?;
@@ -148,36 +141,51 @@ impl IpcCollisions {
             )
         })?;
         let inner = &mut this.inner;
-        let mesh = MeshView {
-            rest,
-            edges: &edges,
-        };
         let rest3 = rest.as_chunks::<3>().0;
-        let copts = topoccd::ipc::CollisionOptions {
+        let copts = CollisionOptions {
             dhat,
             dmin,
             use_area_weighting,
+            collision_set_type: if improved_max_approx {
+                CollisionSetType::ImprovedMaxApprox
+            } else {
+                CollisionSetType::Ipc
+            },
             ..Default::default()
         };
-        let (core, set, cands) = py
-            .detach(|| -> Result<(topoccd::ipc::NormalCollisions, Collisions, PairIds), String> {
-                let report: ProximityReport =
-                    inner.proximity(&config, &options).map_err(|e| e.to_string())?;
-                let core = topoccd::ipc::NormalCollisions::from_proximity(&config, &report, rest3, &copts)
-                    .map_err(|e| e.to_string())?;
-                let set = collisions::from_core(&mesh, &core).map_err(|e| {
-                    format!(
-                        "edges lacks the edge ({}, {}) of a pair: pass every edge of the faces and the free edges",
-                        e.0[0], e.0[1]
+        let cache = std::mem::take(&mut self.edge_cache);
+        let same_edges = self.edges == edges;
+        let (core, set, report) = py
+            .detach(
+                || -> Result<(topoccd::ipc::NormalCollisions, Collisions, ProximityReport), String> {
+                    let report: ProximityReport =
+                        inner.proximity(&config, &options).map_err(|e| e.to_string())?;
+                    let core = topoccd::ipc::NormalCollisions::from_proximity(
+                        &config, &report, rest3, &copts,
                     )
-                })?;
-                let cands = collisions::candidate_ids(&mesh, &report);
-                Ok((core, set, cands))
-            })
+                    .map_err(|e| e.to_string())?;
+                    let map = if same_edges && cache.0 == core.edges {
+                        cache.1
+                    } else {
+                        collisions::edge_map(&edges, &core.edges)
+                    };
+                    let set = collisions::from_core(&core, map, n).map_err(|e| {
+                        format!(
+                            "edges lacks the edge ({}, {}) of a pair: pass every edge of the faces and the free edges",
+                            e.0[0], e.0[1]
+                        )
+                    })?;
+                    Ok((core, set, report))
+                },
+            )
             .map_err(input_error)?;
+        self.edge_cache = (core.edges.clone(), set.edge_map.clone());
         self.core = core;
         self.set = set;
-        self.candidates = cands;
+        self.report = report;
+        if !same_edges {
+            self.edges = edges;
+        }
         Ok(())
     }
 
@@ -196,7 +204,9 @@ impl IpcCollisions {
 
     /// The raw pairs of the last build of one kind, as candidates.
     fn candidates(&self, py: Python<'_>, kind: &str) -> PyResult<Py<numpy::PyArray2<i64>>> {
-        let c = &self.candidates[kind_code(kind)?];
+        let mesh = MeshView { edges: &self.edges };
+        let all = collisions::candidate_ids(&mesh, &self.report);
+        let c = &all[kind_code(kind)?];
         array2(
             py,
             c.len(),
@@ -274,78 +284,69 @@ pub(crate) fn kind_code(kind: &str) -> PyResult<usize> {
     }
 }
 
-pub(crate) fn psd_of(code: u8) -> PyResult<Psd> {
-    Psd::from_code(code).ok_or_else(|| {
-        options_error(format!(
+pub(crate) fn psd_of(code: u8) -> PyResult<PsdProjection> {
+    match code {
+        0 => Ok(PsdProjection::None),
+        1 => Ok(PsdProjection::Clamp),
+        2 => Ok(PsdProjection::Abs),
+        _ => Err(options_error(format!(
             "project_hessian_to_psd must be 0, 1 or 2, got {code}"
-        ))
-    })
+        ))),
+    }
 }
 
-/// The barrier potential (the native half of `topoccd.ipc.BarrierPotential`).
+fn positive(name: &str, v: f64) -> PyResult<f64> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(options_error(format!(
+            "{name} must be finite and > 0, got {v}"
+        )))
+    }
+}
+
+/// The barrier potential (the native half of `topoccd.ipc.BarrierPotential`): the library's
+/// `BarrierPotential` with the clamped log barrier.
 #[pyclass(module = "topoccd", name = "IpcBarrierPotential")]
 pub struct IpcBarrierPotential {
-    pub(crate) b: Barrier,
+    pub(crate) core: BarrierPotential,
 }
 
 #[pymethods]
 impl IpcBarrierPotential {
     #[new]
     fn new(dhat: f64, stiffness: f64, use_physical_barrier: bool) -> PyResult<Self> {
-        if !(dhat.is_finite() && dhat > 0.0) {
-            return Err(options_error(format!(
-                "dhat must be finite and > 0, got {dhat}"
-            )));
-        }
-        if !(stiffness.is_finite() && stiffness > 0.0) {
-            return Err(options_error(format!(
-                "stiffness must be finite and > 0, got {stiffness}"
-            )));
-        }
-        Ok(Self {
-            b: Barrier {
-                dhat,
-                stiffness,
-                physical: use_physical_barrier,
-            },
-        })
+        let mut core =
+            BarrierPotential::new(positive("dhat", dhat)?, positive("stiffness", stiffness)?);
+        core.use_physical_barrier = use_physical_barrier;
+        Ok(Self { core })
     }
 
     #[getter]
     fn get_dhat(&self) -> f64 {
-        self.b.dhat
+        self.core.dhat
     }
 
     #[setter]
     fn set_dhat(&mut self, v: f64) -> PyResult<()> {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(options_error(format!(
-                "dhat must be finite and > 0, got {v}"
-            )));
-        }
-        self.b.dhat = v;
+        self.core.dhat = positive("dhat", v)?;
         Ok(())
     }
 
     #[getter]
     fn get_stiffness(&self) -> f64 {
-        self.b.stiffness
+        self.core.stiffness
     }
 
     #[setter]
     fn set_stiffness(&mut self, v: f64) -> PyResult<()> {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(options_error(format!(
-                "stiffness must be finite and > 0, got {v}"
-            )));
-        }
-        self.b.stiffness = v;
+        self.core.stiffness = positive("stiffness", v)?;
         Ok(())
     }
 
     #[getter]
     fn use_physical_barrier(&self) -> bool {
-        self.b.physical
+        self.core.use_physical_barrier
     }
 
     fn energy(
@@ -356,8 +357,7 @@ impl IpcBarrierPotential {
     ) -> PyResult<f64> {
         let x = flat(&x, "X")?;
         c.check(x)?;
-        let (set, b) = (&c.core, self.core());
-        let x3 = x.as_chunks::<3>().0;
+        let (set, b, x3) = (&c.core, self.core, x.as_chunks::<3>().0);
         Ok(py.detach(|| b.energy(set, x3)))
     }
 
@@ -369,8 +369,7 @@ impl IpcBarrierPotential {
     ) -> PyResult<Py<PyArray1<f64>>> {
         let x = flat(&x, "X")?;
         c.check(x)?;
-        let (set, b) = (&c.core, self.core());
-        let x3 = x.as_chunks::<3>().0;
+        let (set, b, x3) = (&c.core, self.core, x.as_chunks::<3>().0);
         let g = py.detach(|| b.gradient(set, x3));
         Ok(array1(py, g))
     }
@@ -385,57 +384,36 @@ impl IpcBarrierPotential {
     ) -> PyResult<CsrArrays> {
         let x = flat(&x, "X")?;
         c.check(x)?;
-        let psd = match psd_of(psd)? {
-            Psd::None => topoccd::ipc::PsdProjection::None,
-            Psd::Clamp => topoccd::ipc::PsdProjection::Clamp,
-            Psd::Abs => topoccd::ipc::PsdProjection::Abs,
-        };
-        let (set, b) = (&c.core, self.core());
-        let x3 = x.as_chunks::<3>().0;
-        let m = py.detach(|| {
-            let h = b.hessian(set, x3, psd);
-            let (indptr, indices, data) = h.csr();
-            barrier::Csr {
-                indptr: indptr.iter().map(|&i| i as i32).collect(),
-                indices: indices.iter().map(|&i| i as i32).collect(),
-                data: data.to_vec(),
-            }
-        });
-        Ok(csr_tuple(py, m))
+        let psd = psd_of(psd)?;
+        let (set, b, x3) = (&c.core, self.core, x.as_chunks::<3>().0);
+        let h = py.detach(|| b.hessian(set, x3, psd));
+        Ok(csr_arrays(py, &h))
     }
 
+    /// The normal force magnitude of a unit-weight collision at the squared distance `d2`
+    /// (ipctk's `force_magnitude`): `-2 sqrt(d2) B'(d2)`.
     fn force_magnitude(&self, d2: f64, dmin: f64) -> f64 {
-        self.b.force_magnitude(d2, dmin)
-    }
-}
-
-impl IpcBarrierPotential {
-    /// The library's potential with these parameters.
-    fn core(&self) -> topoccd::ipc::BarrierPotential {
-        let mut p = topoccd::ipc::BarrierPotential::new(self.b.dhat, self.b.stiffness);
-        p.use_physical_barrier = self.b.physical;
-        p
+        -2.0 * d2.sqrt() * self.core.first_derivative(d2, dmin)
     }
 }
 
 /// `b(d, dhat)` of the clamped log barrier (`which` 0), its derivatives (1, 2), or its units
-/// (3: `dhat^2`, as ipctk's `units`).
+/// (3, ipctk's `units(dhat)`).
 #[pyfunction]
 pub fn ipc_barrier(kind: &str, which: u8, d: f64, dhat: f64) -> PyResult<f64> {
     if kind != "clamped_log" {
         return Err(options_error(format!("unknown barrier {kind:?}")));
     }
-    let (b, db, d2b) = barrier::clamped_log(d, dhat);
+    let b = Barrier::ClampedLog;
     Ok(match which {
-        0 => b,
-        1 => db,
-        2 => d2b,
-        // b grows as (d - dhat)^2 in squared distances: its unit is dhat^2.
-        _ => dhat * dhat,
+        0 => b.value(d, dhat),
+        1 => b.first_derivative(d, dhat),
+        2 => b.second_derivative(d, dhat),
+        _ => b.units(dhat),
     })
 }
 
-/// ipctk's `initial_barrier_stiffness`.
+/// ipctk's `initial_barrier_stiffness`: `(kappa, max_kappa)`.
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 pub fn ipc_initial_barrier_stiffness(
@@ -456,15 +434,25 @@ pub fn ipc_initial_barrier_stiffness(
             "bbox_diagonal, dhat, average_mass and min_barrier_stiffness_scale must be > 0",
         ));
     }
-    Ok(barrier::initial_stiffness(
+    let (ge, gb) = (grad_energy.as_slice()?, grad_barrier.as_slice()?);
+    if ge.len() != gb.len() {
+        return Err(input_error(format!(
+            "grad_energy ({}) and grad_barrier ({}) differ in size",
+            ge.len(),
+            gb.len()
+        )));
+    }
+    let k = topoccd::ipc::initial_barrier_stiffness(
         bbox_diagonal,
+        Barrier::ClampedLog,
         dhat,
         average_mass,
-        grad_energy.as_slice()?,
-        grad_barrier.as_slice()?,
+        ge,
+        gb,
         min_barrier_stiffness_scale,
         dmin,
-    ))
+    );
+    Ok((k.stiffness, k.max_stiffness))
 }
 
 /// ipctk's `update_barrier_stiffness`.
@@ -478,7 +466,7 @@ pub fn ipc_update_barrier_stiffness(
     dhat_epsilon_scale: f64,
     dmin: f64,
 ) -> f64 {
-    barrier::update_stiffness(
+    topoccd::ipc::update_barrier_stiffness(
         prev_min_distance,
         min_distance,
         max_barrier_stiffness,

@@ -34,22 +34,52 @@ impl CollisionOptions {
         if self.enable_shape_derivatives {
             return Err(IpcError::ShapeDerivatives);
         }
-        if self.collision_set_type == CollisionSetType::ImprovedMaxApprox {
-            return Err(IpcError::ImprovedMaxApprox);
-        }
         Ok(())
     }
 }
 
-/// An edge-edge collision's features: edge a, edge b, the type.
-type EeKey = ([u32; 2], [u32; 2], EdgeEdgeType);
+mod improved;
+
+/// An edge-edge collision's key: the lower edge id, the higher, and the type with the lower
+/// edge as edge a and each edge in the mesh's orientation (`IpcMesh::edges`), so that two
+/// collisions of the same features merge whatever order they name them in.
+type EeKey = (u32, u32, EdgeEdgeType);
+
+/// An edge-edge collision being merged: its edges' vertices and type as the first one added
+/// named them, the weight so far and the mollifier threshold.
+struct EeEntry {
+    a: [u32; 2],
+    b: [u32; 2],
+    kind: EdgeEdgeType,
+    weight: f64,
+    eps_x: f64,
+}
+
+/// `ty` with edge a's endpoints exchanged: swap the edges, exchange b's, swap back.
+fn flip_a(ty: EdgeEdgeType) -> EdgeEdgeType {
+    flip_b(ty.swapped()).swapped()
+}
+
+/// `ty` with edge b's endpoints exchanged.
+fn flip_b(ty: EdgeEdgeType) -> EdgeEdgeType {
+    use EdgeEdgeType::*;
+    match ty {
+        Ea0Eb0 => Ea0Eb1,
+        Ea0Eb1 => Ea0Eb0,
+        Ea1Eb0 => Ea1Eb1,
+        Ea1Eb1 => Ea1Eb0,
+        EaEb0 => EaEb1,
+        EaEb1 => EaEb0,
+        other => other,
+    }
+}
 
 /// The weights being merged, by kind and features.
 #[derive(Default)]
-struct Builder {
+pub(super) struct Builder {
     vv: HashMap<(u32, u32), f64>,
     ev: HashMap<(u32, u32), f64>,
-    ee: HashMap<EeKey, (f64, f64)>,
+    ee: HashMap<EeKey, EeEntry>,
     fv: Vec<FvCollision>,
 }
 
@@ -60,6 +90,54 @@ impl Builder {
 
     fn add_ev(&mut self, edge: u32, v: u32, w: f64) {
         *self.ev.entry((edge, v)).or_insert(0.0) += w;
+    }
+
+    /// Adds to the edge-edge collision of edges `ea` (vertices `a`) and `eb` (`b`) of type
+    /// `ty` (of `a` and `b` in this order); an existing one of the same features takes the
+    /// weight, whichever order and orientation it names them in.
+    #[allow(clippy::too_many_arguments)]
+    fn add_ee(
+        &mut self,
+        mesh: &IpcMesh,
+        ea: u32,
+        eb: u32,
+        a: [u32; 2],
+        b: [u32; 2],
+        ty: EdgeEdgeType,
+        eps_x: f64,
+        w: f64,
+    ) {
+        let mut key = ty;
+        if a != mesh.edges[ea as usize] {
+            key = flip_a(key);
+        }
+        if b != mesh.edges[eb as usize] {
+            key = flip_b(key);
+        }
+        if ea > eb {
+            key = key.swapped();
+        }
+        self.ee
+            .entry((ea.min(eb), ea.max(eb), key))
+            .or_insert(EeEntry {
+                a,
+                b,
+                kind: ty,
+                weight: 0.0,
+                eps_x,
+            })
+            .weight += w;
+    }
+
+    /// Adds a vertex-against-edge contribution reduced by its closest feature: a
+    /// vertex-vertex one at an endpoint, else an edge-vertex one (ipctk's builder does the
+    /// same for each point-edge type).
+    fn add_point_edge(&mut self, edge: u32, ends: [u32; 2], v: u32, ty: PointEdgeType, w: f64) {
+        match ty {
+            PointEdgeType::E0 => self.add_vv(v, ends[0], w),
+            PointEdgeType::E1 => self.add_vv(v, ends[1], w),
+            PointEdgeType::Interior => self.add_ev(edge, v, w),
+        }
     }
 }
 
@@ -137,11 +215,7 @@ impl NormalCollisions {
                 continue;
             }
             let w = if aw { 0.5 * va(p.vertex) } else { 1.0 };
-            match ty {
-                PointEdgeType::E0 => b.add_vv(p.vertex, e0, w),
-                PointEdgeType::E1 => b.add_vv(p.vertex, e1, w),
-                PointEdgeType::Interior => b.add_ev(mesh.edge(e0, e1), p.vertex, w),
-            }
+            b.add_point_edge(mesh.edge(e0, e1), [e0, e1], p.vertex, ty, w);
         }
         // Edge against edge.
         for p in &report.ee {
@@ -162,7 +236,7 @@ impl NormalCollisions {
             };
             use EdgeEdgeType::*;
             if cross < eps_x {
-                b.ee.entry((p.a, p.b, ty)).or_insert((0.0, eps_x)).0 += w;
+                b.add_ee(&mesh, ea, eb, p.a, p.b, ty, eps_x, w);
                 continue;
             }
             match ty {
@@ -174,7 +248,7 @@ impl NormalCollisions {
                 EaEb1 => b.add_ev(ea, b1, w),
                 Ea0Eb => b.add_ev(eb, a0, w),
                 Ea1Eb => b.add_ev(eb, a1, w),
-                EaEb => b.ee.entry((p.a, p.b, ty)).or_insert((0.0, eps_x)).0 += w,
+                EaEb => b.add_ee(&mesh, ea, eb, p.a, p.b, ty, eps_x, w),
             }
         }
         // Vertex against face.
@@ -203,6 +277,9 @@ impl NormalCollisions {
                     weight: w,
                 }),
             }
+        }
+        if options.collision_set_type == CollisionSetType::ImprovedMaxApprox {
+            improved::add_corrections(&mut b, &mesh, x, &rest, triangles, report, options);
         }
         Ok(finish(b, mesh, options))
     }
@@ -326,14 +403,14 @@ fn finish(b: Builder, mesh: IpcMesh, options: &CollisionOptions) -> NormalCollis
     });
     let mut ee: Vec<EeCollision> =
         b.ee.into_iter()
-            .filter(|&(_, (w, _))| w != 0.0)
-            .map(|((a, bb, kind), (weight, eps_x))| EeCollision {
-                edge_ids: [mesh.edge(a[0], a[1]), mesh.edge(bb[0], bb[1])],
-                a,
-                b: bb,
-                eps_x,
-                kind,
-                weight,
+            .filter(|(_, e)| e.weight != 0.0)
+            .map(|(_, e)| EeCollision {
+                edge_ids: [mesh.edge(e.a[0], e.a[1]), mesh.edge(e.b[0], e.b[1])],
+                a: e.a,
+                b: e.b,
+                eps_x: e.eps_x,
+                kind: e.kind,
+                weight: e.weight,
             })
             .collect();
     ee.sort_unstable_by_key(|c| (c.a, c.b, c.kind));

@@ -89,10 +89,9 @@ pub enum IpcError {
     /// ipctk's `enable_shape_derivatives` is not supported.
     #[error("enable_shape_derivatives is not supported (the weights' derivatives with respect to the rest positions); build with it false")]
     ShapeDerivatives,
-    /// The improved max approximator is not built yet.
-    #[error(
-        "collision_set_type ImprovedMaxApprox is not supported yet; use CollisionSetType::Ipc"
-    )]
+    /// Never returned: the improved max approximation is built (kept so that matches on
+    /// this enum keep compiling).
+    #[error("collision_set_type ImprovedMaxApprox is not supported (never returned)")]
     ImprovedMaxApprox,
     /// The proximity report was truncated (a cap or a deadline): the set would miss pairs.
     #[error("the proximity report is truncated ({0:?}); build from a complete report")]
