@@ -217,7 +217,8 @@ enum topoccd_collision_set_type
  {
   // The original IPC set (ipctk's `IPC`, the default).
   TOPOCCD_COLLISION_SET_TYPE_IPC = 0,
-  // ipctk's `IMPROVED_MAX_APPROX` (refused while the Rust library does not build it).
+  // ipctk's `IMPROVED_MAX_APPROX`: the plain set with the corrections of the improved max
+  // approximation, so a contact seen by several pairs counts once.
   TOPOCCD_COLLISION_SET_TYPE_IMPROVED_MAX_APPROX = 1,
 };
 #ifndef __cplusplus

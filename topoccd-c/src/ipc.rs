@@ -26,7 +26,8 @@ use crate::step::rows;
 pub enum topoccd_collision_set_type {
     /// The original IPC set (ipctk's `IPC`, the default).
     Ipc = 0,
-    /// ipctk's `IMPROVED_MAX_APPROX` (refused while the Rust library does not build it).
+    /// ipctk's `IMPROVED_MAX_APPROX`: the plain set with the corrections of the improved max
+    /// approximation, so a contact seen by several pairs counts once.
     ImprovedMaxApprox = 1,
 }
 
