@@ -18,8 +18,11 @@
 //! over the reported pairs only (precomputed lists, tight loop), and the report's sort. The
 //! floor of issue 42 is the cheapest broad phase + the kernels over the reported pairs + the
 //! sort.
+//!
+//! `PROX_METHOD=triangles` in the environment selects the binary tree of triangle leaves
+//! (`ProximityMethod::TriangleTree`) instead of the default feature trees.
 
-use topoccd::{Ccd, Configuration, ProximityOptions};
+use topoccd::{Ccd, Configuration, ProximityMethod, ProximityOptions};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -43,8 +46,13 @@ fn main() {
         &mesh.edges,
     )
     .expect("a valid frame");
+    let method = match std::env::var("PROX_METHOD").as_deref() {
+        Ok("triangles") => ProximityMethod::TriangleTree,
+        _ => ProximityMethod::Bvh,
+    };
     let options = ProximityOptions {
         dhat,
+        method,
         ..ProximityOptions::default()
     };
     if moved {
