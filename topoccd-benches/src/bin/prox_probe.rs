@@ -155,6 +155,16 @@ fn main() {
             ms(f.kernels_reported)
         );
         println!("sort of the report                 {:9.3}", ms(f.sort));
+        println!("feature tree: boxes + refit        {:9.3}", ms(f.wide_fit));
+        println!(
+            "feature tree: queries + kernels    {:9.3} ({} box tests)",
+            ms(f.wide_find),
+            f.wide_box_tests
+        );
+        println!(
+            "feature tree floor = its fit + queries + sort = {:.3} ms",
+            ms(f.wide_fit + f.wide_find + f.sort)
+        );
         let broad = f.fit + f.candidates_seconds;
         println!(
             "floor = boxes+refit + traversal with feature boxes + kernels(reported) + sort = {:.3} ms",

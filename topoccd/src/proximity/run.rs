@@ -40,7 +40,17 @@ pub(crate) struct Stop<'a> {
     cancelled: AtomicBool,
 }
 
-impl Stop<'_> {
+impl<'a> Stop<'a> {
+    /// No deadline; stopped only by `cancel`.
+    pub fn cancel_only(cancel: &'a CancelToken) -> Self {
+        Stop {
+            deadline: None,
+            cancel,
+            stopped: AtomicBool::new(false),
+            cancelled: AtomicBool::new(false),
+        }
+    }
+
     /// Whether the query must stop now (and records it).
     pub fn check(&self) -> bool {
         if self.stopped.load(Ordering::Relaxed) {
