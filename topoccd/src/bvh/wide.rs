@@ -361,7 +361,7 @@ impl WideBvh {
                     }
                     self.nodes[ch as usize].union()
                 };
-                if !b.contains(&inner) {
+                if !super::BoundingVolume::contains(&b, &inner) {
                     return Err(format!("node {i} lane {c}: box does not contain its subtree"));
                 }
             }
