@@ -222,10 +222,10 @@ impl FeatureTree {
                     visits += self.tree.query(&vbox[v as usize], 0, stack, |pos| {
                         let l = &slots[pos as usize];
                         match l.kind {
-                            Kind::Triangle => {
-                                if l.verts[0] != v && l.verts[1] != v && l.verts[2] != v {
-                                    test.vf(v, l.id, l.verts, out);
-                                }
+                            Kind::Triangle
+                                if l.verts[0] != v && l.verts[1] != v && l.verts[2] != v =>
+                            {
+                                test.vf(v, l.id, l.verts, out);
                             }
                             // A free point against a free edge, and a later free point.
                             Kind::Edge if point != NOT_POINT => {

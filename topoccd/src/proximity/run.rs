@@ -41,7 +41,8 @@ pub(crate) struct Stop<'a> {
 }
 
 impl<'a> Stop<'a> {
-    /// No deadline; stopped only by `cancel`.
+    /// No deadline; stopped only by `cancel` (for the floor's timings).
+    #[cfg_attr(not(feature = "internals"), allow(dead_code))]
     pub fn cancel_only(cancel: &'a CancelToken) -> Self {
         Stop {
             deadline: None,
