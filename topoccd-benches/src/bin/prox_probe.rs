@@ -18,8 +18,11 @@
 //! over the reported pairs only (precomputed lists, tight loop), and the report's sort. The
 //! floor of issue 42 is the cheapest broad phase + the kernels over the reported pairs + the
 //! sort.
+//!
+//! `PROX_METHOD=triangles` in the environment selects the binary tree of triangle leaves
+//! (`ProximityMethod::TriangleTree`) instead of the default feature trees.
 
-use topoccd::{Ccd, Configuration, ProximityOptions};
+use topoccd::{Ccd, Configuration, ProximityMethod, ProximityOptions};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -43,8 +46,13 @@ fn main() {
         &mesh.edges,
     )
     .expect("a valid frame");
+    let method = match std::env::var("PROX_METHOD").as_deref() {
+        Ok("triangles") => ProximityMethod::TriangleTree,
+        _ => ProximityMethod::Bvh,
+    };
     let options = ProximityOptions {
         dhat,
+        method,
         ..ProximityOptions::default()
     };
     if moved {
@@ -147,6 +155,16 @@ fn main() {
             ms(f.kernels_reported)
         );
         println!("sort of the report                 {:9.3}", ms(f.sort));
+        println!("feature tree: boxes + refit        {:9.3}", ms(f.wide_fit));
+        println!(
+            "feature tree: queries + kernels    {:9.3} ({} box tests)",
+            ms(f.wide_find),
+            f.wide_box_tests
+        );
+        println!(
+            "feature tree floor = its fit + queries + sort = {:.3} ms",
+            ms(f.wide_fit + f.wide_find + f.sort)
+        );
         let broad = f.fit + f.candidates_seconds;
         println!(
             "floor = boxes+refit + traversal with feature boxes + kernels(reported) + sort = {:.3} ms",

@@ -47,6 +47,7 @@ mod parallel;
 mod refit;
 mod traverse;
 mod validation;
+pub(crate) mod wide;
 
 pub use parallel::{ParOptions, ParPairs};
 pub(crate) use parallel::run_batches;

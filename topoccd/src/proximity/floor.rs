@@ -36,6 +36,12 @@ pub struct FloorFigures {
     pub kernels_reported: f64,
     /// Sorting the report's pairs from the traversal's order.
     pub sort: f64,
+    /// The feature tree (`features`): the vertex boxes and the refit of the kept tree.
+    pub wide_fit: f64,
+    /// The feature tree's queries with the per-pair tests and kernels (no sort).
+    pub wide_find: f64,
+    /// The feature tree's box tests (four per node visit).
+    pub wide_box_tests: u64,
     /// The whole query on the kept `Ccd`: refit and traversal.
     pub query: f64,
     /// The whole query on the kept `Ccd` asked again at the same positions: the pairs it
@@ -95,6 +101,21 @@ pub fn floor(
         black_box(st.fit(config, h));
     });
     let test = super::run::test(config, options);
+    let (features, prims, fws) = (&mut st.features, &st.prims, &mut st.ws);
+    fig.wide_fit = time(&mut || {
+        black_box(features.fit(prims, x, h, fws));
+    });
+    let token = crate::query::CancelToken::default();
+    let stop = super::run::Stop::cancel_only(&token);
+    let mut box_tests = 0;
+    fig.wide_find = time(&mut || {
+        let f = features.find(&test, &stop, usize::MAX);
+        box_tests = f.map_or(0, |(f, b)| {
+            black_box(f.len());
+            b
+        });
+    });
+    fig.wide_box_tests = box_tests;
     let (slots, tree, ws) = (&st.slots, &st.tree, &mut st.ws);
     let mut leaf_pairs = 0u64;
     fig.leaf_pairs_seconds = time(&mut || {

@@ -26,6 +26,7 @@
 mod boxes;
 mod brute;
 mod cache;
+mod features;
 #[cfg(feature = "internals")]
 pub mod floor;
 mod input;

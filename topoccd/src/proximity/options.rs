@@ -7,10 +7,15 @@ use super::ProximityError;
 /// How the proximity query finds its candidate pairs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum ProximityMethod {
-    /// A hierarchy over the primitives' boxes, kept in the [`Ccd`](crate::Ccd) and refitted
-    /// while the primitives stay the same.
+    /// Hierarchies over the features' boxes (faces, edges, free points; four-wide nodes),
+    /// kept in the [`Ccd`](crate::Ccd) and refitted while the primitives stay the same: each
+    /// vertex against the faces, each edge against the edges.
     #[default]
     Bvh,
+    /// One binary hierarchy over the triangles', free edges' and free points' boxes, whose
+    /// leaf pairs list their feature pairs: the same report as [`ProximityMethod::Bvh`], kept
+    /// to compare the two layouts.
+    TriangleTree,
     /// Every feature pair, no hierarchy: the oracle the tests compare against. `O(n^2)`.
     Brute,
 }

@@ -13,6 +13,7 @@ use crate::Ccd;
 use super::boxes::{inflation, largest_side};
 use super::brute::brute;
 use super::cache::{evaluate, list_threshold, Cache};
+use super::features::FeatureTree;
 use super::pairs::{Found, Test};
 use super::primitives::Primitives;
 use super::report::ProximityStats;
@@ -25,6 +26,8 @@ use super::{Configuration, ProximityError, ProximityMethod, ProximityOptions, Pr
 pub(crate) struct State {
     pub(super) prims: Primitives,
     pub(super) tree: ProximityTree,
+    /// The trees of feature leaves (see `features`).
+    pub(super) features: FeatureTree,
     pub(super) slots: Slots,
     cache: Cache,
     pub(super) ws: BvhWorkspace,
@@ -38,7 +41,18 @@ pub(crate) struct Stop<'a> {
     cancelled: AtomicBool,
 }
 
-impl Stop<'_> {
+impl<'a> Stop<'a> {
+    /// No deadline; stopped only by `cancel` (for the floor's timings).
+    #[cfg_attr(not(feature = "internals"), allow(dead_code))]
+    pub fn cancel_only(cancel: &'a CancelToken) -> Self {
+        Stop {
+            deadline: None,
+            cancel,
+            stopped: AtomicBool::new(false),
+            cancelled: AtomicBool::new(false),
+        }
+    }
+
     /// Whether the query must stop now (and records it).
     pub fn check(&self) -> bool {
         if self.stopped.load(Ordering::Relaxed) {
@@ -177,6 +191,7 @@ impl State {
         if !self.prims.same(config) {
             self.prims.derive(config);
             self.tree.invalidate();
+            self.features.invalidate();
             self.cache.clear();
         }
         let mut test = test(config, options);
@@ -188,7 +203,7 @@ impl State {
                 stats.build_seconds = start.elapsed().as_secs_f64();
                 brute(&self.prims, config.triangles(), &test, &stop)
             }
-            ProximityMethod::Bvh => {
+            ProximityMethod::Bvh | ProximityMethod::TriangleTree => {
                 let (x, r) = (test.x, test.r);
                 // The pairs kept across a solver's iterations (see `cache`): not under a
                 // deadline, whose pairs depend on the order of work, nor with groups or a
@@ -225,29 +240,47 @@ impl State {
                         test.r_list = list_threshold(r, allowance, big);
                     }
                     let h = inflation(big, x, r.max(test.r_list));
-                    stats.refitted = self.fit(config, h);
-                    stats.build_seconds = start.elapsed().as_secs_f64();
-                    let slots = &self.slots;
+                    // The feature trees, unless under a deadline (whose pairs are the first
+                    // of the triangle leaves' order of work) or asked for the triangle leaves.
+                    // A query that reaches the cap there is done again with the triangle
+                    // leaves, so that its pairs are the first of their fixed order.
+                    let by_feature =
+                        options.method == ProximityMethod::Bvh && options.deadline.is_none();
+                    let mut done = None;
+                    if by_feature {
+                        let ws = &mut self.ws;
+                        stats.refitted = self.features.fit(&self.prims, x, h, ws);
+                        stats.build_seconds = start.elapsed().as_secs_f64();
+                        done = self.features.find(&test, &stop, max);
+                    }
                     let mut found = Found::default();
-                    let skip = |_: &Found| stop.check();
-                    let consume = |mut f: Found| {
-                        if found.append(&mut f).is_err() || found.len() >= max {
-                            capped = true;
-                            ControlFlow::Break(())
-                        } else {
-                            ControlFlow::Continue(())
-                        }
-                    };
-                    stats.bv_tests = self.tree.bvh.par_self_pairs_until(
-                        &mut self.ws,
-                        &ParOptions::default(),
-                        &TestAll,
-                        |_| Found::default(),
-                        |acc, a, b| test.leaf_pair(slots, a, b, acc),
-                        |_| {},
-                        consume,
-                        &skip,
-                    );
+                    if let Some((f, visits)) = done {
+                        found = f;
+                        stats.bv_tests = visits;
+                    } else {
+                        stats.refitted = self.fit(config, h);
+                        stats.build_seconds = start.elapsed().as_secs_f64();
+                        let slots = &self.slots;
+                        let skip = |_: &Found| stop.check();
+                        let consume = |mut f: Found| {
+                            if found.append(&mut f).is_err() || found.len() >= max {
+                                capped = true;
+                                ControlFlow::Break(())
+                            } else {
+                                ControlFlow::Continue(())
+                            }
+                        };
+                        stats.bv_tests = self.tree.bvh.par_self_pairs_until(
+                            &mut self.ws,
+                            &ParOptions::default(),
+                            &TestAll,
+                            |_| Found::default(),
+                            |acc, a, b| test.leaf_pair(slots, a, b, acc),
+                            |_| {},
+                            consume,
+                            &skip,
+                        );
+                    }
                     let cands = std::mem::take(&mut found.cands);
                     if let Some(failure) = found.failure {
                         // What was found is freed; the listing is not complete.

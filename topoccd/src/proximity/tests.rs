@@ -560,3 +560,107 @@ fn a_kept_ccd_does_not_list_after_a_first_or_growing_move() {
     assert!(ask(&x3).reused);
     assert!(ask(&x1).reused);
 }
+
+/// The report of `method` at `config`.
+fn with_method(config: &Configuration<'_>, dhat: f64, method: ProximityMethod) -> ProximityReport {
+    let o = ProximityOptions {
+        method,
+        ..opts(dhat)
+    };
+    proximity(config, &o).unwrap()
+}
+
+#[test]
+fn feature_tree_equals_brute_force_and_the_triangle_tree() {
+    // Seeded soups of every primitive kind, one and two threads, kept and refitted: the
+    // feature tree's report is the oracle's and the triangle tree's, pair for pair.
+    let two = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    for seed in 0..5 {
+        let (mut x, tris, edges) = soup(seed + 60, 250, 150, 150);
+        let mut kept = Ccd::new();
+        for round in 0..3 {
+            let config = Configuration::new(&x, &tris, &edges).unwrap();
+            let dhat = 0.03;
+            let brute = oracle(&config, dhat);
+            let tri = with_method(&config, dhat, ProximityMethod::TriangleTree);
+            let wide = kept.proximity(&config, &opts(dhat)).unwrap();
+            let wide2 = two.install(|| with_method(&config, dhat, ProximityMethod::Bvh));
+            assert_eq!(pairs(&wide), pairs(&brute), "seed {seed} round {round}");
+            assert_eq!(pairs(&wide2), pairs(&brute), "seed {seed} round {round}");
+            assert_eq!(pairs(&tri), pairs(&brute), "seed {seed} round {round}");
+            // The same candidates: each met once, as by the triangle tree.
+            assert_eq!(wide2.stats.distance_tests, tri.stats.distance_tests);
+            assert!(brute.vf.len() > 5 && brute.ee.len() > 5);
+            let mut rng = ChaCha8Rng::seed_from_u64(seed + 900);
+            for p in &mut x {
+                for c in p.iter_mut() {
+                    *c += rng.random_range(-0.01..0.01);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn feature_tree_on_degenerate_input_equals_brute_force() {
+    // A flat grid of unit squares (two triangles each) with a second grid exactly `d` above
+    // it, so that many pairs sit at the threshold; coincident vertices (a duplicated sheet);
+    // free edges along the grid lines; free points at grid vertices; and every vertex at one
+    // point.
+    let n = 6usize;
+    let mut x = Vec::new();
+    let mut tris = Vec::new();
+    let sheet = |z: f64, x: &mut Vec<[f64; 3]>, tris: &mut Vec<[u32; 3]>| {
+        let base = x.len() as u32;
+        for j in 0..=n {
+            for i in 0..=n {
+                x.push([i as f64, j as f64, z]);
+            }
+        }
+        let id = |i: usize, j: usize| base + (j * (n + 1) + i) as u32;
+        for j in 0..n {
+            for i in 0..n {
+                tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+    };
+    let d = 0.25;
+    sheet(0.0, &mut x, &mut tris);
+    sheet(d, &mut x, &mut tris);
+    sheet(d, &mut x, &mut tris); // coincident with the second
+    let mut edges = Vec::new();
+    for i in 0..n as u32 {
+        let a = x.len() as u32;
+        x.push([i as f64, -0.5, 0.0]);
+        x.push([i as f64 + 1.0, -0.5, 0.0]);
+        edges.push([a, a + 1]);
+    }
+    for i in 0..4 {
+        x.push([i as f64, -0.5, d]);
+    }
+    for dhat in [d, d * (1.0 - 1e-12), d * (1.0 + 1e-12), 0.5, 1e-9] {
+        let config = Configuration::new(&x, &tris, &edges).unwrap();
+        let brute = oracle(&config, dhat);
+        let wide = with_method(&config, dhat, ProximityMethod::Bvh);
+        assert_eq!(pairs(&wide), pairs(&brute), "dhat {dhat}");
+        let tri = with_method(&config, dhat, ProximityMethod::TriangleTree);
+        assert_eq!(pairs(&tri), pairs(&brute), "dhat {dhat}");
+    }
+    assert!(!oracle(&Configuration::new(&x, &tris, &edges).unwrap(), d)
+        .vf
+        .is_empty());
+    // Every vertex at one point: every non-adjacent pair is at distance zero.
+    let (x, tris, edges) = soup(5, 20, 10, 10);
+    let one: Vec<[f64; 3]> = x.iter().map(|_| [0.5, 0.5, 0.5]).collect();
+    let config = Configuration::new(&one, &tris, &edges).unwrap();
+    let brute = oracle(&config, 1e-3);
+    assert_eq!(
+        pairs(&with_method(&config, 1e-3, ProximityMethod::Bvh)),
+        pairs(&brute)
+    );
+    assert!(brute.len() > 100);
+}
