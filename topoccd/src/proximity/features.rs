@@ -194,8 +194,12 @@ impl FeatureTree {
                 return None;
             }
             for (mut f, v) in parts {
-                found.append(&mut f);
+                // An allocation failure is kept in `found.failure`, which the query returns.
+                let failed = found.append(&mut f).is_err();
                 visits += v;
+                if failed {
+                    return Some((found, visits * WIDTH as u64));
+                }
                 if found.len() >= max {
                     return None;
                 }
