@@ -142,7 +142,10 @@ impl BarrierPotential {
             let [q0, q1, q2] = ids.map(p);
             let b1 = c.weight * self.first_derivative(point_line_distance(q0, q1, q2), dmin);
             if b1 != 0.0 {
-                add(&ids, &point_line_distance_gradient(q0, q1, q2).map(|v| b1 * v));
+                add(
+                    &ids,
+                    &point_line_distance_gradient(q0, q1, q2).map(|v| b1 * v),
+                );
             }
         }
         for c in &collisions.ee {
@@ -359,7 +362,12 @@ impl BarrierPotential {
             }
             let g = dg.map(|v| f1 * v);
             let h = if hess {
-                chain(f1, f2, &dg, &edge_edge_distance_hessian(a0, a1, b0, b1, c.kind))
+                chain(
+                    f1,
+                    f2,
+                    &dg,
+                    &edge_edge_distance_hessian(a0, a1, b0, b1, c.kind),
+                )
             } else {
                 [[0.0; 12]; 12]
             };
@@ -374,10 +382,7 @@ impl BarrierPotential {
             }
             let hm = edge_edge_mollifier_hessian(a0, a1, b0, b1, c.eps_x);
             let h = hm.map(|row| row.map(|v| f * v));
-            return Some(Local12 {
-                g: [0.0; 12],
-                h,
-            });
+            return Some(Local12 { g: [0.0; 12], h });
         }
         if f == 0.0 && f1 == 0.0 && f2 == 0.0 {
             return None;

@@ -453,7 +453,7 @@ fn ql_implicit<const N: usize>(z: &mut [[f64; N]; N], d: &mut [f64; N], e: &mut 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::SMatrix;
+    use nalgebra::DMatrix;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
@@ -462,7 +462,7 @@ mod tests {
         h: &[[f64; N]; N],
         method: PsdProjection,
     ) -> [[f64; N]; N] {
-        let m = SMatrix::<f64, N, N>::from_fn(|i, j| h[i][j]);
+        let m = DMatrix::<f64>::from_fn(N, N, |i, j| h[i][j]);
         let e = m.symmetric_eigen();
         if e.eigenvalues.min() >= 0.0 {
             return *h;
@@ -472,7 +472,7 @@ mod tests {
             PsdProjection::Abs => l.abs(),
             PsdProjection::None => l,
         });
-        let r = e.eigenvectors * SMatrix::<f64, N, N>::from_diagonal(&d) * e.eigenvectors.transpose();
+        let r = &e.eigenvectors * DMatrix::from_diagonal(&d) * e.eigenvectors.transpose();
         std::array::from_fn(|i| std::array::from_fn(|j| r[(i, j)]))
     }
 
@@ -518,7 +518,7 @@ mod tests {
             }
         }
         // The eigenvalues are nalgebra's.
-        let m = SMatrix::<f64, N, N>::from_fn(|i, j| a[i][j]);
+        let m = DMatrix::<f64>::from_fn(N, N, |i, j| a[i][j]);
         let mut ours = d.to_vec();
         let mut theirs: Vec<f64> = m.symmetric_eigen().eigenvalues.iter().copied().collect();
         ours.sort_by(f64::total_cmp);
@@ -547,7 +547,13 @@ mod tests {
             std::array::from_fn(|j| u[i] * u[j])
         }));
         check_eigen(std::array::from_fn::<_, 6, _>(|i| {
-            std::array::from_fn(|j| if i == j { [3.0, -1.0, 3.0, 0.0, -1.0, 2.0][i] } else { 0.0 })
+            std::array::from_fn(|j| {
+                if i == j {
+                    [3.0, -1.0, 3.0, 0.0, -1.0, 2.0][i]
+                } else {
+                    0.0
+                }
+            })
         }));
     }
 
@@ -648,7 +654,7 @@ mod tests {
             for i in 0..6 {
                 a[i][i] += shift;
             }
-            let m = SMatrix::<f64, 6, 6>::from_fn(|i, j| a[i][j]);
+            let m = DMatrix::<f64>::from_fn(6, 6, |i, j| a[i][j]);
             let min = m.symmetric_eigen().eigenvalues.min();
             if is_positive_definite(&a) {
                 assert!(min > 0.0, "called definite with eigenvalue {min}");
