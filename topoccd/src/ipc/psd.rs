@@ -586,6 +586,16 @@ mod tests {
         h
     }
 
+    /// `|a - b| / |h|` in the Frobenius norm: the projection's rounding scales with its input
+    /// `h`, not with its result, which is near zero when `h` is negative semi-definite.
+    fn diff_over_input<const N: usize>(
+        a: &[[f64; N]; N],
+        b: &[[f64; N]; N],
+        h: &[[f64; N]; N],
+    ) -> f64 {
+        rel_diff(a, b) * frobenius(b).max(f64::MIN_POSITIVE) / frobenius(h).max(f64::MIN_POSITIVE)
+    }
+
     fn check_reduced<const P: usize, const K: usize, const N: usize, const R: usize>(
         h: [[f64; N]; N],
     ) where
@@ -595,13 +605,13 @@ mod tests {
             let want = reference(&h, method);
             let mut got = h;
             project_translation_free::<P, K, N, R>(&mut got, method);
-            let d = rel_diff(&got, &want);
+            let d = diff_over_input(&got, &want, &h);
             assert!(d < 1e-12, "reduced projection differs by {d:e}");
             let mut flat: Vec<f64> = h.iter().flatten().copied().collect();
             project_to_psd(&mut flat, N, method);
             let full: [[f64; N]; N] =
                 std::array::from_fn(|i| std::array::from_fn(|j| flat[i * N + j]));
-            let d = rel_diff(&full, &want);
+            let d = diff_over_input(&full, &want, &h);
             assert!(d < 1e-12, "full projection differs by {d:e}");
         }
     }
