@@ -39,7 +39,6 @@
 mod barrier;
 mod collisions;
 mod collisions_build;
-mod deriv;
 pub mod friction;
 mod mesh;
 mod potential;

@@ -104,75 +104,186 @@ impl SparseMatrix {
     /// The sum of dense local Hessians over vertex stencils, as a `3 n x 3 n` matrix: the
     /// collision `c` names the vertices `ids[offsets[c]..offsets[c + 1]]` and holds the
     /// `3 k x 3 k` row-major block `vals[...]` (the blocks laid end to end). The pattern is
-    /// the union of the stencils' 3x3 vertex blocks, found by sorting the vertex pairs once.
+    /// the union of the stencils' 3x3 vertex blocks.
     pub(crate) fn from_vertex_blocks(
         n_vertices: usize,
         ids: &[u32],
         offsets: &[usize],
         vals: &[f64],
     ) -> Self {
-        let mut keys: Vec<u64> = Vec::new();
-        for w in offsets.windows(2) {
+        let pattern = BlockPattern::new(n_vertices, FlatStencils { ids, offsets });
+        let mut data = vec![0.0f64; pattern.nnz()];
+        let mut off = 0usize;
+        for (c, w) in offsets.windows(2).enumerate() {
             let s = &ids[w[0]..w[1]];
+            let m = 3 * s.len();
+            pattern.add(c, s, &vals[off..off + m * m], &mut data);
+            off += m * m;
+        }
+        pattern.into_matrix(data)
+    }
+}
+
+/// A sequence of vertex stencils (the vertices of each collision, at most 4), visited in a
+/// fixed order.
+pub(crate) trait StencilSource {
+    /// Calls `f` on each stencil in order.
+    fn for_each(&self, f: impl FnMut(&[u32]));
+}
+
+/// Stencils laid end to end: stencil `c` is `ids[offsets[c]..offsets[c + 1]]`.
+struct FlatStencils<'a> {
+    ids: &'a [u32],
+    offsets: &'a [usize],
+}
+
+impl StencilSource for FlatStencils<'_> {
+    fn for_each(&self, mut f: impl FnMut(&[u32])) {
+        for w in self.offsets.windows(2) {
+            f(&self.ids[w[0]..w[1]]);
+        }
+    }
+}
+
+/// The block pattern of a sum of local Hessians over vertex stencils, built from the
+/// vertex indices alone, with the place of every local block in the CSR data: local
+/// Hessians are then added straight into the matrix, in any order, with no search.
+///
+/// Vertex row `a` holds the blocks `row_start[a]..row_start[a + 1]`, sorted by column
+/// vertex (`cols`). The local Hessians are summed block by block (each block's 9 entries
+/// side by side, so that adding one touches one or two cache lines, not three rows), and
+/// [`into_matrix`](Self::into_matrix) lays the blocks out as CSR rows in one pass.
+pub(crate) struct BlockPattern {
+    n_vertices: usize,
+    /// Per vertex row, its first block (`n_vertices + 1` entries).
+    row_start: Vec<usize>,
+    /// The column vertex of each block.
+    cols: Vec<u32>,
+    /// Per stencil, its first entry in `slots`.
+    first: Vec<usize>,
+    /// Per stencil entry `(k, l)` (row-major over the stencil's vertices), the block's index
+    /// within row `ids[k]`.
+    slots: Vec<u32>,
+}
+
+impl BlockPattern {
+    /// The pattern of the stencils of `source` over `n_vertices` vertices. Stencils name
+    /// vertices below `n_vertices` (checked in debug builds).
+    pub(crate) fn new(n_vertices: usize, source: impl StencilSource) -> Self {
+        // Entries per vertex row, and per stencil its first entry.
+        let mut row_count = vec![0usize; n_vertices + 1];
+        let mut first = Vec::new();
+        let mut total = 0usize;
+        source.for_each(|s| {
+            first.push(total);
+            total += s.len() * s.len();
             for &a in s {
+                debug_assert!((a as usize) < n_vertices);
+                row_count[a as usize + 1] += s.len();
+            }
+        });
+        first.push(total);
+        assert!(
+            total <= u32::MAX as usize,
+            "BlockPattern: more than 2^32 stencil entries"
+        );
+        for v in 0..n_vertices {
+            row_count[v + 1] += row_count[v];
+        }
+        // Bucket the entries by row: (column << 32 | entry).
+        let mut cursor = row_count.clone();
+        let mut keys = vec![0u64; total];
+        let mut e = 0usize;
+        source.for_each(|s| {
+            for &a in s {
+                let at = &mut cursor[a as usize];
                 for &b in s {
-                    keys.push((u64::from(a) << 32) | u64::from(b));
+                    keys[*at] = (u64::from(b) << 32) | e as u64;
+                    *at += 1;
+                    e += 1;
+                }
+            }
+        });
+        let mut row_start = vec![0usize; n_vertices + 1];
+        let mut cols = Vec::with_capacity(total / 2);
+        let mut slots = vec![0u32; total];
+        for a in 0..n_vertices {
+            let row = &mut keys[row_count[a]..row_count[a + 1]];
+            row.sort_unstable();
+            let start = cols.len();
+            let mut last = u64::MAX;
+            for &k in row.iter() {
+                let col = k >> 32;
+                if col != last {
+                    cols.push(col as u32);
+                    last = col;
+                }
+                slots[(k & 0xffff_ffff) as usize] = (cols.len() - 1 - start) as u32;
+            }
+            row_start[a + 1] = cols.len();
+        }
+        Self {
+            n_vertices,
+            row_start,
+            cols,
+            first,
+            slots,
+        }
+    }
+
+    /// The number of stored entries (9 per block).
+    pub(crate) fn nnz(&self) -> usize {
+        9 * self.cols.len()
+    }
+
+    /// Adds the `3 k x 3 k` row-major local Hessian `h` of stencil number `stencil`, whose
+    /// vertices are `ids` (as the source gave them), into the blocks `data` (`nnz` entries,
+    /// block by block).
+    #[inline]
+    pub(crate) fn add(&self, stencil: usize, ids: &[u32], h: &[f64], data: &mut [f64]) {
+        let k = ids.len();
+        let m = 3 * k;
+        debug_assert_eq!(h.len(), m * m);
+        let slots = &self.slots[self.first[stencil]..][..k * k];
+        for (ka, &a) in ids.iter().enumerate() {
+            let rs = self.row_start[a as usize];
+            for lb in 0..k {
+                let block = &mut data[9 * (rs + slots[ka * k + lb] as usize)..][..9];
+                for i in 0..3 {
+                    let src = &h[(3 * ka + i) * m + 3 * lb..][..3];
+                    for j in 0..3 {
+                        block[3 * i + j] += src[j];
+                    }
                 }
             }
         }
-        keys.sort_unstable();
-        keys.dedup();
-        // Blocks per vertex row and their columns.
-        let mut row_start = vec![0usize; n_vertices + 1];
-        let cols: Vec<u32> = keys.iter().map(|&k| k as u32).collect();
-        for &k in &keys {
-            row_start[(k >> 32) as usize + 1] += 1;
-        }
-        for v in 0..n_vertices {
-            row_start[v + 1] += row_start[v];
-        }
-        let n = 3 * n_vertices;
+    }
+
+    /// The matrix of the summed blocks `blocks` (as [`add`](Self::add) fills them) in CSR:
+    /// the entry `(3 a + i, 3 b + j)` of the `k`-th block of row `a` goes to
+    /// `9 row_start[a] + 3 i len_a + 3 k + j`, `len_a` the row's number of blocks.
+    pub(crate) fn into_matrix(self, blocks: Vec<f64>) -> SparseMatrix {
+        debug_assert_eq!(blocks.len(), self.nnz());
+        let n = 3 * self.n_vertices;
         let mut indptr = vec![0usize; n + 1];
-        let mut indices = vec![0usize; 9 * keys.len()];
-        for v in 0..n_vertices {
-            let (s, e) = (row_start[v], row_start[v + 1]);
+        let mut indices = vec![0usize; self.nnz()];
+        let mut data = vec![0.0f64; self.nnz()];
+        for v in 0..self.n_vertices {
+            let (s, e) = (self.row_start[v], self.row_start[v + 1]);
             let len = e - s;
             for a in 0..3 {
                 let base = 9 * s + a * 3 * len;
                 indptr[3 * v + a + 1] = base + 3 * len;
-                for (ci, &c) in cols[s..e].iter().enumerate() {
+                for (ci, &c) in self.cols[s..e].iter().enumerate() {
+                    let block = &blocks[9 * (s + ci) + 3 * a..][..3];
                     for b in 0..3 {
                         indices[base + 3 * ci + b] = 3 * c as usize + b;
+                        data[base + 3 * ci + b] = block[b];
                     }
                 }
             }
         }
-        let mut data = vec![0.0f64; 9 * keys.len()];
-        let mut off = 0usize;
-        for w in offsets.windows(2) {
-            let s = &ids[w[0]..w[1]];
-            let m = 3 * s.len();
-            for (k, &a) in s.iter().enumerate() {
-                let (rs, re) = (row_start[a as usize], row_start[a as usize + 1]);
-                let len = re - rs;
-                for (l, &b) in s.iter().enumerate() {
-                    let ci = rs
-                        + cols[rs..re]
-                            .binary_search(&b)
-                            .expect("a block of the pattern")
-                        - rs;
-                    for i in 0..3 {
-                        let base = 9 * rs + i * 3 * len + 3 * ci;
-                        let row = &vals[off + (3 * k + i) * m + 3 * l..][..3];
-                        for j in 0..3 {
-                            data[base + j] += row[j];
-                        }
-                    }
-                }
-            }
-            off += m * m;
-        }
-        Self {
+        SparseMatrix {
             n,
             indptr,
             indices,

@@ -10,11 +10,67 @@ use std::collections::BTreeMap;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::deriv;
 use super::*;
 use crate::distance::EdgeEdgeType;
 use crate::math::DVec3;
 use crate::{Ccd, Configuration};
+
+/// The distances' derivatives the potential uses, from `crate::distance`, in the shape the
+/// checks below take.
+mod deriv {
+    use crate::distance::*;
+    use crate::math::DVec3;
+
+    pub(super) struct Local<const N: usize> {
+        pub d2: f64,
+        pub g: [f64; N],
+        pub h: [[f64; N]; N],
+    }
+
+    pub(super) fn vv(p: [DVec3; 2], _hess: bool) -> Local<6> {
+        Local {
+            d2: point_point_distance(p[0], p[1]),
+            g: point_point_distance_gradient(p[0], p[1]),
+            h: point_point_distance_hessian(p[0], p[1]),
+        }
+    }
+
+    pub(super) fn ev(p: [DVec3; 3], _hess: bool) -> Local<9> {
+        Local {
+            d2: point_line_distance(p[0], p[1], p[2]),
+            g: point_line_distance_gradient(p[0], p[1], p[2]),
+            h: point_line_distance_hessian(p[0], p[1], p[2]),
+        }
+    }
+
+    pub(super) fn fv(p: [DVec3; 4], _hess: bool) -> Local<12> {
+        Local {
+            d2: point_plane_distance(p[0], p[1], p[2], p[3]),
+            g: point_plane_distance_gradient(p[0], p[1], p[2], p[3]),
+            h: point_plane_distance_hessian(p[0], p[1], p[2], p[3]),
+        }
+    }
+
+    pub(super) fn ee(p: [DVec3; 4], t: EdgeEdgeType, _hess: bool) -> Local<12> {
+        Local {
+            d2: edge_edge_distance_of_type(p[0], p[1], p[2], p[3], t),
+            g: edge_edge_distance_gradient(p[0], p[1], p[2], p[3], t),
+            h: edge_edge_distance_hessian(p[0], p[1], p[2], p[3], t),
+        }
+    }
+
+    pub(super) fn mollifier(
+        p: [DVec3; 4],
+        eps: f64,
+        _hess: bool,
+    ) -> (f64, [f64; 12], [[f64; 12]; 12]) {
+        (
+            edge_edge_mollifier(p[0], p[1], p[2], p[3], eps),
+            edge_edge_mollifier_gradient(p[0], p[1], p[2], p[3], eps),
+            edge_edge_mollifier_hessian(p[0], p[1], p[2], p[3], eps),
+        )
+    }
+}
 
 fn rand_points<const P: usize>(rng: &mut ChaCha8Rng) -> [DVec3; P] {
     std::array::from_fn(|_| DVec3::new(rng.random(), rng.random(), rng.random()))
