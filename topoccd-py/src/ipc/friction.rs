@@ -59,9 +59,11 @@ impl IpcTangentialCollisions {
                 mu_k: mu_k[0],
             },
             (a, b) if a == n && b == n => FrictionCoefficients::PerVertex { mu_s, mu_k },
-            (a, b) => return Err(input_error(format!(
+            (a, b) => {
+                return Err(input_error(format!(
                 "mu_s and mu_k must be scalars or have one entry per vertex ({n}), got {a} and {b}"
-            ))),
+            )))
+            }
         };
         let (normal, barrier, x3) = (&collisions.core, potential.core, x.as_chunks::<3>().0);
         let core = py
