@@ -36,6 +36,9 @@ use topoccd::ipc::{
 use topoccd::line_search::LineSearchOptions;
 use topoccd::{Ccd, Configuration, Step};
 
+/// A sparse matrix as (row, column, value) triplets; repeats add up.
+type Triplets = Vec<(usize, usize, f64)>;
+
 /// The fixed obstacle under the cloth.
 #[derive(Clone, Copy, Debug)]
 enum Obstacle {
@@ -483,7 +486,7 @@ impl Potential<'_> {
         &self,
         c: &NormalCollisions,
         x: &[[f64; 3]],
-    ) -> Result<(Vec<f64>, Vec<(usize, usize, f64)>), SimError> {
+    ) -> Result<(Vec<f64>, Triplets), SimError> {
         let v = self.velocities(x);
         let mut g = self.elastic.gradient(x, &self.x_tilde);
         let gb = self.barrier.gradient(c, x);
@@ -658,7 +661,9 @@ fn simulate(p: &Params) -> Result<Run, SimError> {
         }
         kappa = Some((k, k_max));
         let min_distance = c.minimum_distance(&x);
-        if !(min_distance > 0.0) || x.iter().flatten().any(|c| !c.is_finite()) {
+        if min_distance.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+            || x.iter().flatten().any(|c| !c.is_finite())
+        {
             return Err(SimError::GapClosed {
                 step,
                 distance: min_distance,

@@ -244,7 +244,8 @@ pub(crate) fn is_positive_definite<const N: usize>(a: &[[f64; N]; N]) -> bool {
         for k in 0..j {
             s -= l[j][k] * l[j][k];
         }
-        if !(s > tol) {
+        // Not greater, NaN included.
+        if s.partial_cmp(&tol) != Some(std::cmp::Ordering::Greater) {
             return false;
         }
         let d = s.sqrt();
@@ -287,9 +288,7 @@ pub(crate) fn symmetric_eigen<const N: usize>(a: [[f64; N]; N]) -> ([f64; N], [[
 /// subdiagonal `e[1..]` (`e[0] = 0`); `z` becomes the orthogonal transformation.
 fn tridiagonalize<const N: usize>(z: &mut [[f64; N]; N], d: &mut [f64; N], e: &mut [f64; N]) {
     let n = N;
-    for j in 0..n {
-        d[j] = z[n - 1][j];
-    }
+    d[..n].copy_from_slice(&z[n - 1][..n]);
     for i in (1..n).rev() {
         let mut scale = 0.0;
         let mut h = 0.0;
