@@ -6,45 +6,17 @@
 //! Time and memory figures are measured by the `bounded_probe` binary of `topoccd-benches`
 //! (the guide's reliability page), not asserted here.
 
-use std::path::PathBuf;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
 use topoccd::check::{step_intersections_within, CheckError, CheckLimits};
-use topoccd::io::sequence::Sequence;
 use topoccd::line_search::{
     collision_free_stepsize, is_step_collision_free, LineSearchOptions, StepStatus,
 };
 use topoccd::{query, Frame, Method, Mode, QueryOptions, Step, StopReason, DEFAULT_MAX_CONTACTS};
 
-/// The step's positions at t=0 and t=1 and its triangles.
-type Frames = (Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<[u32; 3]>);
-
-/// The cloth-funnel step with its coordinates cast to `i32`, as `x.astype(np.int32)` does.
-fn collapsed_funnel() -> Option<Frames> {
-    let dir = std::env::var_os("TOPOCCD_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data"))
-        .join("scenes/cloth-funnel");
-    if !dir.is_dir() {
-        assert!(
-            std::env::var_os("TOPOCCD_REQUIRE_DATA").is_none(),
-            "TOPOCCD_REQUIRE_DATA is set but the shared data is absent: {}",
-            dir.display()
-        );
-        eprintln!(
-            "SKIPPED, NOT TESTED: the shared scenes are not at {}",
-            dir.display()
-        );
-        return None;
-    }
-    let steps = Sequence::open(&dir).expect("cloth-funnel opens");
-    let frames = steps.load(0).expect("cloth-funnel's step reads");
-    let cast = |x: Vec<[f64; 3]>| -> Vec<[f64; 3]> {
-        x.into_iter().map(|p| p.map(|c| c as i32 as f64)).collect()
-    };
-    Some((cast(frames.x0), cast(frames.x1), frames.triangles))
-}
+mod collapsed;
+use collapsed::collapsed_funnel;
 
 /// Run by [`every_entry_point_answers_under_an_address_space_limit`] in a subprocess.
 #[test]
