@@ -2,7 +2,7 @@
  * triangles whose vertices all sit at one point (every pair touches), `topoccd_ccd_query`
  * with `max_contacts = 0` and `topoccd_proximity` with `max_contacts = 0` return
  * TOPOCCD_STATUS_OUT_OF_MEMORY with a message naming the buffer, instead of aborting; the same
- * `topoccd_ccd` then answers a capped query and a small proximity query. Run by scripts/test-c.sh (without sanitizers, whose
+ * `topoccd_ccd` then answers a capped query, a capped proximity query and a small one. Run by scripts/test-c.sh (without sanitizers, whose
  * shadow memory does not fit the limit); the last line says how many checks passed. */
 #define _POSIX_C_SOURCE 200809L
 #include <topoccd.h>
@@ -75,8 +75,11 @@ int main(void) {
     st = topoccd_proximity(ccd, &c, &p, &pr);
     CHECK(st == TOPOCCD_STATUS_OUT_OF_MEMORY, "proximity: %s", topoccd_status_name(st));
     printf("proximity: %s\n", topoccd_ccd_last_error(ccd));
-    /* The object stays usable. (A capped proximity query on this configuration is not run: its
-     * traversal tasks hold their pairs before the cap is applied, more than 1 GiB here.) */
+    /* The object stays usable: with the default cap the same configuration answers, truncated. */
+    p = topoccd_proximity_options_default();
+    st = topoccd_proximity(ccd, &c, &p, &pr);
+    CHECK(st == TOPOCCD_STATUS_OK && pr->truncated && pr->vf_count + pr->ee_count == p.max_contacts,
+          "capped proximity: %s", topoccd_status_name(st));
     c.vertex_count = 3;
     c.triangle_count = 1;
     st = topoccd_proximity(ccd, &c, NULL, &pr);

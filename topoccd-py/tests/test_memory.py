@@ -39,10 +39,12 @@ CHILD = textwrap.dedent(
         out["error"] = "MemoryError"
         out["message"] = str(e)
     # The interpreter and the query object live on: a capped query answers.
-    # (Not a capped proximity query: its traversal tasks hold their pairs before the cap
-    # applies, gigabytes on this frame.)
     if case != "proximity":
         out["after"] = ccd.query(x0, x1, tris).truncated["reason"]
+    else:
+        r = ccd.proximity(x0, tris, 1e-3)
+        out["after"] = r.truncated
+        out["after_pairs"] = len(r.vf) + len(r.ee)
     print(json.dumps(out))
     """
 ).format(limit=LIMIT)
@@ -74,5 +76,6 @@ def test_uncapped_call_raises_memory_error_under_an_address_space_limit(frames, 
     assert out.get("error") == "MemoryError", out
     assert "out of memory: could not allocate" in out["message"], out
     assert "bytes for the" in out["message"], out
-    if case != "proximity":
-        assert out["after"] == "max_contacts", out
+    assert out["after"] == "max_contacts", out
+    if case == "proximity":
+        assert out["after_pairs"] == 1_000_000, out

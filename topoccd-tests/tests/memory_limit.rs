@@ -73,8 +73,12 @@ fn child_uncapped_entry_points() {
         .expect_err("more pairs than memory");
     assert!(matches!(err, ProximityError::OutOfMemory { .. }), "{err:?}");
     println!("proximity: {err}");
-    // (A capped proximity query on this frame is not run: its traversal tasks hold their
-    // pairs before the cap applies, gigabytes here; see issue 51.)
+    // With the default cap the same `Ccd` answers, within the limit.
+    let r = ccd
+        .proximity(&config, &ProximityOptions::default())
+        .expect("the capped proximity query answers");
+    assert_eq!(r.truncated, Some(StopReason::MaxContacts));
+    assert_eq!(r.len(), topoccd::DEFAULT_MAX_CONTACTS);
     // (The static check without a cap has the same fallible pair lists, but exhausting 1 GiB
     // takes 10^8 exact tests of collapsed triangles, over ten minutes: not run here.)
 }

@@ -18,7 +18,7 @@
 //! and refitted across queries while the primitives stay the same, rebuilt when refitting has
 //! loosened it too much.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
@@ -27,7 +27,7 @@ use crate::bvh::{BoundingVolume, BvhWorkspace};
 use crate::math::DVec3;
 
 use super::boxes::{inflated, overlap};
-use super::pairs::{Found, Test};
+use super::pairs::{list_cap, Found, Test};
 use super::primitives::{Kind, Primitives};
 use super::run::Stop;
 
@@ -152,60 +152,71 @@ impl FeatureTree {
         false
     }
 
-    /// Every pair of `test` among the primitives, unsorted, with the box tests made; `None`
-    /// once `max` pairs are found (the caller then takes the fixed order of the binary tree's
-    /// traversal). A stop (`stop`) is checked per task.
-    pub fn find(&self, test: &Test<'_>, stop: &Stop, max: usize) -> Option<(Found, u64)> {
+    /// Every pair of `test` among the primitives, unsorted, with the box tests made (node
+    /// visits times the width). A stop (`stop`) is checked per task.
+    ///
+    /// Under a cap of `max` pairs the answer is the same for any thread count: the tasks are
+    /// taken in their fixed order, each stopping once it holds `max` pairs
+    /// ([`Found::full`]), until the pairs taken reach `max` ([`Found::capped`] then says
+    /// that pairs were left out). The tasks run in parallel; once the finished ones hold
+    /// `max` pairs no other starts, and a task of the order's prefix that did not run is run
+    /// afterwards. So no more than `max` pairs are held per running task, plus `max` taken.
+    pub fn find(&self, test: &Test<'_>, stop: &Stop, max: usize) -> (Found, u64) {
         let mut jobs = Vec::new();
         let chunks = |n: usize, f: fn(usize, usize) -> Job, jobs: &mut Vec<Job>| {
             jobs.extend((0..n).step_by(CHUNK).map(|s| f(s, (s + CHUNK).min(n))));
         };
         chunks(self.verts.len(), Job::Vertices, &mut jobs);
         chunks(self.slots.len(), Job::Edges, &mut jobs);
+        // The pairs and the listed pairs of the tasks finished.
+        let (held, listed) = (AtomicUsize::new(0), AtomicUsize::new(0));
+        let run = |job: Job, stack: &mut Vec<u32>| {
+            let mut out = Found::default();
+            let visits = self.job(job, test, stack, &mut out, max, &listed);
+            held.fetch_add(out.len(), Ordering::Relaxed);
+            listed.fetch_add(out.cands.len(), Ordering::Relaxed);
+            (out, visits)
+        };
+        let mut parts: Vec<Option<(Found, u64)>> = if rayon::current_num_threads() == 1 {
+            // In order, below.
+            (0..jobs.len()).map(|_| None).collect()
+        } else {
+            (jobs.par_iter())
+                .with_max_len(1)
+                .map_init(Vec::new, |stack, &job| {
+                    if held.load(Ordering::Relaxed) >= max || stop.check() {
+                        return None;
+                    }
+                    Some(run(job, stack))
+                })
+                .collect()
+        };
         let mut found = Found::default();
         let mut visits = 0;
-        if rayon::current_num_threads() == 1 {
-            let mut stack = Vec::new();
-            for &job in &jobs {
-                if stop.check() {
-                    break;
-                }
-                visits += self.job(job, test, &mut stack, &mut found, max);
-                if found.len() >= max {
-                    return None;
-                }
+        let mut stack = Vec::new();
+        for (part, &job) in parts.iter_mut().zip(&jobs) {
+            if found.len() >= max {
+                found.capped = true;
+                break;
             }
-        } else {
-            let capped = AtomicBool::new(false);
-            let parts: Vec<(Found, u64)> = (jobs.par_iter())
-                .map_init(Vec::new, |stack, &job| {
-                    let mut out = Found::default();
-                    if capped.load(Ordering::Relaxed) || stop.check() {
-                        return (out, 0);
-                    }
-                    let v = self.job(job, test, stack, &mut out, max);
-                    if out.len() >= max {
-                        capped.store(true, Ordering::Relaxed);
-                    }
-                    (out, v)
-                })
-                .collect();
-            if capped.load(Ordering::Relaxed) {
-                return None;
-            }
-            for (mut f, v) in parts {
-                // An allocation failure is kept in `found.failure`, which the query returns.
-                let failed = found.append(&mut f).is_err();
-                visits += v;
-                if failed {
-                    return Some((found, visits * WIDTH as u64));
-                }
-                if found.len() >= max {
-                    return None;
-                }
+            let Some((mut f, v)) = part
+                .take()
+                .or_else(|| (!stop.check()).then(|| run(job, &mut stack)))
+            else {
+                break;
+            };
+            visits += v;
+            // An allocation failure is kept in `found.failure`, which the query returns.
+            if found.append(&mut f).is_err() {
+                break;
             }
         }
-        Some((found, visits * WIDTH as u64))
+        drop(parts);
+        if found.cands.len() >= list_cap(max) {
+            found.cands = Default::default();
+            found.unlisted = true;
+        }
+        (found, visits * WIDTH as u64)
     }
 
     /// The queries of one task into `out` (stopping once it holds `max` pairs); returns the
@@ -217,6 +228,7 @@ impl FeatureTree {
         stack: &mut Vec<u32>,
         out: &mut Found,
         max: usize,
+        listed: &AtomicUsize,
     ) -> u64 {
         let (vbox, slots, edges) = (&self.vbox, &self.slots, &self.edges);
         let mut visits = 0;
@@ -241,7 +253,7 @@ impl FeatureTree {
                             _ => {}
                         }
                     });
-                    if out.len() >= max {
+                    if out.full(max, listed.load(Ordering::Relaxed)) {
                         break;
                     }
                 }
@@ -264,7 +276,7 @@ impl FeatureTree {
                             }
                         });
                     }
-                    if out.len() >= max {
+                    if out.full(max, listed.load(Ordering::Relaxed)) {
                         break;
                     }
                 }

@@ -109,11 +109,9 @@ pub fn floor(
     let stop = super::run::Stop::cancel_only(&token);
     let mut box_tests = 0;
     fig.wide_find = time(&mut || {
-        let f = features.find(&test, &stop, usize::MAX);
-        box_tests = f.map_or(0, |(f, b)| {
-            black_box(f.len());
-            b
-        });
+        let (f, b) = features.find(&test, &stop, usize::MAX);
+        black_box(f.len());
+        box_tests = b;
     });
     fig.wide_box_tests = box_tests;
     let (slots, tree, ws) = (&st.slots, &st.tree, &mut st.ws);

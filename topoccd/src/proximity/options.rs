@@ -39,8 +39,10 @@ pub struct ProximityOptions {
     /// `dmin + dhat` are reported. Default 0.
     pub dmin: f64,
     /// Stop once this many pairs (all kinds together) are found; the report says it is
-    /// truncated. The pairs kept are the first of the query's fixed order of work, the same
-    /// for any thread count. Default [`DEFAULT_MAX_CONTACTS`](crate::DEFAULT_MAX_CONTACTS)
+    /// truncated and holds exactly this many. The pairs kept are those of the first tasks of
+    /// the query's fixed order of work, the same for any thread count, and no task holds more
+    /// than this many: the query's memory and time are bounded by the cap, not by the
+    /// configuration. Default [`DEFAULT_MAX_CONTACTS`](crate::DEFAULT_MAX_CONTACTS)
     /// (one million), as every other entry point: a collapsed configuration (every vertex
     /// within `dhat` of every face) would otherwise list `n²` pairs. `None` lifts the cap.
     /// A query that stays under the cap keeps its pairs for the next query's reuse, as

@@ -30,6 +30,11 @@ pub(crate) struct Found {
     pub cands: Cands,
     /// The first allocation that failed: nothing more is kept (the query returns it).
     pub failure: Option<AllocError>,
+    /// Some task stopped at its cap (see [`Found::full`]): the pairs are not all there.
+    pub capped: bool,
+    /// Some task gave up listing (its listing reached the cap): [`Found::cands`] is not the
+    /// whole listing, and must not be kept.
+    pub unlisted: bool,
 }
 
 /// Pushes `x` onto `v`, or records the allocation failure in `failure` (once).
@@ -53,12 +58,23 @@ pub(crate) struct Cands {
 }
 
 impl Cands {
+    pub fn len(&self) -> usize {
+        self.vf.len() + self.ee.len() + self.ve.len() + self.vv.len()
+    }
+
     pub fn append(&mut self, other: &mut Cands) -> Result<(), AllocError> {
         try_append(&mut self.vf, &mut other.vf, LISTED)?;
         try_append(&mut self.ee, &mut other.ee, LISTED)?;
         try_append(&mut self.ve, &mut other.ve, LISTED)?;
         try_append(&mut self.vv, &mut other.vv, LISTED)
     }
+}
+
+/// The most pairs a query lists (see `cache`) under a cap of `cap` pairs: a listing that
+/// reaches it is given up (the query is answered, its listing not kept).
+#[inline]
+pub(crate) fn list_cap(cap: usize) -> usize {
+    cap.max(1 << 20)
 }
 
 /// What the buffers are called in an allocation failure.
@@ -68,6 +84,24 @@ const PAIRS: &str = "proximity pairs";
 impl Found {
     pub fn len(&self) -> usize {
         self.vf.len() + self.ee.len() + self.ve.len() + self.vv.len()
+    }
+
+    /// Whether this task's buffer has reached `cap` pairs: the task stops (and records
+    /// [`Found::capped`]). It also gives up listing once its listing and `elsewhere` (the
+    /// other tasks' listings) reach [`list_cap`]`(cap)` (recording [`Found::unlisted`] and
+    /// freeing the listing), so that a task holds no more than about that many pairs of
+    /// either kind.
+    #[inline]
+    pub fn full(&mut self, cap: usize, elsewhere: usize) -> bool {
+        if !self.unlisted && self.cands.len().saturating_add(elsewhere) >= list_cap(cap) {
+            self.cands = Cands::default();
+            self.unlisted = true;
+        }
+        if self.len() >= cap {
+            self.capped = true;
+            return true;
+        }
+        false
     }
 
     /// Appends `other`'s pairs; an error (`other`'s own, or this buffer's that cannot grow)
@@ -82,6 +116,8 @@ impl Found {
             try_append(&mut self.ve, &mut other.ve, PAIRS)?;
             try_append(&mut self.vv, &mut other.vv, PAIRS)?;
             self.tests += other.tests;
+            self.capped |= other.capped;
+            self.unlisted |= other.unlisted;
             self.cands.append(&mut other.cands)
         })();
         if let Err(e) = result {
@@ -189,7 +225,7 @@ impl Test<'_> {
         }
         out.tests += 1;
         let (d2, kind) = point_triangle_distance(p, c[0], c[1], c[2]);
-        if self.listed(d2) {
+        if self.listed(d2) && !out.unlisted {
             put(&mut out.cands.vf, (v, face), &mut out.failure, LISTED);
         }
         if self.report(gap, d2, ext, || 1.0) {
@@ -226,7 +262,7 @@ impl Test<'_> {
         }
         out.tests += 1;
         let (d2, kind) = edge_edge_distance(a0, a1, b0, b1);
-        if self.listed(d2) {
+        if self.listed(d2) && !out.unlisted {
             put(&mut out.cands.ee, (a, b), &mut out.failure, LISTED);
         }
         if self.report(gap, d2, ext, || sin2(a1 - a0, b1 - b0)) {
@@ -257,7 +293,7 @@ impl Test<'_> {
         }
         out.tests += 1;
         let (d2, kind) = point_edge_distance(p, e0, e1);
-        if self.listed(d2) {
+        if self.listed(d2) && !out.unlisted {
             put(&mut out.cands.ve, (v, e), &mut out.failure, LISTED);
         }
         if self.report(gap, d2, ext, || 1.0) {
@@ -283,7 +319,7 @@ impl Test<'_> {
         }
         out.tests += 1;
         let d2 = point_point_distance(p, q);
-        if self.listed(d2) {
+        if self.listed(d2) && !out.unlisted {
             put(&mut out.cands.vv, (a, b), &mut out.failure, LISTED);
         }
         if self.report(gap, d2, ext, || 1.0) {

@@ -2,7 +2,7 @@
 //! and the one-shot [`proximity`].
 
 use std::ops::ControlFlow;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 use crate::alloc::AllocError;
@@ -14,7 +14,7 @@ use super::boxes::{inflation, largest_side};
 use super::brute::brute;
 use super::cache::{evaluate, list_threshold, Cache};
 use super::features::FeatureTree;
-use super::pairs::{Found, Test};
+use super::pairs::{list_cap, Found, Test};
 use super::primitives::Primitives;
 use super::report::ProximityStats;
 use super::slots::Slots;
@@ -175,6 +175,60 @@ impl State {
         refitted
     }
 
+    /// Every pair of `test`, by the triangle tree's leaf pairs, under a cap of `max` pairs
+    /// (the same answer for any thread count): the traversal's tasks in their fixed order,
+    /// each stopping at `max` pairs ([`Found::full`]), until the pairs taken reach `max`.
+    /// Under a cap the tasks run a batch of twice the threads at a time, so that no more
+    /// than `max` pairs per task of a batch are held beside the `max` taken.
+    fn by_leaves(&mut self, test: &Test<'_>, stop: &Stop, max: usize) -> (Found, u64) {
+        let listed = AtomicUsize::new(0);
+        let mut found = Found::default();
+        let slots = &self.slots;
+        let skip = |_: &Found| stop.check();
+        let leaf_pair = |acc: &mut Found, a: u32, b: u32| {
+            if !acc.full(max, listed.load(Ordering::Relaxed)) {
+                test.leaf_pair(slots, a, b, acc);
+            }
+        };
+        let finish = |acc: &mut Found| {
+            listed.fetch_add(acc.cands.len(), Ordering::Relaxed);
+        };
+        let consume = |mut f: Found| {
+            if found.len() >= max {
+                // Past the cap: this batch's later tasks are left out.
+                found.capped = true;
+                ControlFlow::Break(())
+            } else if found.append(&mut f).is_err() {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        };
+        let par = ParOptions {
+            batch: if max == usize::MAX {
+                usize::MAX
+            } else {
+                2 * rayon::current_num_threads()
+            },
+            ..ParOptions::default()
+        };
+        let visits = self.tree.bvh.par_self_pairs_until(
+            &mut self.ws,
+            &par,
+            &TestAll,
+            |_| Found::default(),
+            leaf_pair,
+            finish,
+            consume,
+            &skip,
+        );
+        if found.cands.len() >= list_cap(max) {
+            found.cands = Default::default();
+            found.unlisted = true;
+        }
+        (found, visits)
+    }
+
     fn run(
         &mut self,
         config: &Configuration<'_>,
@@ -210,7 +264,8 @@ impl State {
                 // predicate, which may change from one query to the next. Under a cap they
                 // are kept and reused while the query stays under it (then the answer is the
                 // uncapped one); a query that reaches the cap traverses, so that its pairs are
-                // the first of the fixed order of work, and keeps nothing.
+                // those of the first tasks of the fixed order of work, and keeps nothing. Nor
+                // does a query whose listing outgrows `pairs::list_cap`.
                 let plain = options.deadline.is_none()
                     && test.groups.is_none()
                     && test.can_collide.is_none();
@@ -242,52 +297,25 @@ impl State {
                     let h = inflation(big, x, r.max(test.r_list));
                     // The feature trees, unless under a deadline (whose pairs are the first
                     // of the triangle leaves' order of work) or asked for the triangle leaves.
-                    // A query that reaches the cap there is done again with the triangle
-                    // leaves, so that its pairs are the first of their fixed order.
-                    let by_feature =
-                        options.method == ProximityMethod::Bvh && options.deadline.is_none();
-                    let mut done = None;
-                    if by_feature {
+                    let mut found;
+                    if options.method == ProximityMethod::Bvh && options.deadline.is_none() {
                         let ws = &mut self.ws;
                         stats.refitted = self.features.fit(&self.prims, x, h, ws);
                         stats.build_seconds = start.elapsed().as_secs_f64();
-                        done = self.features.find(&test, &stop, max);
-                    }
-                    let mut found = Found::default();
-                    if let Some((f, visits)) = done {
-                        found = f;
-                        stats.bv_tests = visits;
+                        (found, stats.bv_tests) = self.features.find(&test, &stop, max);
                     } else {
                         stats.refitted = self.fit(config, h);
                         stats.build_seconds = start.elapsed().as_secs_f64();
-                        let slots = &self.slots;
-                        let skip = |_: &Found| stop.check();
-                        let consume = |mut f: Found| {
-                            if found.append(&mut f).is_err() || found.len() >= max {
-                                capped = true;
-                                ControlFlow::Break(())
-                            } else {
-                                ControlFlow::Continue(())
-                            }
-                        };
-                        stats.bv_tests = self.tree.bvh.par_self_pairs_until(
-                            &mut self.ws,
-                            &ParOptions::default(),
-                            &TestAll,
-                            |_| Found::default(),
-                            |acc, a, b| test.leaf_pair(slots, a, b, acc),
-                            |_| {},
-                            consume,
-                            &skip,
-                        );
+                        (found, stats.bv_tests) = self.by_leaves(&test, &stop, max);
                     }
+                    capped |= found.capped;
                     let cands = std::mem::take(&mut found.cands);
                     if let Some(failure) = found.failure {
                         // What was found is freed; the listing is not complete.
                         self.cache.drop_listing();
                         return Err(failure);
                     }
-                    if test.r_list > 0.0 && stop.reason().is_none() && !capped {
+                    if test.r_list > 0.0 && stop.reason().is_none() && !capped && !found.unlisted {
                         self.cache.keep(x, r, allowance, cands);
                     } else if plain {
                         // (A capped query leaves the listing: still valid where it covers.)

@@ -664,3 +664,109 @@ fn feature_tree_on_degenerate_input_equals_brute_force() {
     );
     assert!(brute.len() > 100);
 }
+
+#[test]
+fn a_capped_report_is_the_same_on_any_thread_count_and_part_of_the_whole() {
+    // A soup big enough for many tasks of either tree. Under caps from one pair to beyond
+    // the whole, each method's capped report is the same on one, two and three threads, holds
+    // exactly the cap (or the whole when the cap exceeds it), says it is truncated when it
+    // is, and every pair in it is in the uncapped report with the same distance and type.
+    let pools: Vec<_> = (1..=3)
+        .map(|n| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap()
+        })
+        .collect();
+    let (x, tris, edges) = soup(77, 3000, 600, 600);
+    let config = Configuration::new(&x, &tris, &edges).unwrap();
+    let dhat = 0.02;
+    let whole = pools[1].install(|| proximity(&config, &opts(dhat)).unwrap());
+    assert!(whole.truncated.is_none());
+    let n = whole.len();
+    assert!(
+        n > 20_000 && !whole.ee.is_empty() && !whole.vv.is_empty(),
+        "{n} pairs"
+    );
+    let vf: std::collections::HashMap<_, _> = (whole.vf.iter())
+        .map(|p| ((p.vertex, p.face), (p.distance, p.kind)))
+        .collect();
+    let ee: std::collections::HashMap<_, _> = (whole.ee.iter())
+        .map(|p| ((p.a, p.b), (p.distance, p.kind)))
+        .collect();
+    let ve: std::collections::HashMap<_, _> = (whole.ve.iter())
+        .map(|p| ((p.vertex, p.edge), (p.distance, p.kind)))
+        .collect();
+    let vv: std::collections::HashMap<_, _> = (whole.vv.iter())
+        .map(|p| ((p.a, p.b), p.distance))
+        .collect();
+    for method in [ProximityMethod::Bvh, ProximityMethod::TriangleTree] {
+        for cap in [1, 7, 1000, n / 3, n - 1, n + 1] {
+            let o = ProximityOptions {
+                method,
+                max_contacts: Some(cap),
+                ..opts(dhat)
+            };
+            let reports: Vec<_> = (pools.iter())
+                .map(|p| p.install(|| proximity(&config, &o).unwrap()))
+                .collect();
+            let what = format!("{method:?}, cap {cap}");
+            for r in &reports[1..] {
+                assert_eq!(pairs(r), pairs(&reports[0]), "{what}");
+            }
+            let r = &reports[0];
+            if cap < n {
+                assert_eq!(r.len(), cap, "{what}");
+                assert_eq!(r.truncated, Some(StopReason::MaxContacts), "{what}");
+            } else {
+                assert_eq!(pairs(r), pairs(&whole), "{what}");
+            }
+            for p in &r.vf {
+                assert_eq!(
+                    vf.get(&(p.vertex, p.face)),
+                    Some(&(p.distance, p.kind)),
+                    "{what}"
+                );
+            }
+            for p in &r.ee {
+                assert_eq!(ee.get(&(p.a, p.b)), Some(&(p.distance, p.kind)), "{what}");
+            }
+            for p in &r.ve {
+                assert_eq!(
+                    ve.get(&(p.vertex, p.edge)),
+                    Some(&(p.distance, p.kind)),
+                    "{what}"
+                );
+            }
+            for p in &r.vv {
+                assert_eq!(vv.get(&(p.a, p.b)), Some(&p.distance), "{what}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_task_gives_up_a_listing_at_its_cap_and_stops_at_its_pairs_cap() {
+    use super::pairs::{list_cap, Found};
+    // A listing at the cap is freed and marked, the pairs kept.
+    let mut f = Found::default();
+    f.cands.vf = vec![(0, 1); list_cap(10)];
+    f.vf = vec![VfProximity {
+        vertex: 0,
+        face: 1,
+        distance: 0.0,
+        kind: PointTriangleType::Interior,
+    }];
+    assert!(!f.full(10, 0));
+    assert!(f.unlisted && f.cands.len() == 0 && f.vf.len() == 1 && !f.capped);
+    // So is one whose share with the other tasks' reaches it.
+    let mut g = Found::default();
+    g.cands.ee = vec![([0, 1], [2, 3]); 5];
+    assert!(!g.full(10, list_cap(10) - 5));
+    assert!(g.unlisted && g.cands.len() == 0);
+    // Pairs at the cap stop the task.
+    f.vf.resize(10, f.vf[0]);
+    assert!(f.full(10, 0));
+    assert!(f.capped);
+}
