@@ -18,7 +18,7 @@
 //! and refitted across queries while the primitives stay the same, rebuilt when refitting has
 //! loosened it too much.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
@@ -168,13 +168,18 @@ impl FeatureTree {
         };
         chunks(self.verts.len(), Job::Vertices, &mut jobs);
         chunks(self.slots.len(), Job::Edges, &mut jobs);
-        // The pairs and the listed pairs of the tasks finished.
+        // The pairs and the listed pairs of the tasks finished, and whether an allocation
+        // failed (then no other task starts: the query returns the failure).
         let (held, listed) = (AtomicUsize::new(0), AtomicUsize::new(0));
+        let failed = AtomicBool::new(false);
         let run = |job: Job, stack: &mut Vec<u32>| {
             let mut out = Found::default();
             let visits = self.job(job, test, stack, &mut out, max, &listed);
             held.fetch_add(out.len(), Ordering::Relaxed);
             listed.fetch_add(out.cands.len(), Ordering::Relaxed);
+            if out.failure.is_some() {
+                failed.store(true, Ordering::Relaxed);
+            }
             (out, visits)
         };
         let mut parts: Vec<Option<(Found, u64)>> = if rayon::current_num_threads() == 1 {
@@ -184,13 +189,23 @@ impl FeatureTree {
             (jobs.par_iter())
                 .with_max_len(1)
                 .map_init(Vec::new, |stack, &job| {
-                    if held.load(Ordering::Relaxed) >= max || stop.check() {
+                    if held.load(Ordering::Relaxed) >= max
+                        || failed.load(Ordering::Relaxed)
+                        || stop.check()
+                    {
                         return None;
                     }
                     Some(run(job, stack))
                 })
                 .collect()
         };
+        if let Some(failure) = parts.iter().flatten().find_map(|(f, _)| f.failure) {
+            let found = Found {
+                failure: Some(failure),
+                ..Found::default()
+            };
+            return (found, 0);
+        }
         let mut found = Found::default();
         let mut visits = 0;
         let mut stack = Vec::new();

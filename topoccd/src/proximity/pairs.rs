@@ -91,8 +91,12 @@ impl Found {
     /// other tasks' listings) reach [`list_cap`]`(cap)` (recording [`Found::unlisted`] and
     /// freeing the listing), so that a task holds no more than about that many pairs of
     /// either kind.
+    /// A task whose allocation failed stops too (the query returns the failure).
     #[inline]
     pub fn full(&mut self, cap: usize, elsewhere: usize) -> bool {
+        if self.failure.is_some() {
+            return true;
+        }
         if !self.unlisted && self.cands.len().saturating_add(elsewhere) >= list_cap(cap) {
             self.cands = Cands::default();
             self.unlisted = true;

@@ -182,9 +182,11 @@ impl State {
     /// than `max` pairs per task of a batch are held beside the `max` taken.
     fn by_leaves(&mut self, test: &Test<'_>, stop: &Stop, max: usize) -> (Found, u64) {
         let listed = AtomicUsize::new(0);
+        // Once an allocation failed no other task starts (the query returns the failure).
+        let failed = AtomicBool::new(false);
         let mut found = Found::default();
         let slots = &self.slots;
-        let skip = |_: &Found| stop.check();
+        let skip = |_: &Found| failed.load(Ordering::Relaxed) || stop.check();
         let leaf_pair = |acc: &mut Found, a: u32, b: u32| {
             if !acc.full(max, listed.load(Ordering::Relaxed)) {
                 test.leaf_pair(slots, a, b, acc);
@@ -192,6 +194,9 @@ impl State {
         };
         let finish = |acc: &mut Found| {
             listed.fetch_add(acc.cands.len(), Ordering::Relaxed);
+            if acc.failure.is_some() {
+                failed.store(true, Ordering::Relaxed);
+            }
         };
         let consume = |mut f: Found| {
             if found.len() >= max {
