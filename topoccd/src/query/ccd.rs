@@ -511,7 +511,7 @@ impl Ccd {
     }
 
     /// Sets how many leaf pairs [`Method::Cluster`]'s traversal lists before their triangle
-    /// pairs go to the narrow phase (`None`: the default, 2^21; `Some(0)` counts as 1). A query
+    /// pairs go to the narrow phase (`None`: the default, 2^19; `Some(0)` counts as 1). A query
     /// that stops (its cap reached) lists no further chunk; the contacts are those of the
     /// chunks' tasks in order, so a capped report may depend on this size, an uncapped one not.
     pub fn set_cluster_chunk(&mut self, items: Option<usize>) {

@@ -128,9 +128,10 @@ fn certified(certificate: LeafCertificate) -> bool {
 /// clusters' worth, before the narrow phase takes them: steps 1 and 2 list a chunk of this
 /// many, step 3 runs its tasks, and the listing resumes where it paused only if the query has
 /// not stopped (its cap reached, a deadline). So the lists stay near 40 bytes times this many
-/// even where every pair of triangles touches (a collapsed step: `n^2 / 2` leaf pairs), and a
-/// step with fewer leaf pairs (cloth-ball has 1.35 million) runs as one chunk. The chunks
-/// depend on the clustering alone, never on the thread count.
+/// (20 MiB) even where every pair of triangles touches (a collapsed step: `n^2 / 2` leaf
+/// pairs). Cloth-funnel's step has far fewer leaf pairs and runs as one chunk; cloth-ball's
+/// 1.35 million run as three. The chunks depend on the clustering alone, never on the
+/// thread count.
 pub(crate) const CHUNK_ITEMS: usize = 1 << 19;
 
 /// Scratch memory of the traversal, reused across steps.
