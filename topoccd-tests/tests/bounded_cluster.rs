@@ -79,7 +79,13 @@ fn child_capped_cluster_query_on_collapsed_funnel() {
                 let ccd = if threads == 1 { &mut fresh } else { &mut ccd2 };
                 let r = ccd.query(&step, Method::Cluster, &q).expect("an answer");
                 let d = digest(&r);
-                (d, r.contact_count(), r.truncated, r.earliest_toi(), ccd.cluster_chunks())
+                (
+                    d,
+                    r.contact_count(),
+                    r.truncated,
+                    r.earliest_toi(),
+                    ccd.cluster_chunks(),
+                )
             });
             println!(
                 "{mode:?} on {threads} thread(s): {:.2} s, {count} contacts, {chunks} chunk(s), \
@@ -181,16 +187,24 @@ fn capped_contacts_in_chunks_are_among_the_oracles() {
         let truth = by_pair(&oracle);
         assert_eq!(truth.len(), oracle.contact_count());
         if mode == Mode::All {
-            assert!(oracle.contact_count() > 4 * cap, "{}", oracle.contact_count());
+            assert!(
+                oracle.contact_count() > 4 * cap,
+                "{}",
+                oracle.contact_count()
+            );
         }
         // The uncapped cluster report, in one chunk and in many: the same, within the oracle's.
         let mut whole = Ccd::new();
-        let one = whole.query(&step, Method::Cluster, &uncapped).expect("an answer");
+        let one = whole
+            .query(&step, Method::Cluster, &uncapped)
+            .expect("an answer");
         assert_eq!(whole.cluster_chunks(), 1, "{mode:?}");
         assert!(one.truncated.is_none());
         let mut pieces = Ccd::new();
         pieces.set_cluster_chunk(Some(16));
-        let many = pieces.query(&step, Method::Cluster, &uncapped).expect("an answer");
+        let many = pieces
+            .query(&step, Method::Cluster, &uncapped)
+            .expect("an answer");
         assert!(pieces.cluster_chunks() > 10, "{}", pieces.cluster_chunks());
         assert_eq!((&one.vf, &one.ee), (&many.vf, &many.ee), "{mode:?}");
         for (pair, toi) in by_pair(&one) {
@@ -207,7 +221,9 @@ fn capped_contacts_in_chunks_are_among_the_oracles() {
                 let (r, chunks) = on_threads(threads, || {
                     let mut ccd = Ccd::new();
                     ccd.set_cluster_chunk(chunk);
-                    let r = ccd.query(&step, Method::Cluster, &capped).expect("an answer");
+                    let r = ccd
+                        .query(&step, Method::Cluster, &capped)
+                        .expect("an answer");
                     (r, ccd.cluster_chunks())
                 });
                 let what = format!("{mode:?}, chunks of {chunk:?}, {threads} thread(s)");

@@ -19,14 +19,16 @@
 //!    inside its intermediate cluster too (the clustering of this crate certifies every leaf,
 //!    so this never runs, but it is not assumed).
 //!
-//! Steps 1, 2 and 4 list the leaf pairs (and uncertified leaves) sequentially; the leaf pairs
-//! whose smaller leaf has [`SPLIT_TRIANGLES`] triangles or more are split into pairs of nodes
-//! of their two lazy hierarchies (one big touching pair can hold much of a step's work); step 3
-//! runs the resulting units as parallel tasks of consecutive units of about equal estimated
-//! cost ([`TrianglePairs`]), each task's triangle pairs going to the query's narrow phase on
-//! the task's thread, the tasks' results handed over in task order. The split and the tasks
-//! depend on the clustering alone: the same candidates and the same report for any thread
-//! count.
+//! Steps 1, 2 and 4 list the leaf pairs (and uncertified leaves) sequentially, a chunk of
+//! [`CHUNK_ITEMS`] at a time; the leaf pairs whose smaller leaf has [`SPLIT_TRIANGLES`]
+//! triangles or more are split into pairs of nodes of their two lazy hierarchies (one big
+//! touching pair can hold much of a step's work); step 3 runs the chunk's units as parallel
+//! tasks of consecutive units of about equal estimated cost ([`TrianglePairs`]), each task's
+//! triangle pairs going to the query's narrow phase on the task's thread, the tasks' results
+//! handed over in task order. Then the listing resumes where it paused, unless the query
+//! stopped: a capped query whose report is full lists no more, so its lists stay bounded
+//! where every pair of clusters overlaps. The chunks, the split and the tasks depend on the
+//! clustering alone: the same candidates and the same report for any thread count.
 //!
 //! # Soundness: a skipped pair never touches
 //! *Which pairs are skipped.* By the ownership scheme a vertex-face pair `(v, f)` is a
