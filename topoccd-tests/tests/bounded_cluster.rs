@@ -146,7 +146,7 @@ fn capped_cluster_query_on_the_collapsed_funnel_is_bounded() {
 /// A collapsed step: a 10 x 10 grid of vertices (162 triangles) whose vertices start and end
 /// on random points of a 3 x 3 x 3 lattice, so that most pairs of features touch, at t=0 or
 /// later.
-fn small_collapsed() -> (Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<[u32; 3]>) {
+fn small_collapsed() -> collapsed::Frames {
     let n = 10u32;
     let mut rng = ChaCha8Rng::seed_from_u64(51);
     let mut lattice = || [0; 3].map(|_| rng.random_range(0..3) as f64);
