@@ -2,9 +2,10 @@
 //! positions cast to integers (every vertex on one of 10 points), with the defaults, and
 //! prints one JSON line per entry point: wall seconds, peak resident memory, the answer.
 //!
-//! Usage: `bounded_probe FRAMES_DIR [CASE] [THREADS] [TIMEOUT]`, where FRAMES_DIR holds
-//! `227.ply` and `228.ply`; CASE is `stepsize`, `free`, `earliest`, `all`, `check` or
-//! `every` (the default); TIMEOUT (seconds) sets a deadline.
+//! Usage: `bounded_probe FRAMES_DIR [CASE] [THREADS] [TIMEOUT] [METHOD]`, where FRAMES_DIR
+//! holds `227.ply` and `228.ply`; CASE is `stepsize`, `free`, `earliest`, `all`, `check` or
+//! `every` (the default); TIMEOUT (seconds, `-` for none) sets a deadline; METHOD (`auto`,
+//! the default, `bvh`, `cluster`, `brute`) is the queries' method.
 
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -26,12 +27,16 @@ fn peak_mb() -> f64 {
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let Some(dir) = args.get(1) else {
-        eprintln!("usage: bounded_probe FRAMES_DIR [CASE] [THREADS] [TIMEOUT]");
+        eprintln!("usage: bounded_probe FRAMES_DIR [CASE] [THREADS] [TIMEOUT] [METHOD]");
         std::process::exit(2);
     };
     let case = args.get(2).map(String::as_str).unwrap_or("every");
     let threads: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1);
     let timeout: Option<f64> = args.get(4).and_then(|s| s.parse().ok());
+    let method = match args.get(5) {
+        Some(name) => topoccd_benches::method_arg(Some(name)),
+        None => Method::Auto,
+    };
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build_global()
@@ -77,7 +82,7 @@ fn main() {
                     },
                     ..options.query
                 };
-                match query(&step, Method::Auto, &q) {
+                match query(&step, method, &q) {
                     Ok(r) => format!(
                         "{} contacts, earliest {:?}, truncated {:?}",
                         r.contact_count(),

@@ -400,3 +400,32 @@ fn a_front_search_past_its_budget_gives_no_front() {
     assert!(!bvh.update_front_within(&rel, &|_| true, &mut front, 10));
     assert!(front.pairs.is_empty());
 }
+
+/// A self-traversal run in pieces of any size gives the pairs of the whole traversal, in the
+/// same order, with the same tests; each piece stops within three pairs of its size.
+#[test]
+fn a_self_traversal_in_pieces_is_the_whole_traversal() {
+    let mut rng = ChaCha8Rng::seed_from_u64(41);
+    for n in [0, 1, 2, 7, 300] {
+        let leaves = leaves(&mut rng, n);
+        let bvh = Bvh::from_leaves(&leaves);
+        let mut ws = BvhWorkspace::default();
+        let mut whole = Vec::new();
+        let whole_tests = bvh.self_pairs(&mut ws, |a, b| whole.push((a, b)));
+        assert_eq!(sorted(whole.clone()), brute_self(&leaves), "n = {n}");
+        for piece in [1, 2, 5, 64, usize::MAX] {
+            let mut stack = Vec::new();
+            bvh.self_pairs_start(&mut stack);
+            let (mut pieces, mut tests) = (Vec::new(), 0);
+            while !stack.is_empty() {
+                let before = pieces.len();
+                tests += bvh.self_pairs_resume(&mut stack, piece, |a, b| pieces.push((a, b)));
+                let got = pieces.len() - before;
+                assert!(got < piece.saturating_add(4), "n = {n}, piece {piece}: {got}");
+                assert!(got >= piece || stack.is_empty(), "n = {n}, piece {piece}");
+            }
+            assert_eq!(pieces, whole, "n = {n}, piece {piece}");
+            assert_eq!(tests, whole_tests, "n = {n}, piece {piece}");
+        }
+    }
+}

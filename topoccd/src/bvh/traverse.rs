@@ -36,6 +36,41 @@ impl<V: BoundingVolume> Bvh<V> {
         run(&self.nodes, &self.nodes, stack, &TestAll, &mut leaf_pair)
     }
 
+    /// Starts a [`Bvh::self_pairs`] traversal that runs in pieces ([`Bvh::self_pairs_resume`]):
+    /// `stack` holds its state between the pieces (the caller's, not the workspace's, so that
+    /// other traversals may run in between).
+    pub(crate) fn self_pairs_start(&self, stack: &mut Vec<(u32, u32)>) {
+        stack.clear();
+        if self.nodes.len() > 1 {
+            stack.push((0, 0));
+        }
+    }
+
+    /// Continues the traversal started by [`Bvh::self_pairs_start`] on `stack` until it has
+    /// reported at least `at_least` leaf pairs in this call (at most three more: a node pair
+    /// gives up to four) or it is over (`stack` empty). Over all its pieces it reports the
+    /// pairs of [`Bvh::self_pairs`], in the same order. Returns the overlap tests of this piece.
+    pub(crate) fn self_pairs_resume(
+        &self,
+        stack: &mut Vec<(u32, u32)>,
+        at_least: usize,
+        mut leaf_pair: impl FnMut(u32, u32),
+    ) -> u64 {
+        let mut sink = Counting {
+            stack,
+            leaf_pair: &mut leaf_pair,
+            reported: 0,
+        };
+        let mut tests = 0u64;
+        while sink.reported < at_least {
+            let Some((a, tagged)) = sink.stack.pop() else {
+                break;
+            };
+            tests += step(&self.nodes, &self.nodes, a, tagged, &TestAll, &mut sink);
+        }
+        tests
+    }
+
     /// Calls `leaf(id)` for every leaf whose volume overlaps `volume`, each once, in a
     /// deterministic order. Returns the number of bounding-volume overlap tests. The query of
     /// one volume against a tree, for a caller that has a few volumes and no tree of its own.
@@ -187,6 +222,26 @@ impl<F: FnMut(u32, u32)> Sink for Stack<'_, F> {
 
     #[inline(always)]
     fn leaf(&mut self, x: u32, y: u32) {
+        (self.leaf_pair)(x, y)
+    }
+}
+
+/// The sink of a traversal in pieces: [`Stack`], counting the leaf pairs reported.
+struct Counting<'a, F> {
+    stack: &'a mut Vec<(u32, u32)>,
+    leaf_pair: &'a mut F,
+    reported: usize,
+}
+
+impl<F: FnMut(u32, u32)> Sink for Counting<'_, F> {
+    #[inline(always)]
+    fn push(&mut self, a: u32, b: u32) {
+        self.stack.push((a, b));
+    }
+
+    #[inline(always)]
+    fn leaf(&mut self, x: u32, y: u32) {
+        self.reported += 1;
         (self.leaf_pair)(x, y)
     }
 }

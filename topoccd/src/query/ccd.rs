@@ -509,6 +509,20 @@ impl Ccd {
     pub fn lazy_built_ahead(&self) -> usize {
         self.cluster.last_ahead
     }
+
+    /// Sets how many leaf pairs [`Method::Cluster`]'s traversal lists before their triangle
+    /// pairs go to the narrow phase (`None`: the default, 2^19; `Some(0)` counts as 1). A query
+    /// that stops (its cap reached) lists no further chunk; the contacts are those of the
+    /// chunks' tasks in order, so a capped report may depend on this size, an uncapped one not.
+    pub fn set_cluster_chunk(&mut self, items: Option<usize>) {
+        self.cluster.chunk = items;
+    }
+
+    /// How many chunks of leaf pairs the last [`Method::Cluster`] query listed (see
+    /// [`Ccd::set_cluster_chunk`]).
+    pub fn cluster_chunks(&self) -> usize {
+        self.cluster.last_chunks
+    }
 }
 
 /// The candidate feature pairs of the last query (feature `internals`).

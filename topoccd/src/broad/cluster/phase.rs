@@ -65,6 +65,11 @@ pub(crate) struct ClusterPhase {
     pub ahead: Option<usize>,
     /// Lazy hierarchies of the last query that had been built ahead.
     pub last_ahead: usize,
+    /// Work items the traversal lists per chunk (`None`: [`traverse::CHUNK_ITEMS`]; tests
+    /// lower it).
+    pub chunk: Option<usize>,
+    /// Chunks the last query's traversal listed.
+    pub last_chunks: usize,
 }
 
 impl ClusterPhase {
@@ -89,6 +94,7 @@ impl ClusterPhase {
             clustering: &mut self.clustering,
             trust: !self.distrust,
             ahead: self.ahead.unwrap_or(AHEAD_TRIANGLES),
+            chunk: self.chunk.unwrap_or(traverse::CHUNK_ITEMS).max(1),
         };
         let args = (grow, &mut self.pairs, ws, runner);
         let (stats, counts) = match kind {
@@ -98,6 +104,7 @@ impl ClusterPhase {
             DopKind::K26 => run(&mut self.c26, input, args),
         };
         self.last_ahead = counts.lazy_ahead;
+        self.last_chunks = counts.chunks;
         let cs = &self.clustering.stats;
         let figures = ClusterFigures {
             leaf: cs.leaves,
@@ -164,6 +171,8 @@ struct Grow<'a> {
     trust: bool,
     /// Leaf clusters of at least this many triangles get their hierarchies built ahead.
     ahead: usize,
+    /// Work items the traversal lists per chunk ([`traverse::CHUNK_ITEMS`]).
+    chunk: usize,
 }
 
 type Args<'a, R> = (
@@ -191,6 +200,7 @@ fn run<const H: usize, R: PairRunner>(
         clustering,
         trust,
         ahead,
+        chunk,
     } = grow;
     // With a second thread, the leaf clusters big enough to matter get their hierarchies while
     // the others grow; on one thread only those needed are built, after the clustering.
@@ -214,14 +224,13 @@ fn run<const H: usize, R: PairRunner>(
         clustering,
         trust,
         stop: cluster_ws.leaf.stop.as_ref(),
+        chunk,
     };
-    let mut counts = traverse::prepare(tree, &traversal, pairs, ws);
-    let source = TrianglePairs {
-        tree,
-        clustering,
-        scratch: pairs,
-    };
-    counts.bv_tests += runner.run(&source, ws);
+    traverse::begin(tree, &traversal, pairs);
+    let source = TrianglePairs::new(tree, &traversal, pairs);
+    let tests = runner.run(&source, ws);
+    let mut counts = source.counts();
+    counts.bv_tests += tests;
     let traversed = t.elapsed().as_secs_f64();
     let stats = BroadStats {
         bv_tests: counts.bv_tests,

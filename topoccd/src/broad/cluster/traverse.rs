@@ -19,14 +19,16 @@
 //!    inside its intermediate cluster too (the clustering of this crate certifies every leaf,
 //!    so this never runs, but it is not assumed).
 //!
-//! Steps 1, 2 and 4 list the leaf pairs (and uncertified leaves) sequentially; the leaf pairs
-//! whose smaller leaf has [`SPLIT_TRIANGLES`] triangles or more are split into pairs of nodes
-//! of their two lazy hierarchies (one big touching pair can hold much of a step's work); step 3
-//! runs the resulting units as parallel tasks of consecutive units of about equal estimated
-//! cost ([`TrianglePairs`]), each task's triangle pairs going to the query's narrow phase on
-//! the task's thread, the tasks' results handed over in task order. The split and the tasks
-//! depend on the clustering alone: the same candidates and the same report for any thread
-//! count.
+//! Steps 1, 2 and 4 list the leaf pairs (and uncertified leaves) sequentially, a chunk of
+//! [`CHUNK_ITEMS`] at a time; the leaf pairs whose smaller leaf has [`SPLIT_TRIANGLES`]
+//! triangles or more are split into pairs of nodes of their two lazy hierarchies (one big
+//! touching pair can hold much of a step's work); step 3 runs the chunk's units as parallel
+//! tasks of consecutive units of about equal estimated cost ([`TrianglePairs`]), each task's
+//! triangle pairs going to the query's narrow phase on the task's thread, the tasks' results
+//! handed over in task order. Then the listing resumes where it paused, unless the query
+//! stopped: a capped query whose report is full lists no more, so its lists stay bounded
+//! where every pair of clusters overlaps. The chunks, the split and the tasks depend on the
+//! clustering alone: the same candidates and the same report for any thread count.
 //!
 //! # Soundness: a skipped pair never touches
 //! *Which pairs are skipped.* By the ownership scheme a vertex-face pair `(v, f)` is a
@@ -80,10 +82,11 @@
 
 use std::time::Instant;
 
+use std::sync::{Mutex, PoisonError};
 
 use super::tree::{ClusterTree, NONE};
 use super::{Clustering, LeafCertificate};
-use crate::broad::TaskPairs;
+use crate::broad::{Stopper, TaskPairs};
 use crate::bvh::{run_batches, BvhWorkspace, Node, ParOptions};
 
 /// Leaf clusters of at most this many triangles get no lazy hierarchy: their triangles'
@@ -123,30 +126,97 @@ fn certified(certificate: LeafCertificate) -> bool {
     }
 }
 
+/// Leaf pairs (work items of step 3) listed at most, give or take one pair of intermediate
+/// clusters' worth, before the narrow phase takes them: steps 1 and 2 list a chunk of this
+/// many, step 3 runs its tasks, and the listing resumes where it paused only if the query has
+/// not stopped (its cap reached, a deadline). So the lists stay near 40 bytes times this many
+/// (20 MiB) even where every pair of triangles touches (a collapsed step: `n^2 / 2` leaf
+/// pairs). Cloth-funnel's step has far fewer leaf pairs and runs as one chunk; cloth-ball's
+/// 1.35 million run as three. The chunks depend on the clustering alone, never on the
+/// thread count.
+pub(crate) const CHUNK_ITEMS: usize = 1 << 19;
+
 /// Scratch memory of the traversal, reused across steps.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct PairScratch {
-    /// Overlapping pairs of intermediate clusters.
+    /// The paused traversal of the top tree against itself (step 1).
+    top: Vec<(u32, u32)>,
+    /// Overlapping pairs of intermediate clusters, of the chunk being listed.
     ic_pairs: Vec<(u32, u32)>,
-    /// The work items of step 3: overlapping pairs `(a, b)`, `a != b`, of leaf clusters to
-    /// test, and `(l, l)` for a leaf cluster without certificate, tested against itself
-    /// (step 4).
+    /// The work items of step 3 in the chunk: overlapping pairs `(a, b)`, `a != b`, of leaf
+    /// clusters to test, and `(l, l)` for a leaf cluster without certificate, tested against
+    /// itself (step 4).
     items: Vec<(u32, u32)>,
+    /// Whether step 4's items were listed (after the last pair of intermediate clusters).
+    tail_listed: bool,
+    /// Whether the listing stopped, and why.
+    lister: Lister,
     /// Whether each intermediate cluster is certified (all its leaves are).
     ic_certified: Vec<bool>,
-    /// The work of step 3: the items, big leaf pairs split into node pairs.
+    /// The work of step 3 in the chunk: the items, big leaf pairs split into node pairs.
     work: Vec<Work>,
     /// The estimated cost of each unit of `work`.
     work_cost: Vec<u64>,
-    /// Ends of the tasks in `work`, increasing (the last is `work.len()`).
+    /// Ends of the chunk's tasks in `work`, increasing (the last is `work.len()`).
     task_ends: Vec<usize>,
     /// Scratch: node pairs of the split.
     pending: Vec<(u32, u32)>,
     next: Vec<(u32, u32)>,
-    /// Leaf clusters that need a lazy hierarchy, increasing.
+    /// Leaf clusters that need a lazy hierarchy, first needed in the chunk, increasing.
     needed: Vec<u32>,
-    /// Per leaf cluster: whether it is in `needed`.
+    /// Per leaf cluster: whether it has a lazy hierarchy this step (or needs none).
     marked: Vec<bool>,
+}
+
+/// The state of the pair lists' growth: how many pairs were listed, and whether the query
+/// stopped or a list could not grow (then nothing more is listed).
+#[derive(Clone, Copy, Debug, Default)]
+struct Lister {
+    listed: u64,
+    halted: bool,
+    failed: bool,
+}
+
+impl Lister {
+    /// Whether to list the next pair: not once the query stopped (asked every 2^16 pairs) or
+    /// a list failed to grow.
+    #[inline]
+    fn go_on(&mut self, stop: Option<&Stopper>) -> bool {
+        self.listed += 1;
+        if !self.halted && self.listed.is_multiple_of(1 << 16) {
+            self.halted = stop.is_some_and(|s| s.stopped());
+        }
+        !self.halted && !self.failed
+    }
+
+    /// Pushes `p` on `v`, fallibly: a failure is recorded on the query's stop (without one, it
+    /// aborts, as an infallible push does), and nothing more is listed.
+    #[inline]
+    fn push(&mut self, stop: Option<&Stopper>, v: &mut Vec<(u32, u32)>, p: (u32, u32)) {
+        if self.failed {
+            return;
+        }
+        if let Err(e) = crate::alloc::try_push(v, p, "cluster pairs") {
+            self.fail(stop, e);
+        }
+    }
+
+    #[cold]
+    fn fail(&mut self, stop: Option<&Stopper>, e: crate::alloc::AllocError) {
+        if self.failed {
+            return;
+        }
+        self.failed = true;
+        match stop {
+            Some(s) => s.fail(e),
+            None => Stopper(std::sync::Arc::new(|| true), None).fail(e),
+        }
+    }
+
+    /// Whether the listing ended early.
+    fn stopped(&self) -> bool {
+        self.halted || self.failed
+    }
 }
 
 /// What the traversal did.
@@ -164,6 +234,8 @@ pub(crate) struct Counts {
     pub uncertified_leaves: usize,
     /// Time spent building the lazy hierarchies, in seconds.
     pub lazy_seconds: f64,
+    /// Chunks of work items listed ([`CHUNK_ITEMS`]).
+    pub chunks: usize,
 }
 
 /// What the traversal needs besides the hierarchy.
@@ -175,22 +247,20 @@ pub(crate) struct Inputs<'a> {
     pub trust: bool,
     /// The query's stop: once it says stop, no more leaf pairs are listed (a collapsed step
     /// has one per pair of triangles).
-    pub stop: Option<&'a crate::broad::Stopper>,
+    pub stop: Option<&'a Stopper>,
+    /// Work items per chunk, `>= 1` ([`CHUNK_ITEMS`] but in tests).
+    pub chunk: usize,
 }
 
-/// Steps 1, 2 and 4 of the traversal (see the module documentation) down to the work items of
-/// step 3, into `scratch`, and the lazy hierarchies these need, built in parallel. `tree` must
-/// have been built for this step and clustering. Returns the counts so far (with the
-/// bounding-volume tests of steps 1 and 2).
-pub(crate) fn prepare<const H: usize>(
-    tree: &mut ClusterTree<H>,
+/// Starts the traversal of a step: the certificates of the intermediate clusters, the top
+/// tree's self-traversal (step 1) paused before its first pair. `tree` must have been built
+/// for this step and clustering.
+pub(crate) fn begin<const H: usize>(
+    tree: &ClusterTree<H>,
     input: &Inputs<'_>,
     scratch: &mut PairScratch,
-    ws: &mut BvhWorkspace,
-) -> Counts {
+) {
     let c = input.clustering;
-    let mut counts = Counts::default();
-
     // Certificates: an intermediate cluster is certified when all its leaves are.
     scratch.ic_certified.clear();
     scratch
@@ -201,122 +271,127 @@ pub(crate) fn prepare<const H: usize>(
                     .iter()
                     .all(|&l| certified(c.leaves[l as usize].certificate))
         }));
+    tree.top.self_pairs_start(&mut scratch.top);
+    scratch.tail_listed = false;
+    scratch.lister = Lister::default();
+    scratch.marked.clear();
+    scratch.marked.resize(c.leaves.len(), false);
+}
 
-    // The pair lists grow fallibly (a collapsed step has one pair per pair of clusters): a
-    // failure is recorded on the query's stop, and nothing more is listed.
-    let failed = std::cell::Cell::new(false);
-    let push = |v: &mut Vec<(u32, u32)>, p: (u32, u32)| {
-        if failed.get() {
-            return;
-        }
-        if let Err(e) = crate::alloc::try_push(v, p, "cluster pairs") {
-            failed.set(true);
-            match input.stop {
-                Some(s) => s.fail(e),
-                None => crate::broad::Stopper(std::sync::Arc::new(|| true), None).fail(e),
+/// Lists the next chunk of work items (steps 1, 2 and 4 of the traversal, see the module
+/// documentation, from where [`begin`] or the last chunk paused), builds the lazy
+/// hierarchies they need that are not built yet, in parallel, and splits them into units of
+/// work and tasks ([`PairScratch::task_ends`]). Adds what it did to `counts`. Returns whether
+/// items are left for another chunk.
+pub(crate) fn next_chunk<const H: usize>(
+    tree: &mut ClusterTree<H>,
+    input: &Inputs<'_>,
+    scratch: &mut PairScratch,
+    ws: &mut BvhWorkspace,
+    counts: &mut Counts,
+) -> bool {
+    let c = input.clustering;
+    let stop = input.stop;
+    let chunk = input.chunk.max(1);
+    counts.chunks += 1;
+    let PairScratch {
+        top,
+        ic_pairs,
+        items,
+        lister,
+        ..
+    } = scratch;
+    items.clear();
+    // Steps 1 and 2: leaf pairs of distinct intermediate clusters, a piece of the top tree's
+    // traversal at a time (an overlapping pair of intermediate clusters gives at least one leaf
+    // pair when either has a single leaf), until the chunk is full.
+    while !top.is_empty() && items.len() < chunk && !lister.stopped() {
+        ic_pairs.clear();
+        let want = chunk - items.len();
+        counts.bv_tests += tree.top.self_pairs_resume(top, want, |i, j| {
+            if lister.go_on(stop) {
+                lister.push(stop, ic_pairs, (i.min(j), i.max(j)));
             }
-        }
-    };
-    // Whether the query stopped, asked every 2^16 pairs listed.
-    let mut listed = 0u64;
-    let mut halted = false;
-    let mut go_on = || {
-        listed += 1;
-        if !halted && listed.is_multiple_of(1 << 16) {
-            halted = input.stop.is_some_and(|s| s.stopped());
-        }
-        !halted && !failed.get()
-    };
-    // Steps 1 and 2: leaf pairs of distinct intermediate clusters.
-    scratch.ic_pairs.clear();
-    let ic_pairs = &mut scratch.ic_pairs;
-    counts.bv_tests += tree.top.self_pairs(ws, |i, j| {
-        if go_on() {
-            push(ic_pairs, (i.min(j), i.max(j)));
-        }
-    });
-    scratch.items.clear();
-    let items = &mut scratch.items;
-    for &(i, j) in &scratch.ic_pairs {
-        if !go_on() {
-            break;
-        }
-        let (si, sj) = (tree.sub_of_ic[i as usize], tree.sub_of_ic[j as usize]);
-        let (li, lj) = (
-            c.intermediate_leaves(i as usize),
-            c.intermediate_leaves(j as usize),
-        );
-        counts.bv_tests += match (si == NONE, sj == NONE) {
-            (true, true) => {
-                push(items, (li[0], lj[0]));
-                0
+        });
+        for &(i, j) in ic_pairs.iter() {
+            if !lister.go_on(stop) {
+                break;
             }
-            (true, false) => {
-                let v = &tree.leaf[li[0] as usize].volume;
-                tree.sub(j).volume_leaves(v, ws, |b| push(items, (li[0], b)))
-            }
-            (false, true) => {
-                let v = &tree.leaf[lj[0] as usize].volume;
-                tree.sub(i).volume_leaves(v, ws, |a| push(items, (a, lj[0])))
-            }
-            (false, false) => tree
-                .sub(i)
-                .tree_pairs(tree.sub(j), ws, |a, b| push(items, (a, b))),
-        };
-    }
-    // Step 4: leaf pairs inside an intermediate cluster without certificate.
-    for (i, &ok) in scratch.ic_certified.iter().enumerate() {
-        if !ok && tree.sub_of_ic[i] != NONE {
-            counts.bv_tests += tree
-                .sub(i as u32)
-                .self_pairs(ws, |a, b| push(items, (a, b)));
+            let (si, sj) = (tree.sub_of_ic[i as usize], tree.sub_of_ic[j as usize]);
+            let (li, lj) = (
+                c.intermediate_leaves(i as usize),
+                c.intermediate_leaves(j as usize),
+            );
+            counts.bv_tests += match (si == NONE, sj == NONE) {
+                (true, true) => {
+                    lister.push(stop, items, (li[0], lj[0]));
+                    0
+                }
+                (true, false) => {
+                    let v = &tree.leaf[li[0] as usize].volume;
+                    (tree.sub(j)).volume_leaves(v, ws, |b| lister.push(stop, items, (li[0], b)))
+                }
+                (false, true) => {
+                    let v = &tree.leaf[lj[0] as usize].volume;
+                    (tree.sub(i)).volume_leaves(v, ws, |a| lister.push(stop, items, (a, lj[0])))
+                }
+                (false, false) => tree
+                    .sub(i)
+                    .tree_pairs(tree.sub(j), ws, |a, b| lister.push(stop, items, (a, b))),
+            };
         }
     }
-    counts.leaf_pairs = items.len() as u64;
-    // Step 4: leaf clusters without certificate, against themselves.
-    for (l, leaf) in c.leaves.iter().enumerate() {
-        if (input.trust && certified(leaf.certificate)) || leaf.triangles.len() < 2 {
-            continue;
+    let last = top.is_empty() || lister.stopped();
+    if last && !scratch.tail_listed {
+        scratch.tail_listed = true;
+        // Step 4: leaf pairs inside an intermediate cluster without certificate.
+        for (i, &ok) in scratch.ic_certified.iter().enumerate() {
+            if !ok && tree.sub_of_ic[i] != NONE {
+                counts.bv_tests += tree
+                    .sub(i as u32)
+                    .self_pairs(ws, |a, b| lister.push(stop, items, (a, b)));
+            }
         }
-        counts.uncertified_leaves += 1;
-        push(items, (l as u32, l as u32));
+        counts.leaf_pairs += items.len() as u64;
+        // Step 4: leaf clusters without certificate, against themselves.
+        for (l, leaf) in c.leaves.iter().enumerate() {
+            if (input.trust && certified(leaf.certificate)) || leaf.triangles.len() < 2 {
+                continue;
+            }
+            counts.uncertified_leaves += 1;
+            lister.push(stop, items, (l as u32, l as u32));
+        }
+    } else {
+        counts.leaf_pairs += items.len() as u64;
     }
     // Room for a unit of work per item (big items split into a few more).
     let n = items.len();
     let grown = crate::alloc::grow(&mut scratch.work, n, "cluster work")
         .and_then(|()| crate::alloc::grow(&mut scratch.work_cost, n, "cluster work"));
     if let Err(e) = grown {
-        if !failed.get() {
-            failed.set(true);
-            match input.stop {
-                Some(s) => s.fail(e),
-                None => crate::broad::Stopper(std::sync::Arc::new(|| true), None).fail(e),
-            }
-        }
+        lister.fail(stop, e);
     }
-    if failed.get() {
+    if lister.failed {
         // The query winds down: no work.
         items.clear();
     }
 
-    // The lazy hierarchies: every leaf cluster of more than `DIRECT` triangles in an item.
+    // The lazy hierarchies: every leaf cluster of more than `DIRECT` triangles in an item,
+    // unless an earlier chunk built it.
     let t = Instant::now();
-    scratch.marked.clear();
-    scratch.marked.resize(c.leaves.len(), false);
+    scratch.needed.clear();
     for &(a, b) in items.iter() {
         for l in [a, b] {
-            if c.leaves[l as usize].triangles.len() > DIRECT {
+            if !scratch.marked[l as usize] && c.leaves[l as usize].triangles.len() > DIRECT {
                 scratch.marked[l as usize] = true;
+                scratch.needed.push(l);
             }
         }
     }
-    scratch.needed.clear();
-    scratch.needed.extend(
-        (0..c.leaves.len() as u32).filter(|&l| scratch.marked[l as usize]),
-    );
-    counts.lazy_ahead = tree.build_lazies(c, &scratch.needed);
-    counts.lazy_bvhs = scratch.needed.len();
-    counts.lazy_seconds = t.elapsed().as_secs_f64();
+    scratch.needed.sort_unstable();
+    counts.lazy_ahead += tree.build_lazies(c, &scratch.needed);
+    counts.lazy_bvhs += scratch.needed.len();
+    counts.lazy_seconds += t.elapsed().as_secs_f64();
 
     // The work: big leaf pairs split into node pairs.
     scratch.work.clear();
@@ -386,7 +461,7 @@ pub(crate) fn prepare<const H: usize>(
     if scratch.task_ends.last() != Some(&scratch.work.len()) && !scratch.work.is_empty() {
         scratch.task_ends.push(scratch.work.len());
     }
-    counts
+    !last
 }
 
 /// A rough estimate of the work of item `(a, b)` (the traversal and the narrow phase of its
@@ -403,15 +478,42 @@ fn item_cost(c: &Clustering, a: u32, b: u32) -> u64 {
     }
 }
 
-/// The triangle pairs of the work items prepared by [`prepare`], as a source of parallel
-/// tasks ([`TaskPairs`]).
-pub(crate) struct TrianglePairs<'a, const H: usize> {
-    pub tree: &'a ClusterTree<H>,
-    pub clustering: &'a Clustering,
-    pub scratch: &'a PairScratch,
+/// The traversal of one step after [`begin`]: the hierarchy, the pair lists and what they
+/// did, behind the lock of [`TrianglePairs`].
+struct Traversal<'a, const H: usize> {
+    tree: &'a mut ClusterTree<H>,
+    input: &'a Inputs<'a>,
+    scratch: &'a mut PairScratch,
+    counts: Counts,
 }
 
-impl<const H: usize> TrianglePairs<'_, H> {
+/// The triangle pairs of the traversal started by [`begin`], chunk by chunk
+/// ([`next_chunk`]), as a source of parallel tasks ([`TaskPairs`]). The lock is taken once,
+/// by the one call of [`TaskPairs::pairs`]; the tasks read the chunk through it.
+pub(crate) struct TrianglePairs<'a, const H: usize>(Mutex<Traversal<'a, H>>);
+
+impl<'a, const H: usize> TrianglePairs<'a, H> {
+    /// The source of the traversal [`begin`] started on `tree` with `input` and `scratch`.
+    pub fn new(
+        tree: &'a mut ClusterTree<H>,
+        input: &'a Inputs<'a>,
+        scratch: &'a mut PairScratch,
+    ) -> Self {
+        Self(Mutex::new(Traversal {
+            tree,
+            input,
+            scratch,
+            counts: Counts::default(),
+        }))
+    }
+
+    /// What the traversal did.
+    pub fn counts(self) -> Counts {
+        self.0.into_inner().unwrap_or_else(PoisonError::into_inner).counts
+    }
+}
+
+impl<const H: usize> Traversal<'_, H> {
     /// Step 3 (and 4) for one work item: every overlapping pair of triangles to `emit`.
     /// Returns the bounding-volume tests.
     fn work(
@@ -420,7 +522,7 @@ impl<const H: usize> TrianglePairs<'_, H> {
         (ws, stack): &mut (BvhWorkspace, Vec<(u32, u32)>),
         emit: &mut impl FnMut(u32, u32),
     ) -> u64 {
-        let (tree, c) = (self.tree, self.clustering);
+        let (tree, c) = (&*self.tree, self.input.clustering);
         let (a, b) = (w.a, w.b);
         if w.na != NONE {
             let (xa, xb) = (tree.lazy(a).nodes(), tree.lazy(b).nodes());
@@ -474,12 +576,14 @@ impl<const H: usize> TrianglePairs<'_, H> {
 }
 
 impl<const H: usize> TaskPairs for TrianglePairs<'_, H> {
-    /// Runs the work items as tasks of consecutive items (their number depends on the items
-    /// alone), batch by batch on the rayon pool, each task's accumulator finished on its
-    /// thread and handed to `consume` in task order.
+    /// Lists the work items chunk by chunk ([`next_chunk`]) and runs each chunk's items as
+    /// tasks of consecutive items (their number depends on the items alone), batch by batch
+    /// on the rayon pool, each task's accumulator finished on its thread and handed to
+    /// `consume` in task order, the tasks numbered across chunks. Once `consume` breaks (the
+    /// report is full, the query stopped), no other chunk is listed.
     fn pairs<T: Send>(
         &self,
-        _ws: &mut BvhWorkspace,
+        ws: &mut BvhWorkspace,
         par: &ParOptions,
         make: impl Fn(usize) -> T + Sync + Send,
         pair: impl Fn(&mut T, u32, u32) + Sync + Send,
@@ -487,24 +591,43 @@ impl<const H: usize> TaskPairs for TrianglePairs<'_, H> {
         mut consume: impl FnMut(T) -> std::ops::ControlFlow<()>,
         skip: &(dyn Fn(&T) -> bool + Sync),
     ) -> u64 {
-        let work = &self.scratch.work[..];
-        let mut start = 0;
-        let tasks: Vec<&[Work]> = (self.scratch.task_ends.iter())
-            .map(|&end| {
-                let task = &work[start..end];
-                start = end;
-                task
-            })
-            .collect();
-        let body = |ws: &mut _, task: &&[Work], acc: &mut T| {
-            let mut tests = 0;
-            for work in task.iter() {
-                tests += self.work(work, ws, &mut |x, y| pair(acc, x, y));
+        let mut guard = self.0.lock().unwrap_or_else(PoisonError::into_inner);
+        let t = &mut *guard;
+        let (mut tests, mut first) = (0, 0);
+        loop {
+            let more = next_chunk(t.tree, t.input, t.scratch, ws, &mut t.counts);
+            let view = &*t;
+            let work = &view.scratch.work[..];
+            let mut start = 0;
+            let tasks: Vec<&[Work]> = (view.scratch.task_ends.iter())
+                .map(|&end| {
+                    let task = &work[start..end];
+                    start = end;
+                    task
+                })
+                .collect();
+            let body = |ws: &mut _, task: &&[Work], acc: &mut T| {
+                let mut tests = 0;
+                for work in task.iter() {
+                    tests += view.work(work, ws, &mut |x, y| pair(acc, x, y));
+                }
+                tests
+            };
+            let numbered = |i| make(first + i);
+            let mut ended = false;
+            let mut handed = |acc| {
+                let flow = consume(acc);
+                ended |= flow.is_break();
+                flow
+            };
+            let f = (numbered, &finish, skip);
+            tests += run_batches(&tasks, par, Default::default, body, f, &mut handed);
+            first += tasks.len();
+            if ended || !more {
+                break;
             }
-            tests
-        };
-        let f = (make, finish, skip);
-        run_batches(&tasks, par, Default::default, body, f, &mut consume)
+        }
+        tests
     }
 }
 
