@@ -6,7 +6,8 @@
 # (with Ray) run there.
 # Needs the Rust toolchain, python3 with venv, cmake, g++, pkg-config and Eigen 3 (checked
 # first: the script stops at once with the apt-get line to run), and crates.io / PyPI.
-# About 20 minutes on 2 cores from a clean clone (the Rust tests 15 of them).
+# 80 minutes measured on 2 shared, loaded cores after the demo build (the Rust tests 44 of them;
+# see the README); CI prints each phase's seconds.
 # The data tests read ../shared/data (the public Sample-Queries and Sample-Scalable-CCD-Data
 # sets; see the README). Without it they check nothing and say so below; with
 # TOPOCCD_REQUIRE_DATA=1 (as .ci/run sets it) its absence is an error.
