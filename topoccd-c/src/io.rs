@@ -145,6 +145,7 @@ unsafe fn path(path: *const c_char, what: &str) -> Result<PathBuf, Failure> {
 fn io_failure(e: &IoError) -> Failure {
     let status = match e {
         IoError::Io { .. } => topoccd_status::Io,
+        IoError::OutOfMemory { .. } => topoccd_status::OutOfMemory,
         _ => topoccd_status::Format,
     };
     Failure::new(status, chain(e))
