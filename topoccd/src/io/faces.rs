@@ -16,6 +16,10 @@ enum Record {
     Strip(usize),
 }
 
+/// The triangles and the face map (`None` if every face was a triangle) of
+/// [`FaceList::finish`].
+type FileTriangles = (Vec<[u32; 3]>, Option<Vec<FaceOrigin>>);
+
 /// Collects the faces of a file in order. Every id handed in must already be checked against
 /// the vertex count (except [`RESTART`] in strips).
 #[derive(Default)]
@@ -59,7 +63,7 @@ impl FaceList {
         self,
         positions: &[[f64; 3]],
         notes: &mut Vec<MeshNote>,
-    ) -> Result<(Vec<[u32; 3]>, Option<Vec<FaceOrigin>>), AllocError> {
+    ) -> Result<FileTriangles, AllocError> {
         let FaceList {
             mut triangles,
             ids,
