@@ -1238,9 +1238,11 @@ topoccd_status topoccd_friction_hessian(double eps_v,
 // extension. Polygons are split into triangles (`face_origin` maps them back), STL corners
 // with identical coordinates welded into vertices; what the reader did is in its notes
 // (`topoccd_mesh_note`). On success `*mesh` is a new mesh; on failure it is NULL and the
-// status is `TOPOCCD_STATUS_IO` (the file cannot be opened or read) or
-// `TOPOCCD_STATUS_FORMAT` (its content is malformed: the message names the line or element),
-// with details in `*error` (see `topoccd_error`; `error` may be NULL).
+// status is `TOPOCCD_STATUS_IO` (the file cannot be opened or read),
+// `TOPOCCD_STATUS_OUT_OF_MEMORY` (what it holds does not fit in memory: the message names the
+// file and what was being read) or `TOPOCCD_STATUS_FORMAT` (its content is malformed: the
+// message names the line or element), with details in `*error` (see `topoccd_error`; `error`
+// may be NULL).
 //
 // ```c
 // topoccd_mesh *mesh = NULL;

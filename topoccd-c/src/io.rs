@@ -145,6 +145,7 @@ unsafe fn path(path: *const c_char, what: &str) -> Result<PathBuf, Failure> {
 fn io_failure(e: &IoError) -> Failure {
     let status = match e {
         IoError::Io { .. } => topoccd_status::Io,
+        IoError::OutOfMemory { .. } => topoccd_status::OutOfMemory,
         _ => topoccd_status::Format,
     };
     Failure::new(status, chain(e))
@@ -185,9 +186,11 @@ unsafe fn make<T: Kind, P>(
 /// extension. Polygons are split into triangles (`face_origin` maps them back), STL corners
 /// with identical coordinates welded into vertices; what the reader did is in its notes
 /// (`topoccd_mesh_note`). On success `*mesh` is a new mesh; on failure it is NULL and the
-/// status is `TOPOCCD_STATUS_IO` (the file cannot be opened or read) or
-/// `TOPOCCD_STATUS_FORMAT` (its content is malformed: the message names the line or element),
-/// with details in `*error` (see `topoccd_error`; `error` may be NULL).
+/// status is `TOPOCCD_STATUS_IO` (the file cannot be opened or read),
+/// `TOPOCCD_STATUS_OUT_OF_MEMORY` (what it holds does not fit in memory: the message names the
+/// file and what was being read) or `TOPOCCD_STATUS_FORMAT` (its content is malformed: the
+/// message names the line or element), with details in `*error` (see `topoccd_error`; `error`
+/// may be NULL).
 ///
 /// ```c
 /// topoccd_mesh *mesh = NULL;

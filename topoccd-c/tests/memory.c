@@ -2,8 +2,10 @@
  * triangles whose vertices all sit at one point (every pair touches), `topoccd_ccd_query`
  * with `max_contacts = 0` and `topoccd_proximity` with `max_contacts = 0` return
  * TOPOCCD_STATUS_OUT_OF_MEMORY with a message naming the buffer, instead of aborting; the same
- * `topoccd_ccd` then answers a capped query, a capped proximity query and a small one. Run by scripts/test-c.sh (without sanitizers, whose
- * shadow memory does not fit the limit); the last line says how many checks passed. */
+ * `topoccd_ccd` then answers a capped query, a capped proximity query and a small one, and
+ * `topoccd_mesh_read` of a file whose vertices do not fit returns the same status. Run by
+ * scripts/test-c.sh (without sanitizers, whose shadow memory does not fit the limit); the last
+ * line says how many checks passed. */
 #define _POSIX_C_SOURCE 200809L
 #include <topoccd.h>
 
@@ -12,6 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <sys/types.h>
+#include <unistd.h>
 
 static int passed, failed;
 
@@ -88,6 +92,32 @@ int main(void) {
     topoccd_ccd_free(&ccd);
     free(x);
     free(tris);
+
+    /* A mesh file as large as its header says (sparse: no disk space), whose 200 million
+     * vertices do not fit under the limit: an out-of-memory status naming the file. */
+    char path[64];
+    snprintf(path, sizeof path, "/tmp/topoccd-c-memory-%ld.ply", (long)getpid());
+    const char *header = "ply\nformat binary_little_endian 1.0\nelement vertex 200000000\n"
+                         "property float x\nproperty float y\nproperty float z\n"
+                         "element face 0\nproperty list uchar int vertex_indices\nend_header\n";
+    FILE *f = fopen(path, "wb");
+    CHECK(f != NULL, "cannot create %s", path);
+    if (f) {
+        fputs(header, f);
+        fclose(f);
+        CHECK(truncate(path, (off_t)strlen(header) + (off_t)12 * 200000000) == 0, "truncate");
+        topoccd_mesh *mesh = NULL;
+        topoccd_error *error = NULL;
+        st = topoccd_mesh_read(path, &mesh, &error);
+        CHECK(st == TOPOCCD_STATUS_OUT_OF_MEMORY, "mesh read: %s", topoccd_status_name(st));
+        CHECK(mesh == NULL, "no mesh");
+        const char *message = error ? topoccd_error_message(error) : NULL;
+        CHECK(contains(message, path) && contains(message, "out of memory reading the vertex positions"),
+              "%s", message ? message : "(no error)");
+        printf("mesh read: %s\n", message ? message : "(no error)");
+        topoccd_error_free(&error);
+        remove(path);
+    }
     printf("%d passed, %d failed\n", passed, failed);
     return failed != 0;
 }

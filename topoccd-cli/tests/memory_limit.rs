@@ -45,6 +45,17 @@ fn integer_cast_funnel(dir: &TempDir) -> Option<[PathBuf; 2]> {
 /// Runs `topoccd ARGS` under a 1 GiB address-space limit; asserts that it failed with an
 /// error naming the allocation. Returns its stderr.
 fn fails_out_of_memory(args: &[&Path]) -> String {
+    let stderr = fails_under_limit(args);
+    assert!(
+        stderr.contains("out of memory: could not allocate") && stderr.contains("bytes for the"),
+        "{stderr}"
+    );
+    stderr
+}
+
+/// Runs `topoccd ARGS` under a 1 GiB address-space limit; asserts that it exited with an
+/// error (an exit code, not a signal) and did not panic. Returns its stderr.
+fn fails_under_limit(args: &[&Path]) -> String {
     let mut command = Command::new("sh");
     command
         .arg("-c")
@@ -63,11 +74,51 @@ fn fails_out_of_memory(args: &[&Path]) -> String {
         out.status
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
-    assert!(
-        stderr.contains("out of memory: could not allocate") && stderr.contains("bytes for the"),
-        "{stderr}"
-    );
     stderr
+}
+
+/// Issue 51: a file as large as its header says (sparse: it takes no disk space) whose
+/// vertices do not fit in memory. Every command that reads it exits with an error naming the
+/// file and what it was reading.
+#[test]
+fn a_file_larger_than_memory_is_an_error_not_an_abort() {
+    let dir = TempDir::new("memory-limit", "file");
+    let vertices = 200_000_000u64;
+    let header = format!(
+        "ply\nformat binary_little_endian 1.0\nelement vertex {vertices}\nproperty float x\n\
+         property float y\nproperty float z\nelement face 0\n\
+         property list uchar int vertex_indices\nend_header\n"
+    );
+    let path = dir.file("huge.ply", &header);
+    let file = std::fs::OpenOptions::new()
+        .write(true)
+        .open(&path)
+        .expect("opens");
+    file.set_len(header.len() as u64 + 12 * vertices)
+        .expect("a sparse file");
+    drop(file);
+    let p = |s: &str| PathBuf::from(s);
+    let commands = [
+        vec![p("check"), path.clone()],
+        vec![p("proximity"), path.clone(), p("--dhat"), p("1e-3")],
+        vec![
+            p("step"),
+            path.clone(),
+            path.clone(),
+            p("--max-memory"),
+            p("off"),
+        ],
+    ];
+    for args in commands {
+        let refs: Vec<&Path> = args.iter().map(PathBuf::as_path).collect();
+        let stderr = fails_under_limit(&refs);
+        let expected = format!(
+            "{}: out of memory reading the vertex positions",
+            path.display()
+        );
+        assert!(stderr.contains(&expected), "{args:?}: {stderr}");
+        println!("{:?}: {stderr}", args[0]);
+    }
 }
 
 #[test]

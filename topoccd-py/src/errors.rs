@@ -106,7 +106,8 @@ fn chain(err: &dyn std::error::Error) -> String {
 }
 
 /// A reading or writing error as a Python exception: `OSError` (subclass) when the operating
-/// system refused, [`FormatError`] when the content is wrong.
+/// system refused, `MemoryError` when the file's content did not fit in memory, [`FormatError`]
+/// when the content is wrong.
 pub fn io_error(err: &IoError) -> PyErr {
     match err {
         IoError::Io { path, source, .. } => {
@@ -116,6 +117,7 @@ pub fn io_error(err: &IoError) -> PyErr {
             let args = (21, chain(err), path.display().to_string());
             PyIsADirectoryError::new_err(args)
         }
+        IoError::OutOfMemory { .. } => memory_error(chain(err)),
         _ => FormatError::new_err(chain(err)),
     }
 }

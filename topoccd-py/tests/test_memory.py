@@ -2,7 +2,8 @@
 integer-cast cloth-funnel step, every vertex on one of ten points), in a subprocess under a 1 GiB address-space
 limit (``resource.setrlimit``), each call raises ``MemoryError`` naming the buffer and the
 bytes it asked for: the interpreter is not aborted, and the same ``Ccd`` answers a capped
-CCD query afterwards.
+CCD query afterwards. Reading a file whose vertices do not fit raises ``MemoryError`` naming
+the file and what was being read.
 """
 
 import json
@@ -79,3 +80,52 @@ def test_uncapped_call_raises_memory_error_under_an_address_space_limit(frames, 
     assert out["after"] == "max_contacts", out
     if case == "proximity":
         assert out["after_pairs"] == 1_000_000, out
+
+
+READER = textwrap.dedent(
+    """
+    import json, resource, sys
+    resource.setrlimit(resource.RLIMIT_AS, ({limit}, {limit}))
+    import topoccd
+    out = {{}}
+    try:
+        topoccd.read_mesh(sys.argv[1])
+    except MemoryError as e:
+        out["error"] = "MemoryError"
+        out["message"] = str(e)
+    # The interpreter lives on.
+    out["after"] = len(topoccd.read_mesh(sys.argv[2])[1])
+    print(json.dumps(out))
+    """
+).format(limit=LIMIT)
+
+
+def test_a_file_larger_than_memory_raises_memory_error(tmp_path):
+    """A binary PLY file as large as its header says (sparse: no disk space), whose 200
+    million vertices do not fit under the limit."""
+    vertices = 200_000_000
+    header = (
+        "ply\nformat binary_little_endian 1.0\n"
+        f"element vertex {vertices}\n"
+        "property float x\nproperty float y\nproperty float z\n"
+        "element face 0\nproperty list uchar int vertex_indices\nend_header\n"
+    ).encode()
+    huge = tmp_path / "huge.ply"
+    with open(huge, "wb") as f:
+        f.write(header)
+        f.truncate(len(header) + 12 * vertices)
+    small = tmp_path / "small.obj"
+    small.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MALLOC_ARENA_MAX="2")
+    proc = subprocess.run(
+        [sys.executable, "-c", READER, str(huge), str(small)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        env=env,
+    )
+    assert proc.returncode == 0, f"exit {proc.returncode}, {proc.stderr[-2000:]}"
+    out = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert out.get("error") == "MemoryError", out
+    assert f"{huge}: out of memory reading the vertex positions" in out["message"], out
+    assert out["after"] == 1, out

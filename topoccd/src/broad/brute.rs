@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use super::tasks::{Out, Passes, Totals};
 use super::{triangle_volumes, BroadInput, BroadPhase, BroadStats, Candidates, Sink};
+use crate::alloc::{grow, try_collect, AllocError};
 use crate::bvh::BvhWorkspace;
 use crate::kdop::{DopKind, Kdop};
 use crate::mesh::features::SweptBox;
@@ -42,7 +43,7 @@ impl BroadPhase for Brute {
             ctx.solve_parallel(c, &mut best, &mut part);
             part.deliver(ctx);
             let kept = keeper.take(ctx, found, &mut part);
-            if record {
+            if record && limits.check(recorded.grow_for(c)) {
                 recorded.vf.extend_from_slice(&c.vf);
                 recorded.ee.extend_from_slice(&c.ee);
             }
@@ -59,7 +60,11 @@ impl BroadPhase for Brute {
                 DopKind::K18 => candidates::<9>(input, &mut Vec::new(), sink),
                 DopKind::K26 => candidates::<13>(input, &mut Vec::new(), sink),
             }
-        };
+        }
+        .unwrap_or_else(|e| {
+            limits.fail(e);
+            BroadStats::default()
+        });
         let t = Instant::now();
         sink.flush_now();
         stats.traverse += t.elapsed().as_secs_f64();
@@ -100,15 +105,19 @@ fn sort(items: &mut [Item]) {
 /// Appends every candidate pair of the step to `out`: `(vertex, face)`, the vertex not in the
 /// face, and edge indices, smaller first, the edges sharing no vertex, that pass the pair
 /// filter (its rules 5 and 6 on the owner triangles included), whose swept boxes come within
-/// the separation, and whose owner triangles' swept k-DOPs (`volumes`, scratch) overlap.
+/// the separation, and whose owner triangles' swept k-DOPs (`volumes`, scratch) overlap. An
+/// error if the sweep's volumes and boxes cannot be allocated.
 pub(crate) fn candidates<const H: usize>(
     input: &BroadInput<'_, '_>,
     volumes: &mut Vec<Kdop<H>>,
     out: &mut Sink<'_>,
-) -> BroadStats {
+) -> Result<BroadStats, AllocError> {
     let start = Instant::now();
     let (features, filter, sep) = (input.features, input.filter, input.filter.sep);
     let tris = input.step.triangles();
+    // Room first, fallibly: the volumes then fill it in place.
+    volumes.clear();
+    grow(volumes, tris.len(), "triangle volumes")?;
     triangle_volumes(input.step, (filter.tmax(), sep), volumes);
     // Owner triangles: the incident triangle of lowest index (as in the ownership scheme).
     let topo = &features.topo;
@@ -122,7 +131,8 @@ pub(crate) fn candidates<const H: usize>(
     };
     // The edges' swept boxes: the unions of their vertices'.
     let boxes = &features.boxes;
-    let edge_boxes: Vec<SweptBox> = topo.edges.iter().map(|&e| boxes.edge(e)).collect();
+    let edge_boxes: Vec<SweptBox> =
+        try_collect(topo.edges.iter().map(|&e| boxes.edge(e)), "swept boxes")?;
     let build = start.elapsed().as_secs_f64();
     let start = Instant::now();
     let mut tests = 0u64;
@@ -133,27 +143,23 @@ pub(crate) fn candidates<const H: usize>(
     };
 
     // Vertex-face: the referenced vertices and the faces in one sweep.
-    let mut referenced = vec![false; features.boxes.vertex.len()];
+    let mut referenced = try_collect(
+        std::iter::repeat_n(false, features.boxes.vertex.len()),
+        "sweep items",
+    )?;
     for t in tris {
         for &v in t {
             referenced[v as usize] = true;
         }
     }
-    let mut items: Vec<Item> = features
-        .boxes
-        .vertex
-        .iter()
-        .enumerate()
-        .filter(|&(v, _)| referenced[v])
-        .map(|(v, b)| item(b, 0, v))
-        .chain(
-            boxes
-                .face
-                .iter()
-                .enumerate()
-                .map(|(f, b)| item(b, 1, f)),
-        )
-        .collect();
+    let vertices = features.boxes.vertex.iter().enumerate();
+    let mut items: Vec<Item> = try_collect(
+        vertices
+            .filter(|&(v, _)| referenced[v])
+            .map(|(v, b)| item(b, 0, v))
+            .chain(boxes.face.iter().enumerate().map(|(f, b)| item(b, 1, f))),
+        "sweep items",
+    )?;
     sort(&mut items);
     let bx = |it: &Item| match it.kind {
         0 => &features.boxes.vertex[it.index as usize],
@@ -191,6 +197,7 @@ pub(crate) fn candidates<const H: usize>(
     // Edge-edge: all edges in one sweep.
     let edges = &features.topo.edges;
     items.clear();
+    grow(&mut items, edge_boxes.len(), "sweep items")?;
     items.extend(
         edge_boxes
             .iter()
@@ -220,10 +227,10 @@ pub(crate) fn candidates<const H: usize>(
             }
         }
     }
-    BroadStats {
+    Ok(BroadStats {
         bv_tests: tests,
         build,
         traverse: start.elapsed().as_secs_f64(),
         ..BroadStats::default()
-    }
+    })
 }

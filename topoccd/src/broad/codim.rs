@@ -20,17 +20,25 @@ use std::time::Instant;
 
 use super::tasks::Totals;
 use super::{BroadInput, BroadStats, Candidates, Sink};
+use crate::alloc::{grow, try_collect, AllocError};
 use crate::contact::driver::{lower, Context, Found, Keeper};
 use crate::mesh::codim::Codim;
 use crate::mesh::features::SweptBox;
 
 /// The step's edges for the driver when it has free primitives: `mesh` (the triangles' edges,
 /// sorted), then the free edges, then each point `p` as `[p, p]`, into `out`.
-pub(crate) fn combined_edges(mesh: &[[u32; 2]], codim: &Codim, out: &mut Vec<[u32; 2]>) {
+pub(crate) fn combined_edges(
+    mesh: &[[u32; 2]],
+    codim: &Codim,
+    out: &mut Vec<[u32; 2]>,
+) -> Result<(), AllocError> {
     out.clear();
+    let len = mesh.len() + codim.edges.len() + codim.points.len();
+    grow(out, len, "edges")?;
     out.extend_from_slice(mesh);
     out.extend_from_slice(&codim.edges);
     out.extend(codim.points.iter().map(|&p| [p, p]));
+    Ok(())
 }
 
 /// One box of a sweep: its lower x (the sort key) and an index.
@@ -41,15 +49,17 @@ struct Item {
 }
 
 /// Items of `boxes` at `indices`, sorted by lower x, then by index (deterministic).
-fn sorted(boxes: &[SweptBox], indices: impl Iterator<Item = u32>) -> Vec<Item> {
-    let mut items: Vec<Item> = indices
-        .map(|i| Item {
-            lo_x: boxes[i as usize].lo.x,
-            index: i,
-        })
-        .collect();
+fn sorted(
+    boxes: &[SweptBox],
+    indices: impl Iterator<Item = u32>,
+) -> Result<Vec<Item>, AllocError> {
+    let items = indices.map(|i| Item {
+        lo_x: boxes[i as usize].lo.x,
+        index: i,
+    });
+    let mut items = try_collect(items, "sweep items")?;
     items.sort_unstable_by(|a, b| a.lo_x.total_cmp(&b.lo_x).then(a.index.cmp(&b.index)));
-    items
+    Ok(items)
 }
 
 /// Calls `pair(a, b)` for every `a` of `left` and `b` of `right` whose boxes overlap along x
@@ -98,31 +108,36 @@ fn within(items: &[Item], boxes: &[SweptBox], sep: f64, mut pair: impl FnMut(u32
 /// vertices, and `[e, f]` into `edges` (the [`combined_edges`], `mesh` of them the
 /// triangles'), `edges[e] < edges[f]`, for a free edge against any edge, a point against a
 /// free edge and two points; each pair sharing no vertex, passing the pair filter (rules 1 to
-/// 4: rules 5 and 6 need owner triangles) and with swept boxes within the separation.
+/// 4: rules 5 and 6 need owner triangles) and with swept boxes within the separation. An
+/// error if the sweep's boxes cannot be allocated.
 pub(crate) fn candidates(
     input: &BroadInput<'_, '_>,
     codim: &Codim,
     (edges, mesh): (&[[u32; 2]], usize),
     out: &mut Sink<'_>,
-) -> BroadStats {
+) -> Result<BroadStats, AllocError> {
     let start = Instant::now();
     let (step, filter) = (input.step, input.filter);
     let (sep, tmax) = (filter.sep, filter.tmax());
     let (x0, x1, tris) = (step.pos0(), step.pos1(), step.triangles());
-    let vertex: Vec<SweptBox> = (x0.iter().zip(x1))
-        .map(|(&a, &b)| SweptBox::vertex_until(a, b, tmax))
-        .collect();
-    let face: Vec<SweptBox> = (tris.iter())
-        .map(|t| t.iter().fold(SweptBox::EMPTY, |b, &v| b.merge(&vertex[v as usize])))
-        .collect();
-    let edge: Vec<SweptBox> = (edges.iter())
-        .map(|&[i, j]| vertex[i as usize].merge(&vertex[j as usize]))
-        .collect();
-    let free_vertices = sorted(&vertex, codim.free_vertices.iter().copied());
-    let faces = sorted(&face, 0..tris.len() as u32);
-    let mesh_edges = sorted(&edge, 0..mesh as u32);
-    let free_edges = sorted(&edge, mesh as u32..(mesh + codim.edges.len()) as u32);
-    let free = sorted(&edge, mesh as u32..edges.len() as u32);
+    let what = "swept boxes";
+    let vertex: Vec<SweptBox> = try_collect(
+        (x0.iter().zip(x1)).map(|(&a, &b)| SweptBox::vertex_until(a, b, tmax)),
+        what,
+    )?;
+    let face: Vec<SweptBox> = try_collect(
+        (tris.iter()).map(|t| t.iter().fold(SweptBox::EMPTY, |b, &v| b.merge(&vertex[v as usize]))),
+        what,
+    )?;
+    let edge: Vec<SweptBox> = try_collect(
+        (edges.iter()).map(|&[i, j]| vertex[i as usize].merge(&vertex[j as usize])),
+        what,
+    )?;
+    let free_vertices = sorted(&vertex, codim.free_vertices.iter().copied())?;
+    let faces = sorted(&face, 0..tris.len() as u32)?;
+    let mesh_edges = sorted(&edge, 0..mesh as u32)?;
+    let free_edges = sorted(&edge, mesh as u32..(mesh + codim.edges.len()) as u32)?;
+    let free = sorted(&edge, mesh as u32..edges.len() as u32)?;
     let build = start.elapsed().as_secs_f64();
     let start = Instant::now();
     let mut tests = 0u64;
@@ -165,12 +180,12 @@ pub(crate) fn candidates(
         edge_pair(e, f, out)
     });
     within(&free, &edge, sep, |e, f| edge_pair(e, f, out));
-    BroadStats {
+    Ok(BroadStats {
         bv_tests: tests,
         build,
         traverse: start.elapsed().as_secs_f64(),
         ..BroadStats::default()
-    }
+    })
 }
 
 /// Runs the codimensional pass after a method's triangle work: its candidates, in buffers of
@@ -203,7 +218,10 @@ pub(crate) fn run(
     };
     let stop = || ctx.limits.poll(true);
     let mut sink = Sink::new(chunk, &mut flush, &stop);
-    let mut stats = candidates(input, codim, (ctx.edges, mesh), &mut sink);
+    let mut stats = candidates(input, codim, (ctx.edges, mesh), &mut sink).unwrap_or_else(|e| {
+        ctx.limits.fail(e);
+        BroadStats::default()
+    });
     let t = Instant::now();
     sink.flush_now();
     stats.traverse += t.elapsed().as_secs_f64();

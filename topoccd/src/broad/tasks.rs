@@ -156,8 +156,10 @@ impl Task {
         self.found.settle(ctx, self.limit);
         self.found.deliver(ctx);
         if let Some(r) = &mut self.recorded {
-            r.vf.extend_from_slice(&self.buf.vf);
-            r.ee.extend_from_slice(&self.buf.ee);
+            if ctx.limits.check(r.grow_for(&self.buf)) {
+                r.vf.extend_from_slice(&self.buf.vf);
+                r.ee.extend_from_slice(&self.buf.ee);
+            }
         }
         self.buf.clear();
         if let Some(p) = progress.filter(|_| self.found.counting(ctx)) {
@@ -299,8 +301,9 @@ pub(crate) fn traverse_pass(
         totals.ee_tests += task.ee_tests;
         totals.peak = totals.peak.max(task.peak);
         if let Some(r) = &mut task.recorded {
-            recorded.vf.append(&mut r.vf);
-            recorded.ee.append(&mut r.ee);
+            let appended = crate::alloc::try_append(&mut recorded.vf, &mut r.vf, "recorded candidates")
+                .and_then(|()| crate::alloc::try_append(&mut recorded.ee, &mut r.ee, "recorded candidates"));
+            ctx.limits.check(appended);
         }
         // The first task holds the pairs found while splitting; the first batch follows.
         consumed += 1;

@@ -21,6 +21,12 @@ impl Candidates {
     pub fn len(&self) -> usize {
         self.vf.len() + self.ee.len()
     }
+
+    /// Makes room, fallibly, for `more`'s candidates (a buffer that records them all).
+    pub fn grow_for(&mut self, more: &Candidates) -> Result<(), crate::alloc::AllocError> {
+        crate::alloc::grow(&mut self.vf, more.vf.len(), "recorded candidates")?;
+        crate::alloc::grow(&mut self.ee, more.ee.len(), "recorded candidates")
+    }
 }
 
 /// The k-DOP swept by triangle `t` over `[0, tmax]` (the whole step for `tmax >= 1`),

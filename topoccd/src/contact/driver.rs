@@ -48,6 +48,18 @@ pub(crate) struct Found {
     pub dropped: Option<f64>,
 }
 
+/// Keeps, of `v`'s elements from `from` on, those that `keep` accepts, in order, in place.
+fn keep_tail<T: Copy>(v: &mut Vec<T>, from: usize, keep: impl Fn(&T) -> bool) {
+    let mut kept = from;
+    for i in from..v.len() {
+        if keep(&v[i]) {
+            v[kept] = v[i];
+            kept += 1;
+        }
+    }
+    v.truncate(kept);
+}
+
 impl Default for Found {
     fn default() -> Self {
         Self {
@@ -214,11 +226,10 @@ impl Found {
     /// lowering `room`. Only in [`Mode::All`] or once settled.
     fn trim_from(&mut self, ctx: &Context, [vf0, ee0]: [usize; 2]) {
         if self.settled {
+            // In place: no second buffer of the contacts.
             let tol = ctx.options.narrow.tolerance;
-            let kept: Vec<_> = self.vf.drain(vf0..).filter(|c| c.toi <= tol).collect();
-            self.vf.extend(kept);
-            let kept: Vec<_> = self.ee.drain(ee0..).filter(|c| c.toi <= tol).collect();
-            self.ee.extend(kept);
+            keep_tail(&mut self.vf, vf0, |c| c.toi <= tol);
+            keep_tail(&mut self.ee, ee0, |c| c.toi <= tol);
         }
         let vf_new = self.vf.len() - vf0;
         let vf_kept = vf_new.min(self.room);

@@ -7,6 +7,7 @@ pub use crate::broad::cluster::phase::ClusterFigures;
 pub use crate::narrow::Certainty;
 
 use super::vertex_edge::{self, VeContact};
+use crate::alloc::{try_push, AllocError};
 use super::vertex_vertex::{self, VvContact};
 
 /// A vertex that (may) touch a triangle during the step.
@@ -272,19 +273,22 @@ impl Report {
 
 /// Splits the driver's edge-edge contacts (sorted by `(a, b)`) into the report's edge-edge,
 /// vertex-edge and vertex-vertex contacts, each sorted ([`Contact::from`]).
-pub(crate) fn split_points(ee: &mut Vec<EeContact>) -> (Vec<VeContact>, Vec<VvContact>) {
+/// The lists grow fallibly: an allocation the system refuses is an error, and `ee` is left as
+/// it was.
+pub(crate) fn split_points(
+    ee: &mut Vec<EeContact>,
+) -> Result<(Vec<VeContact>, Vec<VvContact>), AllocError> {
     let (mut ve, mut vv) = (Vec::new(), Vec::new());
-    ee.retain(|c| match Contact::from(*c) {
-        Contact::Ve(v) => {
-            ve.push(v);
-            false
+    for c in ee.iter() {
+        match Contact::from(*c) {
+            Contact::Ve(v) => try_push(&mut ve, v, "vertex-edge contacts")?,
+            Contact::Vv(v) => try_push(&mut vv, v, "vertex-vertex contacts")?,
+            _ => {}
         }
-        Contact::Vv(v) => {
-            vv.push(v);
-            false
-        }
-        _ => true,
-    });
+    }
+    if ve.len() + vv.len() > 0 {
+        ee.retain(|c| matches!(Contact::from(*c), Contact::Ee(_)));
+    }
     ve.sort_unstable_by_key(|c| (c.vertex, c.edge));
-    (ve, vv)
+    Ok((ve, vv))
 }

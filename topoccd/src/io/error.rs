@@ -59,6 +59,18 @@ pub enum IoError {
         #[source]
         source: std::io::Error,
     },
+    /// The memory for what the file holds could not be allocated (the system, or an
+    /// address-space limit, refused it): the file is larger than the memory left, or its header
+    /// declares more than memory holds. Nothing is aborted; the reader stops here.
+    #[error("{path}: out of memory reading the {what}: could not allocate {bytes} bytes")]
+    OutOfMemory {
+        /// The file.
+        path: PathBuf,
+        /// What was being read (`"vertex positions"`, `"triangles"`, `"line"`...).
+        what: &'static str,
+        /// The bytes asked for.
+        bytes: usize,
+    },
     /// A folder was given where a mesh file was expected.
     #[error(
         "{path}: is a folder, not a mesh file (expected a .ply, .obj or .stl file; a folder of \
@@ -262,6 +274,15 @@ fn line_suffix(line: Option<usize>) -> String {
 }
 
 impl IoError {
+    /// An [`IoError::OutOfMemory`] for `path`.
+    pub(crate) fn memory(path: &std::path::Path, e: crate::alloc::AllocError) -> Self {
+        IoError::OutOfMemory {
+            path: path.to_path_buf(),
+            what: e.what,
+            bytes: e.bytes,
+        }
+    }
+
     /// An [`IoError::Io`] for `path`.
     pub(crate) fn os(path: &std::path::Path, action: &'static str, source: std::io::Error) -> Self {
         IoError::Io {

@@ -4,6 +4,7 @@
 
 use super::polygon::{triangulate_polygon, PolygonSplit};
 use super::{FaceOrigin, MeshNote};
+use crate::alloc::{grow, try_collect, try_push, AllocError};
 
 /// The index that restarts a triangle strip.
 pub(super) const RESTART: u32 = u32::MAX;
@@ -14,6 +15,10 @@ enum Record {
     Polygon(usize),
     Strip(usize),
 }
+
+/// The triangles and the face map (`None` if every face was a triangle) of
+/// [`FaceList::finish`].
+type FileTriangles = (Vec<[u32; 3]>, Option<Vec<FaceOrigin>>);
 
 /// Collects the faces of a file in order. Every id handed in must already be checked against
 /// the vertex count (except [`RESTART`] in strips).
@@ -28,20 +33,28 @@ pub(super) struct FaceList {
 
 impl FaceList {
     /// Adds a face with at least three corners.
-    pub(super) fn polygon(&mut self, corners: &[u32]) {
+    pub(super) fn polygon(&mut self, corners: &[u32]) -> Result<(), AllocError> {
         debug_assert!(corners.len() >= 3);
         if corners.len() == 3 && self.records.is_empty() {
-            self.triangles.push([corners[0], corners[1], corners[2]]);
+            try_push(
+                &mut self.triangles,
+                [corners[0], corners[1], corners[2]],
+                "triangles",
+            )
         } else {
-            self.ids.extend_from_slice(corners);
-            self.records.push(Record::Polygon(self.ids.len()));
+            self.record(corners, Record::Polygon)
         }
     }
 
     /// Adds a triangle strip record (ids, with [`RESTART`] between strips).
-    pub(super) fn strip(&mut self, ids: &[u32]) {
+    pub(super) fn strip(&mut self, ids: &[u32]) -> Result<(), AllocError> {
+        self.record(ids, Record::Strip)
+    }
+
+    fn record(&mut self, ids: &[u32], kind: fn(usize) -> Record) -> Result<(), AllocError> {
+        grow(&mut self.ids, ids.len(), "face indices")?;
         self.ids.extend_from_slice(ids);
-        self.records.push(Record::Strip(self.ids.len()));
+        try_push(&mut self.records, kind(self.ids.len()), "faces")
     }
 
     /// Splits the polygons and strips; returns the triangles, the face map (`None` if every
@@ -50,22 +63,23 @@ impl FaceList {
         self,
         positions: &[[f64; 3]],
         notes: &mut Vec<MeshNote>,
-    ) -> (Vec<[u32; 3]>, Option<Vec<FaceOrigin>>) {
+    ) -> Result<FileTriangles, AllocError> {
         let FaceList {
             mut triangles,
             ids,
             records,
         } = self;
         if records.is_empty() {
-            return (triangles, None);
+            return Ok((triangles, None));
         }
         let first_record = triangles.len();
-        let mut origin: Vec<FaceOrigin> = (0..first_record)
-            .map(|t| FaceOrigin {
+        let mut origin: Vec<FaceOrigin> = try_collect(
+            (0..first_record).map(|t| FaceOrigin {
                 face: t as u32,
                 sub: 0,
-            })
-            .collect();
+            }),
+            "face map",
+        )?;
         let mut split = Split::default();
         let mut start = 0;
         let mut scratch = Vec::new();
@@ -83,12 +97,14 @@ impl FaceList {
                 }
                 Record::Strip(end) => {
                     split.strips += 1;
-                    split.degenerate += decode_strip(&ids[start..end], &mut scratch);
+                    split.degenerate += decode_strip(&ids[start..end], &mut scratch)?;
                     split.strip_triangles += scratch.len();
                     end
                 }
             };
             start = end;
+            grow(&mut triangles, scratch.len(), "triangles")?;
+            grow(&mut origin, scratch.len(), "face map")?;
             for (sub, &t) in scratch.iter().enumerate() {
                 triangles.push(t);
                 origin.push(FaceOrigin {
@@ -98,7 +114,7 @@ impl FaceList {
             }
         }
         split.notes(notes);
-        (triangles, Some(origin))
+        Ok((triangles, Some(origin)))
     }
 }
 
@@ -155,7 +171,7 @@ impl Split {
 /// (every other triangle reversed so that all keep one winding), [`RESTART`] starts a new
 /// strip. Triangles with a repeated vertex (the stitches that join strips) are dropped; returns
 /// how many.
-fn decode_strip(ids: &[u32], out: &mut Vec<[u32; 3]>) -> usize {
+fn decode_strip(ids: &[u32], out: &mut Vec<[u32; 3]>) -> Result<usize, AllocError> {
     let mut degenerate = 0;
     for strip in ids.split(|&i| i == RESTART) {
         for (k, w) in strip.windows(3).enumerate() {
@@ -167,9 +183,9 @@ fn decode_strip(ids: &[u32], out: &mut Vec<[u32; 3]>) -> usize {
             if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
                 degenerate += 1;
             } else {
-                out.push(t);
+                try_push(out, t, "triangles")?;
             }
         }
     }
-    degenerate
+    Ok(degenerate)
 }

@@ -25,6 +25,7 @@ internal!(limits, queries, scene);
 mod degenerate;
 mod error;
 mod faces;
+mod lines;
 mod mesh;
 mod obj;
 mod ply_elements;

@@ -2,9 +2,11 @@
 //! into triangles, polylines into edges) and a writer whose coordinates round-trip exactly.
 
 use super::faces::FaceList;
+use super::lines::{read_line, LineError};
 use super::{IoError, Location, Mesh, MeshNote};
+use crate::alloc::{grow, try_push, AllocError};
 use std::fs::File;
-use std::io::{BufRead, BufReader, BufWriter, Read, Write};
+use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::Path;
 
 /// Statements that are recognised and skipped.
@@ -76,9 +78,10 @@ pub fn read_obj_from(reader: impl Read, name: &Path) -> Result<Mesh, IoError> {
     let mut bytes = Vec::new();
     loop {
         bytes.clear();
-        let read = input
-            .read_until(b'\n', &mut bytes)
-            .map_err(|e| IoError::os(name, "read", e))?;
+        let read = read_line(&mut input, &mut bytes, "line").map_err(|e| match e {
+            LineError::Io(e) => IoError::os(name, "read", e),
+            LineError::Memory(e) => IoError::memory(name, e),
+        })?;
         if read == 0 {
             break;
         }
@@ -110,6 +113,10 @@ struct ObjParser<'a> {
 }
 
 impl ObjParser<'_> {
+    fn memory(&self, e: AllocError) -> IoError {
+        IoError::memory(self.name, e)
+    }
+
     fn syntax(&self, message: String) -> IoError {
         IoError::ObjSyntax {
             path: self.name.to_path_buf(),
@@ -160,15 +167,20 @@ impl ObjParser<'_> {
                 "a vertex needs x y z [w] or x y z r g b, found {count} numbers"
             )));
         }
-        self.mesh.positions.push([values[0], values[1], values[2]]);
-        Ok(())
+        try_push(
+            &mut self.mesh.positions,
+            [values[0], values[1], values[2]],
+            "vertex positions",
+        )
+        .map_err(|e| self.memory(e))
     }
 
     fn face<'t>(&mut self, tokens: impl Iterator<Item = &'t str>) -> Result<(), IoError> {
         let mut corners = std::mem::take(&mut self.corners);
         corners.clear();
         for token in tokens {
-            corners.push(self.corner(token)?);
+            let corner = self.corner(token)?;
+            try_push(&mut corners, corner, "face corners").map_err(|e| self.memory(e))?;
         }
         if corners.len() < 3 {
             return Err(IoError::NotTriangle {
@@ -179,8 +191,9 @@ impl ObjParser<'_> {
         }
         self.resolve(&corners)?;
         self.corners = corners;
-        self.faces.polygon(&self.resolved);
-        Ok(())
+        self.faces
+            .polygon(&self.resolved)
+            .map_err(|e| IoError::memory(self.name, e))
     }
 
     /// The corners as written (1-based, or negative: relative), resolved to 0-based vertex
@@ -189,6 +202,7 @@ impl ObjParser<'_> {
     fn resolve(&mut self, corners: &[i64]) -> Result<(), IoError> {
         let defined = self.mesh.positions.len();
         self.resolved.clear();
+        grow(&mut self.resolved, corners.len(), "face corners").map_err(|e| self.memory(e))?;
         for &index in corners {
             let resolved = match index {
                 i if i > 0 => i - 1,
@@ -198,7 +212,8 @@ impl ObjParser<'_> {
             match fits {
                 Some(r) if index < 0 || (r as usize) < defined => self.resolved.push(r),
                 Some(r) if index > 0 => {
-                    self.forward.push((self.line, index));
+                    try_push(&mut self.forward, (self.line, index), "forward references")
+                        .map_err(|e| IoError::memory(self.name, e))?;
                     self.resolved.push(r);
                 }
                 _ => {
@@ -220,7 +235,8 @@ impl ObjParser<'_> {
         let mut corners = std::mem::take(&mut self.corners);
         corners.clear();
         for token in tokens {
-            corners.push(self.corner(token)?);
+            let corner = self.corner(token)?;
+            try_push(&mut corners, corner, "polyline").map_err(|e| self.memory(e))?;
         }
         if corners.len() < 2 {
             return Err(self.syntax(format!(
@@ -231,7 +247,9 @@ impl ObjParser<'_> {
         self.resolve(&corners)?;
         self.corners = corners;
         let ids = &self.resolved;
-        self.mesh.edges.extend(ids.windows(2).map(|w| [w[0], w[1]]));
+        let edges = &mut self.mesh.edges;
+        grow(edges, ids.len() - 1, "edges").map_err(|e| IoError::memory(self.name, e))?;
+        edges.extend(ids.windows(2).map(|w| [w[0], w[1]]));
         Ok(())
     }
 
@@ -269,7 +287,10 @@ impl ObjParser<'_> {
                 vertices,
             });
         }
-        let (triangles, origin) = self.faces.finish(&mesh.positions, &mut mesh.notes);
+        let (triangles, origin) = self
+            .faces
+            .finish(&mesh.positions, &mut mesh.notes)
+            .map_err(|e| IoError::memory(self.name, e))?;
         mesh.triangles = triangles;
         mesh.face_origin = origin;
         for (keyword, &(count, first_line)) in COUNTED.iter().zip(&self.skipped) {

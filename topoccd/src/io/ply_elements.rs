@@ -3,6 +3,7 @@
 
 use super::faces::RESTART;
 use super::{IoError, Location};
+use crate::alloc::{grow, try_collect, AllocError};
 use ply_rs_bw::ply::{PropertyAccess, PropertyAccessResult};
 use std::path::Path;
 
@@ -46,6 +47,8 @@ pub(super) struct PlyFace {
     first: [i64; 3],
     /// All entries when there are more than three.
     all: Vec<i64>,
+    /// The allocation for `all` that failed, if one did (reported by the readers of the face).
+    failed: Option<AllocError>,
 }
 
 impl PlyFace {
@@ -58,17 +61,26 @@ impl PlyFace {
             *slot = value.into();
         }
         if list.len() > 3 {
-            self.all = list.iter().map(|&v| v.into()).collect();
+            match try_collect(list.iter().map(|&v| v.into()), "face indices") {
+                Ok(all) => self.all = all,
+                Err(e) => self.failed = Some(e),
+            }
         }
         PropertyAccessResult::Set
     }
 
-    fn entries(&self) -> &[i64] {
-        if self.len > 3 {
+    /// The entries, in `out` cleared and grown to hold them.
+    fn entries(&self, name: &Path, out: &mut Vec<u32>) -> Result<&[i64], IoError> {
+        out.clear();
+        let failed = self
+            .failed
+            .map_or_else(|| grow(out, self.len, "face indices"), Err);
+        failed.map_err(|e| IoError::memory(name, e))?;
+        Ok(if self.len > 3 {
             &self.all
         } else {
             &self.first[..self.len]
-        }
+        })
     }
 
     /// The face's corners (at least three), checked against the vertex count, into `out`.
@@ -86,8 +98,7 @@ impl PlyFace {
                 vertices: self.len,
             });
         }
-        out.clear();
-        for &index in self.entries() {
+        for &index in self.entries(name, out)? {
             out.push(check_index(index, location, vertices, name)?);
         }
         Ok(())
@@ -102,8 +113,7 @@ impl PlyFace {
         name: &Path,
         out: &mut Vec<u32>,
     ) -> Result<(), IoError> {
-        out.clear();
-        for &index in self.entries() {
+        for &index in self.entries(name, out)? {
             out.push(match index {
                 -1 | 0xFFFF_FFFF => RESTART,
                 _ => check_index(index, location, vertices, name)?,

@@ -4,8 +4,10 @@
 //! so that they name the file and the element.
 
 use super::faces::FaceList;
+use super::lines::{read_line, LineError};
 use super::ply_elements::{PlyEdge, PlyFace, PlyVertex, Skip, INDEX_LISTS};
 use super::{IoError, Location, Mesh};
+use crate::alloc::{grow, try_push};
 use ply_rs_bw::parser::{ParseError, Parser, Reader};
 use ply_rs_bw::ply::{ElementDef, Encoding, Header, PropertyAccess, PropertyType, ScalarType};
 use std::fs::File;
@@ -138,30 +140,33 @@ fn read_ply_sized(reader: impl Read, name: &Path, size: Option<u64>) -> Result<M
     for def in header.elements.values().take(needed_elements(&header)) {
         match def.name.as_str() {
             "vertex" => {
-                positions.reserve(def.count.min(MAX_PREALLOCATED));
+                grow(
+                    &mut positions,
+                    def.count.min(MAX_PREALLOCATED),
+                    "vertex positions",
+                )
+                .map_err(|e| IoError::memory(name, e))?;
                 elements.read(&mut input, def, |_, v: PlyVertex| {
-                    positions.push(v.0);
-                    Ok(())
+                    try_push(&mut positions, v.0, "vertex positions")
+                        .map_err(|e| IoError::memory(name, e))
                 })?;
             }
             "face" => {
                 elements.read(&mut input, def, |location, f: PlyFace| {
                     f.corners(location, vertex_count, name, &mut ids)?;
-                    faces.polygon(&ids);
-                    Ok(())
+                    faces.polygon(&ids).map_err(|e| IoError::memory(name, e))
                 })?;
             }
             "tristrips" => {
                 elements.read(&mut input, def, |location, f: PlyFace| {
                     f.strip(location, vertex_count, name, &mut ids)?;
-                    faces.strip(&ids);
-                    Ok(())
+                    faces.strip(&ids).map_err(|e| IoError::memory(name, e))
                 })?;
             }
             "edge" => {
                 elements.read(&mut input, def, |location, e: PlyEdge| {
-                    edges.push(e.ends(location, vertex_count, name)?);
-                    Ok(())
+                    let ends = e.ends(location, vertex_count, name)?;
+                    try_push(&mut edges, ends, "edges").map_err(|e| IoError::memory(name, e))
                 })?;
             }
             _ => elements.read(&mut input, def, |_, _: Skip| Ok(()))?,
@@ -169,7 +174,9 @@ fn read_ply_sized(reader: impl Read, name: &Path, size: Option<u64>) -> Result<M
     }
     debug_assert_eq!(positions.len(), vertex_count);
     let mut notes = Vec::new();
-    let (triangles, face_origin) = faces.finish(&positions, &mut notes);
+    let (triangles, face_origin) = faces
+        .finish(&positions, &mut notes)
+        .map_err(|e| IoError::memory(name, e))?;
     Ok(Mesh {
         positions,
         triangles,
@@ -439,17 +446,13 @@ impl Elements<'_> {
                 line: ascii.then_some(line),
             };
             let element = match self.encoding {
-                Encoding::Ascii => {
-                    self.text.clear();
-                    match input.read_line(&mut self.text) {
-                        Ok(0) => Err(ParseError::from(std::io::Error::from(
-                            ErrorKind::UnexpectedEof,
-                        ))),
-                        Ok(_) => parser.read_ascii_element(self.text.trim_end(), def),
-                        Err(e) if e.kind() == ErrorKind::InvalidData => Err(ParseError::from(e)),
-                        Err(e) => return Err(IoError::os(self.name, "read", e)),
-                    }
-                }
+                Encoding::Ascii => match self.read_text_line(input)? {
+                    Ok(0) => Err(ParseError::from(std::io::Error::from(
+                        ErrorKind::UnexpectedEof,
+                    ))),
+                    Ok(_) => parser.read_ascii_element(self.text.trim_end(), def),
+                    Err(e) => Err(e),
+                },
                 Encoding::BinaryBigEndian => parser.read_big_endian_element(input, def),
                 Encoding::BinaryLittleEndian => parser.read_little_endian_element(input, def),
             };
@@ -463,6 +466,30 @@ impl Elements<'_> {
             self.next_line += def.count;
         }
         Ok(())
+    }
+
+    /// Reads the next line of an ASCII file into `self.text` (growing it fallibly): its length
+    /// in bytes, or the parser's error for a line that is not UTF-8.
+    fn read_text_line(
+        &mut self,
+        input: &mut impl BufRead,
+    ) -> Result<Result<usize, ParseError>, IoError> {
+        let mut bytes = std::mem::take(&mut self.text).into_bytes();
+        bytes.clear();
+        let read = read_line(input, &mut bytes, "line").map_err(|e| match e {
+            LineError::Io(e) => IoError::os(self.name, "read", e),
+            LineError::Memory(e) => IoError::memory(self.name, e),
+        })?;
+        Ok(match String::from_utf8(bytes) {
+            Ok(text) => {
+                self.text = text;
+                Ok(read)
+            }
+            Err(_) => Err(ParseError::from(std::io::Error::new(
+                ErrorKind::InvalidData,
+                "stream did not contain valid UTF-8",
+            ))),
+        })
     }
 
     /// The error of an element the parser refused; `line`, in an ASCII file, is its text and

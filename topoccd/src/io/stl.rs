@@ -6,6 +6,7 @@
 //! `std::io::Error`s).
 
 use super::{FaceOrigin, IoError, Mesh, MeshNote};
+use crate::alloc::{self, try_push, AllocError};
 use std::collections::HashMap;
 use std::fs::File;
 use std::io::Read;
@@ -60,10 +61,7 @@ pub fn read_stl(path: &Path) -> Result<Mesh, IoError> {
 /// # Ok::<(), topoccd::io::IoError>(())
 /// ```
 pub fn read_stl_from(mut reader: impl Read, name: &Path) -> Result<Mesh, IoError> {
-    let mut bytes = Vec::new();
-    reader
-        .read_to_end(&mut bytes)
-        .map_err(|e| IoError::os(name, "read", e))?;
+    let bytes = read_all(&mut reader, name)?;
     let declared = bytes
         .get(80..BINARY_HEAD)
         .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as usize);
@@ -76,7 +74,23 @@ pub fn read_stl_from(mut reader: impl Read, name: &Path) -> Result<Mesh, IoError
     } else {
         read_binary(&bytes, name)?
     };
-    Ok(weld_soup(&corners))
+    weld_soup(&corners).map_err(|e| IoError::memory(name, e))
+}
+
+/// The whole input, in a buffer that grows fallibly.
+fn read_all(reader: &mut impl Read, name: &Path) -> Result<Vec<u8>, IoError> {
+    let mut bytes = Vec::new();
+    let mut chunk = vec![0u8; 1 << 16];
+    loop {
+        let n = match reader.read(&mut chunk) {
+            Ok(0) => return Ok(bytes),
+            Ok(n) => n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(IoError::os(name, "read", e)),
+        };
+        alloc::grow(&mut bytes, n, "file contents").map_err(|e| IoError::memory(name, e))?;
+        bytes.extend_from_slice(&chunk[..n]);
+    }
 }
 
 fn stl_error(name: &Path, triangle: usize, line: Option<usize>, message: String) -> IoError {
@@ -130,7 +144,8 @@ fn read_binary(bytes: &[u8], name: &Path) -> Result<Vec<[f64; 3]>, IoError> {
             ),
         ));
     }
-    let mut corners = Vec::with_capacity(count * 3);
+    let mut corners =
+        alloc::with_capacity(count * 3, "corners").map_err(|e| IoError::memory(name, e))?;
     for record in body.chunks_exact(BINARY_TRIANGLE) {
         // Skip the normal (12 bytes); the corners follow, the attribute (2 bytes) ends it.
         for corner in record[12..48].chunks_exact(12) {
@@ -148,11 +163,13 @@ fn read_binary(bytes: &[u8], name: &Path) -> Result<Vec<[f64; 3]>, IoError> {
 fn read_ascii(bytes: &[u8], name: &Path) -> Result<Vec<[f64; 3]>, IoError> {
     let text = String::from_utf8_lossy(bytes);
     let mut tokens = Tokens {
-        words: text
-            .lines()
-            .enumerate()
-            .flat_map(|(i, line)| line.split_ascii_whitespace().map(move |w| (i + 1, w)))
-            .collect(),
+        words: alloc::try_collect(
+            text.lines()
+                .enumerate()
+                .flat_map(|(i, line)| line.split_ascii_whitespace().map(move |w| (i + 1, w))),
+            "words",
+        )
+        .map_err(|e| IoError::memory(name, e))?,
         next: 0,
         line: 1,
         triangle: 0,
@@ -186,7 +203,9 @@ fn read_ascii(bytes: &[u8], name: &Path) -> Result<Vec<[f64; 3]>, IoError> {
                 tokens.expect("loop")?;
                 for _ in 0..3 {
                     tokens.expect("vertex")?;
-                    corners.push([tokens.number()?, tokens.number()?, tokens.number()?]);
+                    let corner = [tokens.number()?, tokens.number()?, tokens.number()?];
+                    try_push(&mut corners, corner, "corners")
+                        .map_err(|e| IoError::memory(name, e))?;
                 }
                 tokens.expect("endloop")?;
                 tokens.expect("endfacet")?;
@@ -252,20 +271,26 @@ impl<'t> Tokens<'_, 't> {
 
 /// Welds a triangle soup (three corners per triangle) on exact coordinates; drops triangles
 /// with a repeated vertex.
-fn weld_soup(corners: &[[f64; 3]]) -> Mesh {
-    let mut index: HashMap<[u64; 3], u32> = HashMap::with_capacity(corners.len() / 2);
+fn weld_soup(corners: &[[f64; 3]]) -> Result<Mesh, AllocError> {
+    let mut index: HashMap<[u64; 3], u32> = HashMap::new();
+    index
+        .try_reserve(corners.len() / 2)
+        .map_err(|_| AllocError::of::<([u64; 3], u32)>("vertex map", corners.len() / 2))?;
     let mut positions = Vec::new();
-    let mut ids = Vec::with_capacity(corners.len());
+    let mut ids = alloc::with_capacity(corners.len(), "corner ids")?;
     for &p in corners {
         let key = p.map(|c| (c + 0.0).to_bits());
-        let id = *index.entry(key).or_insert_with(|| {
-            positions.push(p);
-            (positions.len() - 1) as u32
-        });
+        let id = match index.entry(key) {
+            std::collections::hash_map::Entry::Occupied(e) => *e.get(),
+            std::collections::hash_map::Entry::Vacant(e) => {
+                try_push(&mut positions, p, "vertex positions")?;
+                *e.insert((positions.len() - 1) as u32)
+            }
+        };
         ids.push(id);
     }
-    let mut triangles = Vec::with_capacity(ids.len() / 3);
-    let mut origin = Vec::with_capacity(ids.len() / 3);
+    let mut triangles = alloc::with_capacity(ids.len() / 3, "triangles")?;
+    let mut origin = alloc::with_capacity(ids.len() / 3, "face map")?;
     for (facet, t) in ids.chunks_exact(3).enumerate() {
         if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
             triangles.push([t[0], t[1], t[2]]);
@@ -282,11 +307,11 @@ fn weld_soup(corners: &[[f64; 3]]) -> Mesh {
         vertices: positions.len(),
         dropped,
     }];
-    Mesh {
+    Ok(Mesh {
         positions,
         triangles,
         edges: Vec::new(),
         face_origin: (dropped > 0).then_some(origin),
         notes,
-    }
+    })
 }

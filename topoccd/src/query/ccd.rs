@@ -274,9 +274,14 @@ impl Ccd {
         // Free edges and points: their pairs, after the triangles', the same for every method.
         let codim = Codim::new(step, &self.features.topo).filter(|c| !c.is_empty());
         let mut broad = broad;
-        if let Some(codim) = codim.as_ref().filter(|_| built && !limits.poll(true)) {
+        let codim_edges = &mut self.codim_edges;
+        let topo_edges = &self.features.topo.edges;
+        if let Some(codim) = codim.as_ref().filter(|&c| {
+            built
+                && !limits.poll(true)
+                && limits.check(combined_edges(topo_edges, c, codim_edges))
+        }) {
             let mesh = self.features.topo.edges.len();
-            combined_edges(&self.features.topo.edges, codim, &mut self.codim_edges);
             let ctx = Context {
                 edges: &self.codim_edges,
                 first: None,
@@ -339,7 +344,7 @@ impl Ccd {
                 .filter(|c| c.certainty != Certainty::Resolved)
                 .count();
         let (ve, vv) = if codim.is_some() {
-            split_points(&mut found.ee)
+            split_points(&mut found.ee)?
         } else {
             Default::default()
         };
