@@ -5,12 +5,10 @@
 
 mod common;
 
-use std::path::PathBuf;
 use std::process::Command;
 use std::time::Instant;
 
-use common::TempDir;
-use topoccd::io::read_mesh;
+use common::{integer_cast_funnel, TempDir};
 
 /// `struct rusage` of 64-bit Linux: two `timeval`s, then 14 `long`s (`ru_maxrss`, in KiB,
 /// first).
@@ -39,37 +37,10 @@ fn children_peak() -> u64 {
     usage.maxrss as u64 * 1024
 }
 
-/// Frame 227 of cloth-funnel with its coordinates cast to `i32`, as an OBJ file in `dir`.
-pub fn integer_cast_funnel(dir: &TempDir) -> Option<PathBuf> {
-    let frame = std::env::var_os("TOPOCCD_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data"))
-        .join("scenes/cloth-funnel/frames/227.ply");
-    if !frame.is_file() {
-        assert!(
-            std::env::var_os("TOPOCCD_REQUIRE_DATA").is_none(),
-            "TOPOCCD_REQUIRE_DATA is set but the shared data is absent: {}",
-            frame.display()
-        );
-        eprintln!("SKIPPED, NOT TESTED: no {}", frame.display());
-        return None;
-    }
-    let mesh = read_mesh(&frame).expect("frame 227 reads");
-    let mut obj = String::new();
-    for p in &mesh.positions {
-        let [x, y, z] = p.map(|c| c as i32);
-        obj += &format!("v {x} {y} {z}\n");
-    }
-    for t in &mesh.triangles {
-        obj += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
-    }
-    Some(dir.file("funnel-int.obj", obj))
-}
-
 #[test]
 fn proximity_on_the_integer_cast_funnel_is_truncated_and_bounded() {
     let dir = TempDir::new("proximity-cap", "funnel");
-    let Some(frame) = integer_cast_funnel(&dir) else {
+    let Some([frame, _]) = integer_cast_funnel(&dir) else {
         return;
     };
     let started = Instant::now();

@@ -1,5 +1,6 @@
-//! What the tests of the built `topoccd` binary share: a temporary folder, and a run of the
-//! binary that asserts it did not panic. Each test file is a crate of its own and uses a part.
+//! What the tests of the built `topoccd` binary share: a temporary folder, a run of the
+//! binary that asserts it did not panic, and the integer-cast cloth-funnel frames. Each test
+//! file is a crate of its own and uses a part.
 #![allow(dead_code)]
 
 use std::ffi::OsStr;
@@ -64,4 +65,35 @@ pub fn run<S: AsRef<OsStr>>(cwd: Option<&Path>, args: &[S], env: &[(&str, &str)]
         stdout,
         stderr,
     }
+}
+
+/// Frames 227 and 228 of cloth-funnel with their coordinates cast to `i32`, as OBJ files.
+pub fn integer_cast_funnel(dir: &TempDir) -> Option<[PathBuf; 2]> {
+    let frames = std::env::var_os("TOPOCCD_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data"))
+        .join("scenes/cloth-funnel/frames");
+    if !frames.is_dir() {
+        assert!(
+            std::env::var_os("TOPOCCD_REQUIRE_DATA").is_none(),
+            "TOPOCCD_REQUIRE_DATA is set but the shared data is absent: {}",
+            frames.display()
+        );
+        eprintln!("SKIPPED, NOT TESTED: no {}", frames.display());
+        return None;
+    }
+    let cast = |n: u32| {
+        let mesh =
+            topoccd::io::read_mesh(&frames.join(format!("{n}.ply"))).expect("the frame reads");
+        let mut obj = String::new();
+        for p in &mesh.positions {
+            let [x, y, z] = p.map(|c| c as i32);
+            obj += &format!("v {x} {y} {z}\n");
+        }
+        for t in &mesh.triangles {
+            obj += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+        dir.file(&format!("{n}.obj"), obj)
+    };
+    Some([cast(227), cast(228)])
 }
