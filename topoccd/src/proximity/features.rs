@@ -27,7 +27,7 @@ use crate::bvh::{BoundingVolume, BvhWorkspace};
 use crate::math::DVec3;
 
 use super::boxes::{inflated, overlap};
-use super::pairs::{list_cap, Found, Test};
+use super::pairs::{Found, Test};
 use super::primitives::{Kind, Primitives};
 use super::run::Stop;
 
@@ -227,10 +227,7 @@ impl FeatureTree {
             }
         }
         drop(parts);
-        if found.cands.len() >= list_cap(max) {
-            found.cands = Default::default();
-            found.unlisted = true;
-        }
+        found.unlist_beyond(max, 0);
         (found, visits * WIDTH as u64)
     }
 

@@ -97,15 +97,22 @@ impl Found {
         if self.failure.is_some() {
             return true;
         }
-        if !self.unlisted && self.cands.len().saturating_add(elsewhere) >= list_cap(cap) {
-            self.cands = Cands::default();
-            self.unlisted = true;
-        }
+        self.unlist_beyond(cap, elsewhere);
         if self.len() >= cap {
             self.capped = true;
             return true;
         }
         false
+    }
+
+    /// Gives up listing (freeing the listing, recording [`Found::unlisted`]) once it and
+    /// `elsewhere` (the other tasks' listings) reach [`list_cap`]`(cap)`.
+    #[inline]
+    pub fn unlist_beyond(&mut self, cap: usize, elsewhere: usize) {
+        if !self.unlisted && self.cands.len().saturating_add(elsewhere) >= list_cap(cap) {
+            self.cands = Cands::default();
+            self.unlisted = true;
+        }
     }
 
     /// Appends `other`'s pairs; an error (`other`'s own, or this buffer's that cannot grow)

@@ -14,7 +14,7 @@ use super::boxes::{inflation, largest_side};
 use super::brute::brute;
 use super::cache::{evaluate, list_threshold, Cache};
 use super::features::FeatureTree;
-use super::pairs::{list_cap, Found, Test};
+use super::pairs::{Found, Test};
 use super::primitives::Primitives;
 use super::report::ProximityStats;
 use super::slots::Slots;
@@ -227,10 +227,7 @@ impl State {
             consume,
             &skip,
         );
-        if found.cands.len() >= list_cap(max) {
-            found.cands = Default::default();
-            found.unlisted = true;
-        }
+        found.unlist_beyond(max, 0);
         (found, visits)
     }
 
